@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# One command from a fresh machine: install what is missing, build (Release), record the default scene.
+# Usage: scripts/demo.sh [SCENE] [OUT_DIR]     (defaults: scenes/bunny_pull.json, out/bunny_pull)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+scene=${1:-scenes/bunny_pull.json}
+out=${2:-out/$(basename "$scene" .json)}
+scripts/build.sh
+build/bin/palpate record "$scene" --out "$out"
+echo
+echo "frames:  $out/frames/frame_*.png"
+echo "log:     $out/haptic.csv"
+echo "summary: $out/summary.json"
