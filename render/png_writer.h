@@ -1,0 +1,75 @@
+#pragma once
+/// PngWriter: a background thread that writes rendered frames as numbered PNG files.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace palpate {
+
+/// A writer thread with a fixed pool of frame buffers (allocated in the constructor only); not copyable.
+/// Frames are written as <dir>/frame_%05d.png in the order submitted; the directory must exist.
+/// Thread: acquire/submit/finish from one producer thread; the counters from any thread.
+class PngWriter {
+ public:
+  /// Allocates pool_size (at least 1) buffers of width*height*4 bytes and starts the writer thread.
+  PngWriter(std::string dir, int width, int height, int pool_size);
+  PngWriter(const PngWriter&) = delete;
+  PngWriter& operator=(const PngWriter&) = delete;
+  /// Finishes (drains the queue) and joins.
+  ~PngWriter();
+
+  /// A free buffer (w*h*4 bytes) or nullptr when all are in flight; block=true waits for one
+  /// (nullptr after finish()).
+  uint8_t* acquire(bool block);
+  /// Queues an acquired buffer for writing as frame `index`; after finish() the frame is dropped and counted
+  /// as a write error.
+  void submit(int index, uint8_t* buffer);
+  /// Writes everything queued and joins the thread; idempotent.
+  void finish();
+
+  /// Frames written successfully so far.
+  int frames_written() const { return frames_written_.load(std::memory_order_relaxed); }
+  /// Frames that failed to write (or were submitted after finish()).
+  int write_errors() const { return write_errors_.load(std::memory_order_relaxed); }
+  /// The first error message, empty when none.
+  std::string first_error() const;
+  /// Milliseconds spent encoding and writing each written frame, in order; valid after finish().
+  const std::vector<double>& png_ms() const { return png_ms_; }
+
+ private:
+  struct Job {
+    int index = 0;
+    uint8_t* buffer = nullptr;
+  };
+
+  void run();
+  void record_error(const std::string& message);
+
+  const std::string dir_;
+  const int width_;
+  const int height_;
+  std::vector<std::vector<uint8_t>> pool_;  // frame buffers (pool_size x w*h*4)
+
+  mutable std::mutex mutex_;
+  std::condition_variable job_ready_;    // writer waits: a job or stopping
+  std::condition_variable buffer_free_;  // producer waits: a free buffer
+  std::vector<uint8_t*> free_;           // free buffers (capacity pool_size)
+  std::vector<Job> queue_;               // ring of queued jobs (capacity pool_size)
+  std::size_t queue_head_ = 0;           // next job to write
+  std::size_t queue_size_ = 0;           // jobs queued
+  bool stopping_ = false;
+  std::string first_error_;
+
+  std::atomic<int> frames_written_{0};
+  std::atomic<int> write_errors_{0};
+  std::vector<double> png_ms_;  // written by the writer thread, read after join
+  bool finished_ = false;       // producer side only
+  std::thread thread_;
+};
+
+}  // namespace palpate

@@ -1,0 +1,238 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/tri_mesh.h"
+
+namespace palpate {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kSphereSlices = 24;
+constexpr int kSphereStacks = 16;
+
+// colours (RGBA)
+constexpr float kBackground[4] = {0.97f, 0.97f, 0.98f, 1.0f};
+constexpr float kMeshColor[4] = {0.66f, 0.73f, 0.84f, 1.0f};
+constexpr float kWireColor[4] = {0.16f, 0.18f, 0.24f, 1.0f};
+constexpr float kToolFreeColor[4] = {0.15f, 0.45f, 0.85f, 1.0f};
+constexpr float kToolContactColor[4] = {0.90f, 0.10f, 0.08f, 1.0f};
+constexpr float kProxyColor[4] = {0.10f, 0.55f, 0.22f, 1.0f};
+
+// Unit UV sphere: positions double as normals.
+void make_unit_sphere(std::vector<float>* positions, std::vector<uint32_t>* indices) {
+  positions->clear();
+  indices->clear();
+  for (int i = 0; i <= kSphereStacks; ++i) {
+    const double theta = kPi * i / kSphereStacks;
+    for (int j = 0; j <= kSphereSlices; ++j) {
+      const double phi = 2.0 * kPi * j / kSphereSlices;
+      positions->push_back(static_cast<float>(std::sin(theta) * std::cos(phi)));
+      positions->push_back(static_cast<float>(std::sin(theta) * std::sin(phi)));
+      positions->push_back(static_cast<float>(std::cos(theta)));
+    }
+  }
+  const uint32_t row = kSphereSlices + 1;
+  for (uint32_t i = 0; i < kSphereStacks; ++i) {
+    for (uint32_t j = 0; j < kSphereSlices; ++j) {
+      const uint32_t a = i * row + j, b = a + row;
+      indices->insert(indices->end(), {a, b, a + 1, a + 1, b, b + 1});
+    }
+  }
+}
+
+void set_color(const GlApi& gl, const float* c) { gl.Color4f(c[0], c[1], c[2], c[3]); }
+
+// Converts n Vec3 into a grow-only float buffer.
+void to_floats(const std::vector<Vec3>& in, std::vector<float>* out) {
+  if (out->size() < 3 * in.size()) out->resize(3 * in.size());
+  float* dst = out->data();
+  for (const Vec3& v : in) {
+    *dst++ = static_cast<float>(v.x());
+    *dst++ = static_cast<float>(v.y());
+    *dst++ = static_cast<float>(v.z());
+  }
+}
+
+// FNV-1a over the index data: detects a topology change (e.g. a cut) without keeping a copy.
+uint64_t hash_triangles(const std::vector<std::array<int32_t, 3>>& triangles) {
+  uint64_t h = 1469598103934665603ull;
+  for (const auto& t : triangles) {
+    for (int32_t i : t) h = (h ^ static_cast<uint32_t>(i)) * 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace
+
+Renderer::Renderer(GlContext* ctx, RenderStyle style, const Camera& camera) : ctx_(ctx), style_(style) {
+  make_unit_sphere(&sphere_positions_, &sphere_indices_);
+  set_camera(camera);
+}
+
+void Renderer::set_camera(const Camera& camera) {
+  camera_ = camera;
+  view_ = camera_.view_matrix();
+  projection_ = camera_.projection_matrix(static_cast<double>(ctx_->width()) / ctx_->height());
+}
+
+Eigen::Vector2d Renderer::project(const Vec3& p_m) const {
+  const Eigen::Vector4d clip = projection_ * view_ * p_m.homogeneous();
+  if (!(clip.w() > 0.0)) return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  const double x_ndc = clip.x() / clip.w(), y_ndc = clip.y() / clip.w();
+  return {0.5 * (x_ndc + 1.0) * ctx_->width(), 0.5 * (1.0 - y_ndc) * ctx_->height()};
+}
+
+void Renderer::draw(const FrameView& view, uint8_t* rgba) {
+  ctx_->make_current();
+  const GlApi& gl = ctx_->gl();
+  setup_frame(gl);
+  draw_mesh(gl, view);
+  draw_tool(gl, view);
+  draw_proxy(gl, view);
+  ctx_->read_rgba(rgba);
+}
+
+void Renderer::setup_frame(const GlApi& gl) const {
+  gl.Viewport(0, 0, ctx_->width(), ctx_->height());
+  gl.ClearColor(kBackground[0], kBackground[1], kBackground[2], kBackground[3]);
+  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LEQUAL);
+  gl.ShadeModel(GL_SMOOTH);
+  gl.MatrixMode(GL_PROJECTION);
+  gl.LoadMatrixd(projection_.data());
+  gl.MatrixMode(GL_MODELVIEW);
+
+  // a head light from the upper left, set in eye space so it follows the camera
+  gl.LoadIdentity();
+  const float light_dir[4] = {-0.3f, 0.4f, 1.0f, 0.0f};
+  const float light_diffuse[4] = {0.65f, 0.65f, 0.65f, 1.0f};
+  const float light_black[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+  const float scene_ambient[4] = {0.42f, 0.42f, 0.42f, 1.0f};
+  gl.Lightfv(GL_LIGHT0, GL_POSITION, light_dir);
+  gl.Lightfv(GL_LIGHT0, GL_DIFFUSE, light_diffuse);
+  gl.Lightfv(GL_LIGHT0, GL_AMBIENT, light_black);
+  gl.Lightfv(GL_LIGHT0, GL_SPECULAR, light_black);
+  gl.LightModelfv(GL_LIGHT_MODEL_AMBIENT, scene_ambient);
+  gl.LightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
+  gl.Enable(GL_LIGHT0);
+  gl.ColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+  gl.Enable(GL_COLOR_MATERIAL);
+  gl.Enable(GL_NORMALIZE);
+  gl.LoadMatrixd(view_.data());
+}
+
+void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
+  if (view.vertices_m == nullptr || view.triangles == nullptr || view.triangles->empty()) return;
+  const std::vector<Vec3>& vertices = *view.vertices_m;
+  const auto& triangles = *view.triangles;
+  // an index outside the vertex array would make GL read out of bounds
+  const auto n_v = static_cast<int64_t>(vertices.size());
+  for (const auto& t : triangles) {
+    if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= n_v || t[1] >= n_v || t[2] >= n_v) return;
+  }
+  to_floats(vertices, &positions_f_);
+  if (style_ != RenderStyle::kWireframe) {
+    const std::vector<Vec3>* normals = view.normals;
+    if (normals == nullptr || normals->size() != vertices.size()) {
+      compute_vertex_normals(vertices, triangles, &computed_normals_);
+      normals = &computed_normals_;
+    }
+    to_floats(*normals, &normals_f_);
+  }
+  const auto n_indices = static_cast<GLsizei>(3 * triangles.size());
+  const void* indices = triangles.data();
+
+  gl.EnableClientState(GL_VERTEX_ARRAY);
+  gl.VertexPointer(3, GL_FLOAT, 0, positions_f_.data());
+  if (style_ != RenderStyle::kWireframe) {
+    gl.Enable(GL_LIGHTING);
+    gl.EnableClientState(GL_NORMAL_ARRAY);
+    gl.NormalPointer(GL_FLOAT, 0, normals_f_.data());
+    // push the fill back so the wireframe sits on the surface
+    if (style_ == RenderStyle::kBoth) {
+      gl.Enable(GL_POLYGON_OFFSET_FILL);
+      gl.PolygonOffset(1.0f, 1.0f);
+    }
+    set_color(gl, kMeshColor);
+    gl.DrawElements(GL_TRIANGLES, n_indices, GL_UNSIGNED_INT, indices);
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
+    gl.DisableClientState(GL_NORMAL_ARRAY);
+  }
+  // each edge once as a line: llvmpipe's polygon-mode lines cost about three times as much
+  if (style_ != RenderStyle::kSolid) {
+    update_edges(triangles);
+    gl.Disable(GL_LIGHTING);
+    gl.LineWidth(1.0f);
+    set_color(gl, kWireColor);
+    gl.DrawElements(GL_LINES, static_cast<GLsizei>(edge_indices_.size()), GL_UNSIGNED_INT, edge_indices_.data());
+  }
+  gl.DisableClientState(GL_VERTEX_ARRAY);
+}
+
+void Renderer::update_edges(const std::vector<std::array<int32_t, 3>>& triangles) {
+  const uint64_t hash = hash_triangles(triangles);
+  if (hash == edges_hash_ && triangles.size() == edges_triangles_ && !edge_indices_.empty()) return;
+  edge_keys_.clear();
+  for (const auto& t : triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<uint32_t>(t[k]), b = static_cast<uint32_t>(t[(k + 1) % 3]);
+      edge_keys_.push_back(static_cast<uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
+    }
+  }
+  std::sort(edge_keys_.begin(), edge_keys_.end());
+  edge_keys_.erase(std::unique(edge_keys_.begin(), edge_keys_.end()), edge_keys_.end());
+  edge_indices_.clear();
+  for (uint64_t key : edge_keys_) {
+    edge_indices_.push_back(static_cast<uint32_t>(key >> 32));
+    edge_indices_.push_back(static_cast<uint32_t>(key & 0xffffffffu));
+  }
+  edges_hash_ = hash;
+  edges_triangles_ = triangles.size();
+}
+
+void Renderer::draw_tool(const GlApi& gl, const FrameView& view) const {
+  if (!(view.tool_radius_m > 0.0) || !view.tool_pos_m.allFinite()) return;
+  Eigen::Affine3d model = Eigen::Affine3d::Identity();
+  model.translate(view.tool_pos_m).scale(view.tool_radius_m);
+  const Eigen::Matrix4d modelview = view_ * model.matrix();
+  gl.LoadMatrixd(modelview.data());
+  gl.Enable(GL_LIGHTING);
+  set_color(gl, view.in_contact ? kToolContactColor : kToolFreeColor);
+  gl.EnableClientState(GL_VERTEX_ARRAY);
+  gl.EnableClientState(GL_NORMAL_ARRAY);
+  gl.VertexPointer(3, GL_FLOAT, 0, sphere_positions_.data());
+  gl.NormalPointer(GL_FLOAT, 0, sphere_positions_.data());
+  gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(sphere_indices_.size()), GL_UNSIGNED_INT,
+                  sphere_indices_.data());
+  gl.DisableClientState(GL_NORMAL_ARRAY);
+  gl.DisableClientState(GL_VERTEX_ARRAY);
+  gl.LoadMatrixd(view_.data());
+}
+
+void Renderer::draw_proxy(const GlApi& gl, const FrameView& view) const {
+  if (!view.show_proxy || !view.proxy_pos_m.allFinite() || !view.tool_pos_m.allFinite()) return;
+  const float line[6] = {static_cast<float>(view.tool_pos_m.x()),  static_cast<float>(view.tool_pos_m.y()),
+                         static_cast<float>(view.tool_pos_m.z()),  static_cast<float>(view.proxy_pos_m.x()),
+                         static_cast<float>(view.proxy_pos_m.y()), static_cast<float>(view.proxy_pos_m.z())};
+  // the spring is an overlay: visible even where the tool has sunk into the surface
+  gl.Disable(GL_LIGHTING);
+  gl.Disable(GL_DEPTH_TEST);
+  set_color(gl, kProxyColor);
+  gl.EnableClientState(GL_VERTEX_ARRAY);
+  gl.VertexPointer(3, GL_FLOAT, 0, line);
+  gl.LineWidth(2.0f);
+  gl.DrawArrays(GL_LINES, 0, 2);
+  gl.PointSize(7.0f);
+  gl.DrawArrays(GL_POINTS, 1, 1);
+  gl.DisableClientState(GL_VERTEX_ARRAY);
+  gl.LineWidth(1.0f);
+  gl.PointSize(1.0f);
+  gl.Enable(GL_DEPTH_TEST);
+}
+
+}  // namespace palpate

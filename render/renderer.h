@@ -1,0 +1,73 @@
+#pragma once
+/// Renderer: draws the deformed mesh, the tool and the proxy spring into an off-screen GL context.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/types.h"
+#include "render/camera.h"
+#include "render/gl_context.h"
+
+namespace palpate {
+
+/// How the mesh is drawn.
+enum class RenderStyle { kSolid, kWireframe, kBoth };
+
+/// What one frame shows; pointers valid during draw() only.
+struct FrameView {
+  const std::vector<Vec3>* vertices_m = nullptr;                  ///< mesh vertex positions (n_v), metres
+  const std::vector<std::array<int32_t, 3>>* triangles = nullptr;  ///< vertex indices (n_t)
+  const std::vector<Vec3>* normals = nullptr;  ///< per vertex (n_v); null or wrong size: computed here
+  Vec3 tool_pos_m = Vec3::Zero();              ///< tool sphere centre, metres
+  double tool_radius_m = 0.0;                  ///< tool sphere radius, metres (0: not drawn)
+  bool in_contact = false;                     ///< tool drawn red when true
+  bool show_proxy = false;                     ///< draw the proxy spring tool -> proxy
+  Vec3 proxy_pos_m = Vec3::Zero();             ///< proxy (contact) point, metres
+};
+
+/// Draws frames with legacy fixed-function GL; keeps a pointer to the context (which must outlive it) and
+/// grow-only scratch buffers; not copyable. Thread: the thread that owns the context.
+class Renderer {
+ public:
+  /// Prepares the tool sphere and the camera matrices for ctx's size.
+  Renderer(GlContext* ctx, RenderStyle style, const Camera& camera);
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Draws the frame and reads it into rgba (w*h*4, top-down); a mesh with an out-of-range index is skipped.
+  void draw(const FrameView& view, uint8_t* rgba);
+  /// Pixel coordinates (x right, y down, origin top-left) of a world point; NaN when behind the camera.
+  Eigen::Vector2d project(const Vec3& p_m) const;
+  /// Replaces the camera (e.g. an orbiting view).
+  void set_camera(const Camera& camera);
+  /// The current camera.
+  const Camera& camera() const { return camera_; }
+
+ private:
+  void setup_frame(const GlApi& gl) const;
+  void draw_mesh(const GlApi& gl, const FrameView& view);
+  void draw_tool(const GlApi& gl, const FrameView& view) const;
+  void draw_proxy(const GlApi& gl, const FrameView& view) const;
+  // Rebuilds the unique edge list when the triangles changed since the last frame.
+  void update_edges(const std::vector<std::array<int32_t, 3>>& triangles);
+
+  GlContext* ctx_;
+  RenderStyle style_;
+  Camera camera_;
+  Eigen::Matrix4d view_;        // world -> eye (4 x 4)
+  Eigen::Matrix4d projection_;  // eye -> clip (4 x 4)
+  std::vector<float> positions_f_;       // mesh positions for GL (3 n_v)
+  std::vector<float> normals_f_;         // mesh normals for GL (3 n_v)
+  std::vector<Vec3> computed_normals_;   // normals when the view has none (n_v)
+  std::vector<uint64_t> edge_keys_;      // scratch for the edge build: (lo << 32 | hi) per half edge
+  std::vector<uint32_t> edge_indices_;   // unique mesh edges as GL_LINES pairs (2 n_e)
+  uint64_t edges_hash_ = 0;              // hash of the triangles edge_indices_ was built from
+  std::size_t edges_triangles_ = 0;      // triangle count edge_indices_ was built from
+  std::vector<float> sphere_positions_;  // unit sphere, also its normals (3 n_s)
+  std::vector<uint32_t> sphere_indices_; // unit sphere triangles (3 n_st)
+};
+
+}  // namespace palpate

@@ -1,0 +1,106 @@
+#include "render/png_io.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "render_test_util.h"
+
+namespace palpate {
+namespace {
+
+std::vector<uint8_t> random_rgba(int width, int height, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<uint8_t> rgba(static_cast<std::size_t>(width) * height * 4);
+  for (auto& b : rgba) b = static_cast<uint8_t>(rng());
+  return rgba;
+}
+
+TEST(PngIo, RoundTripIsBitExact) {
+  test::ScratchDir dir("png_io");
+  for (const auto& [w, h] : {std::pair{1, 1}, {37, 19}, {64, 48}}) {
+    const auto rgba = random_rgba(w, h, static_cast<unsigned>(w * 131 + h));
+    const std::string path = dir.file("img_" + std::to_string(w) + ".png");
+    const Status written = write_png(path, w, h, rgba.data());
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+    auto image = read_png(path);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    EXPECT_EQ(image.value().width, w);
+    EXPECT_EQ(image.value().height, h);
+    EXPECT_EQ(image.value().rgba, rgba);
+  }
+}
+
+TEST(PngIo, SmoothImageRoundTripsAndOverwrites) {
+  test::ScratchDir dir("png_io");
+  const int w = 320, h = 240;
+  std::vector<uint8_t> rgba(w * h * 4);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      uint8_t* p = &rgba[(y * w + x) * 4];
+      p[0] = uint8_t(x), p[1] = uint8_t(y), p[2] = 200, p[3] = 255;
+    }
+  }
+  const std::string path = dir.file("smooth.png");
+  ASSERT_TRUE(write_png(path, w, h, random_rgba(w, h, 7).data()).ok());
+  ASSERT_TRUE(write_png(path, w, h, rgba.data()).ok());
+  auto image = read_png(path);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_EQ(image.value().rgba, rgba);
+  // fast settings still compress a smooth image well
+  EXPECT_LT(std::filesystem::file_size(path), rgba.size() / 4);
+}
+
+TEST(PngIo, WriteIntoMissingDirectoryNamesThePathAndLeavesNoFile) {
+  test::ScratchDir dir("png_io");
+  const std::string path = dir.file("no_such_dir/frame_00001.png");
+  const auto rgba = random_rgba(8, 8, 1);
+  const Status written = write_png(path, 8, 8, rgba.data());
+  ASSERT_FALSE(written.ok());
+  EXPECT_NE(written.error().message.find("png '" + path + "'"), std::string::npos) << written.error().message;
+  EXPECT_NE(written.error().message.find("No such file or directory"), std::string::npos)
+      << written.error().message;
+  EXPECT_TRUE(std::filesystem::is_empty(dir.str()));
+}
+
+TEST(PngIo, WriteOverADirectoryFailsAndRemovesTheTemporary) {
+  // the rename onto an existing directory fails after the data was written
+  test::ScratchDir dir("png_io");
+  const std::string path = dir.file("taken.png");
+  std::filesystem::create_directory(path);
+  std::filesystem::create_directory(path + "/inside");
+  const auto rgba = random_rgba(8, 8, 2);
+  const Status written = write_png(path, 8, 8, rgba.data());
+  ASSERT_FALSE(written.ok());
+  EXPECT_NE(written.error().message.find(path), std::string::npos) << written.error().message;
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+}
+
+TEST(PngIo, BadSizeIsRejected) {
+  test::ScratchDir dir("png_io");
+  const uint8_t px[4] = {0, 0, 0, 0};
+  const Status written = write_png(dir.file("unused.png"), 0, 1, px);
+  ASSERT_FALSE(written.ok());
+  EXPECT_NE(written.error().message.find("0x1"), std::string::npos) << written.error().message;
+  EXPECT_TRUE(std::filesystem::is_empty(dir.str()));
+}
+
+TEST(PngIo, ReadErrorsNameThePath) {
+  test::ScratchDir dir("png_io");
+  const std::string missing = dir.file("missing.png");
+  auto a = read_png(missing);
+  ASSERT_FALSE(a.ok());
+  EXPECT_NE(a.error().message.find("png '" + missing + "'"), std::string::npos) << a.error().message;
+
+  const std::string junk = dir.file("junk.png");
+  std::ofstream(junk) << "this is not a png file at all";
+  auto b = read_png(junk);
+  ASSERT_FALSE(b.ok());
+  EXPECT_NE(b.error().message.find("png '" + junk + "'"), std::string::npos) << b.error().message;
+}
+
+}  // namespace
+}  // namespace palpate
