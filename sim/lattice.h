@@ -1,0 +1,57 @@
+#pragma once
+/// Lattice: the local mass-spring system of paper section 4.2, built over grid cells around the contact.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/grid_hierarchy.h"
+#include "core/result.h"
+#include "core/scene.h"
+#include "core/types.h"
+
+namespace palpate {
+
+/// Spring families of section 4.2 (the paper's "flexible" springs are the bend family here).
+enum class SpringFamily : uint8_t { kStructural = 0, kShear = 1, kBend = 2 };
+
+/// One Hooke spring between two nodes (eq. 2), with relative-velocity damping (eq. 4).
+struct Spring {
+  int32_t a = 0, b = 0;          ///< node indices
+  double rest_m = 0.0;           ///< l0
+  double k_N_per_m = 0.0;        ///< stiffness K of its family
+  SpringFamily family = SpringFamily::kStructural;
+};
+
+/// Nodes, springs and state of a lattice. Plain data; copyable. Built by build_lattice().
+struct Lattice {
+  int level = 0;                         ///< grid level of the cells
+  int cells_per_axis = 0;                ///< grid cells per axis at that level
+  double cell_m = 0.0;                   ///< cell edge length
+  double damping_Ns_per_m = 0.0;         ///< C_d per spring
+  Vec3 gravity_m_per_s2 = Vec3::Zero();  ///< g (eq. 6)
+  std::vector<int32_t> cells;            ///< grid cell index of each region cell (n_c)
+  std::vector<std::array<int32_t, 8>> cell_nodes;  ///< node of each cell corner, corner = dx + 2dy + 4dz (n_c)
+  std::vector<int32_t> slot_of_cell;     ///< region slot of each grid cell at `level`, -1 outside (n_grid_cells)
+  std::vector<Vec3> rest_m;              ///< rest positions (n)
+  std::vector<Vec3> x_m;                 ///< positions (n)
+  std::vector<Vec3> v_m_per_s;           ///< velocities (n)
+  std::vector<double> mass_kg;           ///< node masses (n)
+  std::vector<uint8_t> fixed;            ///< 1 = held at rest (region border / floor) (n)
+  std::vector<Spring> springs;           ///< all springs (n_s)
+  std::array<int, 3> springs_per_family{};  ///< counts by SpringFamily
+
+  std::size_t num_nodes() const { return x_m.size(); }
+  /// Puts every node back at rest with zero velocity.
+  void reset_to_rest();
+};
+
+/// Cells of the region: solid cells at `level` within Chebyshev distance `radius_cells` of `center`.
+std::vector<int32_t> region_cells(const GridHierarchy& grid, int level, const CellCoord& center, int radius_cells);
+
+/// Builds a lattice over `cells` (grid indices at spec.level): nodes at their corners, the families whose
+/// stiffness is non-zero, border nodes (shared with solid cells outside the region) fixed, and with
+/// spec.fix_floor the nodes on the model's lowest node plane fixed too. Errors when `cells` is empty.
+Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec, const std::vector<int32_t>& cells);
+
+}  // namespace palpate
