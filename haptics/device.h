@@ -1,0 +1,38 @@
+#pragma once
+/// Device: the one interface every haptic driver implements (SI units, world frame after workspace mapping).
+
+#include <cstdint>
+
+#include "core/types.h"
+
+namespace palpate {
+
+/// What a device can do; fixed for its lifetime.
+struct DeviceSpecs {
+  double max_force_N = 3.3;               ///< force clamp
+  double max_stiffness_N_per_m = 700.0;   ///< highest stable rendered stiffness
+  double workspace_half_m = 0.5;          ///< poses outside this cube around the origin are rejected
+  double rate_hz = 1000.0;                ///< native servo rate
+};
+
+/// One reading of the device.
+struct DevicePose {
+  Vec3 pos_m = Vec3::Zero();          ///< handle position (world)
+  Quat orientation = Quat::Identity();///< handle orientation (world)
+  uint32_t buttons = 0;               ///< bit 0 = main button
+};
+
+/// A haptic device. Thread: read() and write_force() are called by the servo thread only;
+/// they never allocate, lock, log, throw or block.
+class Device {
+ public:
+  virtual ~Device() = default;
+  /// The device's limits.
+  virtual const DeviceSpecs& specs() const noexcept = 0;
+  /// Reads the pose at scene time t_s; false when no reading is available (the servo keeps the last good one).
+  virtual bool read(double t_s, DevicePose* out) noexcept = 0;
+  /// Commands a force (N) to be applied until the next call.
+  virtual void write_force(const Vec3& force_N) noexcept = 0;
+};
+
+}  // namespace palpate

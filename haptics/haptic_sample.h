@@ -1,0 +1,27 @@
+#pragma once
+/// HapticSample: what the servo reports each tick to the sim thread (and to haptic.csv).
+
+#include <cstdint>
+
+#include "core/types.h"
+
+namespace palpate {
+
+/// Contact state of the tool.
+enum class ContactState : uint8_t { kFree = 0, kTouch = 1, kGrab = 2 };
+
+/// One servo tick. Plain data, copied through SpscQueue.
+struct HapticSample {
+  int64_t tick = 0;                    ///< servo tick number
+  double t_s = 0.0;                    ///< scene time
+  Vec3 tool_pos_m = Vec3::Zero();      ///< P_t, device position
+  Vec3 proxy_pos_m = Vec3::Zero();     ///< P_s, contact point (== P_t when free)
+  Vec3 force_N = Vec3::Zero();         ///< force sent to the device
+  ContactState contact = ContactState::kFree;
+  int32_t contact_tri = -1;            ///< mesh triangle holding P_s (-1 when free)
+  Vec3 contact_bary = Vec3::Zero();    ///< barycentric coordinates of P_s in that triangle
+  uint32_t buttons = 0;                ///< device buttons
+  uint8_t input_rejected = 0;          ///< 1 when the device reading was rejected this tick
+};
+
+}  // namespace palpate

@@ -1,0 +1,157 @@
+#include "haptics/servo.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "haptics/triangle_queries.h"
+
+namespace palpate {
+
+Servo::Servo(const ServoParams& params, Device* device, SpscQueue<HapticSample>* samples,
+             TripleBuffer<LocalModel>* model)
+    : params_(params), device_(device), samples_(samples), model_(model) {}
+
+bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary) const noexcept {
+  double best = INFINITY;
+  for (int i = 0; i < m.num_triangles; ++i) {
+    Vec3 b = Vec3::Zero();
+    const auto& t = m.tri_m[i];
+    const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2], &b);
+    const double d = (q - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      *slot = i;
+      *point = q;
+      *bary = b;
+    }
+  }
+  return best < INFINITY;
+}
+
+bool Servo::held_point(const LocalModel& m, Vec3* point) const noexcept {
+  for (int i = 0; i < m.num_triangles; ++i)
+    if (m.tri_ids[i] == tri_) {
+      const auto& t = m.tri_m[i];
+      *point = bary_[0] * t[0] + bary_[1] * t[1] + bary_[2] * t[2];
+      return true;
+    }
+  return false;
+}
+
+void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
+  if (contact_ == ContactState::kFree) {
+    // contact starts when the tool's path since the last tick enters the surface from outside
+    for (int i = 0; i < m.num_triangles; ++i) {
+      const auto& t = m.tri_m[i];
+      double u = 0.0;
+      Vec3 b = Vec3::Zero();
+      if (segment_enters_triangle(prev_tool_m_, tool, t[0], t[1], t[2], &u, &b)) {
+        contact_ = ContactState::kTouch;
+        break;
+      }
+    }
+    if (contact_ == ContactState::kFree) {
+      proxy_m_ = tool;
+      return;
+    }
+  }
+  // in contact: P_s is the surface point nearest the tool; the tool is inside while it lies behind the
+  // surface's smooth (vertex-interpolated) normal there, which stays consistent across edges and in dents
+  int slot = -1;
+  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
+  if (!closest_on_patch(m, tool, &slot, &q, &b)) return;
+  const auto& n = m.normal[slot];
+  const Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+  if ((tool - q).dot(normal) > 0.0) {
+    contact_ = ContactState::kFree;
+    tri_ = -1;
+    proxy_m_ = tool;
+    return;
+  }
+  tri_ = m.tri_ids[slot];
+  bary_ = b;
+  proxy_m_ = q;
+}
+
+void Servo::update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept {
+  if (!button) {
+    contact_ = ContactState::kFree;
+    tri_ = -1;
+    proxy_m_ = tool;
+    return;
+  }
+  if (contact_ == ContactState::kFree) {
+    // grab only on the press itself, when the surface is within reach
+    int slot = -1;
+    Vec3 q = Vec3::Zero(), b = Vec3::Zero();
+    if (!prev_button_ && closest_on_patch(m, tool, &slot, &q, &b) && (q - tool).norm() <= params_.grab_radius_m) {
+      contact_ = ContactState::kGrab;
+      tri_ = m.tri_ids[slot];
+      bary_ = b;
+      proxy_m_ = q;
+    } else {
+      proxy_m_ = tool;
+    }
+    return;
+  }
+  // held in material coordinates: P_s follows the deformed surface
+  Vec3 p = Vec3::Zero();
+  if (held_point(m, &p)) proxy_m_ = p;
+}
+
+void Servo::tick(int64_t tick_index, double t_s) noexcept {
+  DevicePose pose;
+  bool rejected = false;
+  if (!device_->read(t_s, &pose) || !pose.pos_m.allFinite() ||
+      pose.pos_m.cwiseAbs().maxCoeff() > device_->specs().workspace_half_m) {
+    rejected = true;
+    ++counters_.rejected_inputs;
+    pose = pose_;  // keep the last good pose
+  } else {
+    pose_ = pose;
+  }
+  const Vec3 tool = pose.pos_m;
+  if (!have_pose_) {
+    prev_tool_m_ = tool;
+    proxy_m_ = tool;
+    have_pose_ = true;
+  }
+  // tool velocity: first difference, low-passed (about 60 Hz cut-off at 1 kHz)
+  const Vec3 vel = (tool - prev_tool_m_) / params_.period_s;
+  tool_vel_m_per_s_ += 0.3 * (vel - tool_vel_m_per_s_);
+
+  const bool button = (pose.buttons & 1u) != 0;
+  const LocalModel& m = model_->read();
+  if (params_.mode == InteractionMode::kTouch) update_touch(m, tool);
+  else update_pull(m, tool, button);
+
+  Vec3 force = Vec3::Zero();
+  if (contact_ != ContactState::kFree && !rejected) {
+    force = params_.coupling_N_per_m * (proxy_m_ - tool) - params_.coupling_damping_Ns_per_m * tool_vel_m_per_s_;
+    const double max_f = device_->specs().max_force_N;
+    const double mag = force.norm();
+    if (!std::isfinite(mag)) force.setZero();
+    else if (mag > max_f) force *= max_f / mag;
+  }
+  device_->write_force(force);
+
+  HapticSample s;
+  s.tick = tick_index;
+  s.t_s = t_s;
+  s.tool_pos_m = tool;
+  s.proxy_pos_m = proxy_m_;
+  s.force_N = force;
+  s.contact = contact_;
+  s.contact_tri = contact_ == ContactState::kFree ? -1 : tri_;
+  s.contact_bary = bary_;
+  s.buttons = pose.buttons;
+  s.input_rejected = rejected ? 1 : 0;
+  if (!samples_->try_push(s)) ++counters_.dropped_samples;
+  last_ = s;
+  counters_.max_force_N = std::max(counters_.max_force_N, force.norm());
+  ++counters_.ticks;
+  prev_tool_m_ = tool;
+  prev_button_ = button;
+}
+
+}  // namespace palpate

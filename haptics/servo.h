@@ -1,0 +1,71 @@
+#pragma once
+/// Servo: one haptic tick — read the device, find the contact point P_s on the latest surface patch,
+/// compute F = k_c (P_s - P_t) - b_c v, clamp, send it, and report a HapticSample to the sim thread.
+
+#include <cstdint>
+
+#include "core/scene.h"
+#include "core/spsc_queue.h"
+#include "core/triple_buffer.h"
+#include "haptics/device.h"
+#include "haptics/haptic_sample.h"
+#include "haptics/local_model.h"
+
+namespace palpate {
+
+/// Servo parameters, validated by the scene loader; read-only while running.
+struct ServoParams {
+  InteractionMode mode = InteractionMode::kTouch;
+  double coupling_N_per_m = 300.0;        ///< k_c
+  double coupling_damping_Ns_per_m = 0.5; ///< b_c
+  double grab_radius_m = 0.01;            ///< pull: grab distance on button press
+  double period_s = 1e-3;                 ///< servo period
+};
+
+/// Counters the servo keeps (read after the run, or approximately while it runs).
+struct ServoCounters {
+  int64_t ticks = 0;             ///< ticks run
+  int64_t dropped_samples = 0;   ///< samples lost to a full queue
+  int64_t rejected_inputs = 0;   ///< non-finite or out-of-workspace device readings
+  double max_force_N = 0.0;      ///< largest force magnitude sent
+};
+
+/// The servo's state machine. Thread: servo (tick); constructed and inspected elsewhere before/after.
+class Servo {
+ public:
+  Servo(const ServoParams& params, Device* device, SpscQueue<HapticSample>* samples, TripleBuffer<LocalModel>* model);
+
+  /// One tick at scene time t_s. Thread: servo. Never allocates, locks, logs, throws or blocks.
+  void tick(int64_t tick_index, double t_s) noexcept;
+
+  /// Counters so far.
+  const ServoCounters& counters() const noexcept { return counters_; }
+  /// The last sample produced.
+  const HapticSample& last_sample() const noexcept { return last_; }
+
+ private:
+  void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
+  void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
+  // closest point on the patch to p; returns false when the patch is empty
+  bool closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary) const noexcept;
+  // position of the held material point in the latest patch (false when its triangle is not in it)
+  bool held_point(const LocalModel& m, Vec3* point) const noexcept;
+
+  ServoParams params_;
+  Device* device_;
+  SpscQueue<HapticSample>* samples_;
+  TripleBuffer<LocalModel>* model_;
+  ServoCounters counters_;
+  HapticSample last_;
+  DevicePose pose_;            // last good device pose
+  Vec3 prev_tool_m_ = Vec3::Zero();
+  Vec3 tool_vel_m_per_s_ = Vec3::Zero();
+  bool have_pose_ = false;
+  bool prev_button_ = false;
+  ContactState contact_ = ContactState::kFree;
+  int32_t tri_ = -1;           // triangle holding P_s
+  Vec3 bary_ = Vec3::Zero();   // P_s in that triangle
+  Vec3 proxy_m_ = Vec3::Zero();
+};
+
+}  // namespace palpate

@@ -1,0 +1,178 @@
+#include "haptics/servo.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "haptics/scripted_device.h"
+#include "support/alloc_counter.h"
+
+namespace palpate {
+namespace {
+
+// A device that replays a fixed position sequence (possibly non-finite) and records the last force.
+class FixedDevice final : public Device {
+ public:
+  const DeviceSpecs& specs() const noexcept override { return specs_; }
+  bool read(double, DevicePose* out) noexcept override {
+    out->pos_m = pos_m;
+    out->buttons = buttons;
+    return true;
+  }
+  void write_force(const Vec3& f) noexcept override { force_N = f; }
+  DeviceSpecs specs_;
+  Vec3 pos_m = Vec3::Zero();
+  uint32_t buttons = 0;
+  Vec3 force_N = Vec3::Zero();
+};
+
+// A flat square patch z = 0 (two triangles, normal +z) published to the servo.
+void publish_floor(TripleBuffer<LocalModel>* tb, double half_m = 0.05) {
+  LocalModel& m = tb->write_buffer();
+  const Vec3 a(-half_m, -half_m, 0), b(half_m, -half_m, 0), c(half_m, half_m, 0), d(-half_m, half_m, 0);
+  m.num_triangles = 2;
+  m.tri_ids[0] = 10;
+  m.tri_m[0] = {a, b, c};
+  m.tri_ids[1] = 11;
+  m.tri_m[1] = {a, c, d};
+  m.normal[0] = m.normal[1] = {Vec3::UnitZ(), Vec3::UnitZ(), Vec3::UnitZ()};
+  m.frame = 0;
+  tb->publish();
+}
+
+struct ServoRig {
+  FixedDevice dev;
+  SpscQueue<HapticSample> q{100000};
+  std::unique_ptr<TripleBuffer<LocalModel>> tb = std::make_unique<TripleBuffer<LocalModel>>();
+  ServoParams p;
+  std::unique_ptr<Servo> servo;
+  explicit ServoRig(InteractionMode mode) {
+    p.mode = mode;
+    p.coupling_N_per_m = 300;
+    p.coupling_damping_Ns_per_m = 0.0;
+    servo = std::make_unique<Servo>(p, &dev, &q, tb.get());
+    publish_floor(tb.get());
+  }
+  int64_t t = 0;
+  void tick() { servo->tick(t, static_cast<double>(t) * 1e-3), ++t; }
+};
+
+TEST(Servo, TouchForceIsCouplingSpringToTheSurface) {
+  ServoRig r(InteractionMode::kTouch);
+  r.dev.pos_m = Vec3(0.01, 0.0, 0.01);
+  r.tick();
+  EXPECT_EQ(r.servo->last_sample().contact, ContactState::kFree);
+  EXPECT_EQ(r.dev.force_N, Vec3::Zero());
+  r.dev.pos_m = Vec3(0.01, 0.0, -0.002);  // crossed the surface
+  r.tick();
+  EXPECT_EQ(r.servo->last_sample().contact, ContactState::kTouch);
+  EXPECT_NEAR(r.dev.force_N.z(), 300 * 0.002, 1e-9);
+  EXPECT_NEAR(r.servo->last_sample().proxy_pos_m.z(), 0.0, 1e-12);
+  // sliding: P_s follows along the surface
+  r.dev.pos_m = Vec3(0.02, 0.01, -0.003);
+  r.tick();
+  EXPECT_NEAR((r.servo->last_sample().proxy_pos_m - Vec3(0.02, 0.01, 0)).norm(), 0.0, 1e-12);
+  // leaving
+  r.dev.pos_m = Vec3(0.02, 0.01, 0.003);
+  r.tick();
+  EXPECT_EQ(r.servo->last_sample().contact, ContactState::kFree);
+  EXPECT_EQ(r.dev.force_N, Vec3::Zero());
+}
+
+TEST(Servo, ForceIsClampedToTheDeviceMaximum) {
+  ServoRig r(InteractionMode::kTouch);
+  r.dev.pos_m = Vec3(0, 0, 0.01);
+  r.tick();
+  r.dev.pos_m = Vec3(0, 0, -0.04);  // 300 N/m * 4 cm = 12 N > 3.3 N
+  r.tick();
+  EXPECT_NEAR(r.dev.force_N.norm(), r.dev.specs_.max_force_N, 1e-9);
+  EXPECT_GT(r.dev.force_N.z(), 0.0);
+}
+
+TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
+  ServoRig r(InteractionMode::kPull);
+  r.servo = std::make_unique<Servo>(ServoParams{InteractionMode::kPull, 300, 0, 0.01, 1e-3}, &r.dev, &r.q, r.tb.get());
+  r.dev.pos_m = Vec3(0.01, 0.02, 0.005);
+  r.tick();
+  r.dev.buttons = 1;
+  r.tick();
+  ASSERT_EQ(r.servo->last_sample().contact, ContactState::kGrab);
+  EXPECT_EQ(r.servo->last_sample().contact_tri, 11);
+  r.dev.pos_m = Vec3(0.01, 0.02, 0.008);  // pull up: force points back down to the grabbed point
+  r.tick();
+  EXPECT_NEAR(r.dev.force_N.z(), -300 * 0.008, 1e-9);
+  EXPECT_NEAR(r.servo->last_sample().proxy_pos_m.z(), 0.0, 1e-12);
+  r.dev.buttons = 0;
+  r.tick();
+  EXPECT_EQ(r.servo->last_sample().contact, ContactState::kFree);
+  // pressing again far from the surface does not grab
+  r.dev.pos_m = Vec3(0.01, 0.02, 0.05);
+  r.dev.buttons = 1;
+  r.tick();
+  EXPECT_EQ(r.servo->last_sample().contact, ContactState::kFree);
+}
+
+TEST(Servo, NonFiniteOrOutOfWorkspaceInputIsRejectedWithZeroForce) {
+  ServoRig r(InteractionMode::kTouch);
+  r.dev.pos_m = Vec3(0, 0, 0.01);
+  r.tick();
+  r.dev.pos_m = Vec3(0, 0, -0.002);
+  r.tick();
+  ASSERT_GT(r.dev.force_N.norm(), 0.0);
+  r.dev.pos_m = Vec3(NAN, 0, 0);
+  r.tick();
+  EXPECT_EQ(r.dev.force_N, Vec3::Zero());
+  EXPECT_EQ(r.servo->last_sample().tool_pos_m, Vec3(0, 0, -0.002));  // last good pose kept
+  r.dev.pos_m = Vec3(0, 0, 5.0);
+  r.tick();
+  EXPECT_EQ(r.servo->counters().rejected_inputs, 2);
+  EXPECT_TRUE(r.servo->last_sample().force_N.allFinite());
+}
+
+TEST(Servo, FullQueueDropsAndCounts) {
+  FixedDevice dev;
+  SpscQueue<HapticSample> q(5);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  Servo s(ServoParams{}, &dev, &q, tb.get());
+  for (int i = 0; i < 12; ++i) s.tick(i, i * 1e-3);
+  EXPECT_EQ(s.counters().dropped_samples, 7);
+  EXPECT_EQ(s.counters().ticks, 12);
+}
+
+TEST(Servo, TenThousandTicksAllocateNothing) {
+  Scene scene;
+  scene.trajectory = {{0.0, Vec3(0, 0, 0.01), false}, {5.0, Vec3(0.01, 0, -0.01), true}, {10.0, Vec3(0, 0, 0.01), false}};
+  ScriptedDevice dev(DeviceSpecs{}, HandSpec{}, scene.trajectory);
+  SpscQueue<HapticSample> q(1024);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  publish_floor(tb.get());
+  for (auto mode : {InteractionMode::kTouch, InteractionMode::kPull}) {
+    ServoParams p;
+    p.mode = mode;
+    Servo servo(p, &dev, &q, tb.get());
+    HapticSample sink;
+    int64_t allocs = 0;
+    {
+      test::AllocationGuard guard;
+      for (int i = 0; i < 10000; ++i) {
+        servo.tick(i, i * 1e-3);
+        if (i % 17 == 0)
+          while (q.try_pop(&sink)) {
+          }
+      }
+      allocs = guard.count();
+    }
+    EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode);
+    EXPECT_EQ(servo.counters().ticks, 10000);
+  }
+}
+
+TEST(AllocationGuard, SeesAnAllocation) {
+  test::AllocationGuard guard;
+  auto p = std::make_unique<int>(3);
+  EXPECT_EQ(guard.count(), 1);
+}
+
+}  // namespace
+}  // namespace palpate

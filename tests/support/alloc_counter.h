@@ -1,0 +1,18 @@
+#pragma once
+// Counts heap allocations made by this thread while a guard is alive (global operator new is replaced
+// in alloc_counter.cpp, linked into the test executables that include this header).
+
+#include <cstdint>
+
+namespace palpate::test {
+
+/// Allocations counted since the guard was made. Thread: the creating thread only.
+class AllocationGuard {
+ public:
+  AllocationGuard();
+  ~AllocationGuard();
+  /// Number of operator new / malloc-through-new calls seen on this thread.
+  int64_t count() const;
+};
+
+}  // namespace palpate::test
