@@ -1,0 +1,294 @@
+#include "core/mesh_io.h"
+
+#include <assimp/DefaultLogger.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <cstdint>
+#include <exception>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <unordered_map>
+#include <vector>
+
+namespace palpate {
+
+namespace {
+
+// exact position key: the bit patterns of the three coordinates (+0.0 and -0.0 made equal beforehand)
+struct PositionKey {
+  uint64_t x, y, z;
+  bool operator==(const PositionKey&) const = default;
+};
+
+struct PositionKeyHash {
+  std::size_t operator()(const PositionKey& k) const {
+    uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2));
+    h ^= (k.z + 0x94D049BB133111EBull + (h << 6) + (h >> 2));
+    return static_cast<std::size_t>(h);
+  }
+};
+
+// errors assimp logs while reading, per thread; the stream is owned by assimp's global logger
+thread_local std::vector<std::string> t_assimp_errors;
+
+class ErrorCapture : public Assimp::LogStream {
+ public:
+  void write(const char* message) override {
+    std::string text = message;
+    // "Error, T0: Obj: Ignoring empty face\n" -> "Obj: Ignoring empty face"
+    const std::size_t colon = text.find(": ");
+    if (colon != std::string::npos) text.erase(0, colon + 2);
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    t_assimp_errors.push_back(std::move(text));
+  }
+};
+
+// installs the capture once per process (assimp's logger is global); a later DefaultLogger::kill elsewhere
+// only removes the extra strictness below
+void install_error_capture() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (Assimp::DefaultLogger::isNullLogger()) {
+      Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    }
+    Assimp::DefaultLogger::get()->attachStream(new ErrorCapture, Assimp::Logger::Err);
+  });
+}
+
+// the first logged error saying a reader dropped or repaired faces, else empty (material errors are harmless)
+std::string face_repair_error() {
+  for (const std::string& e : t_assimp_errors) {
+    std::string lower = e;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower.find("face") != std::string::npos) return e;
+  }
+  return {};
+}
+
+// merges the scene's meshes into one list of triangles, welding vertices at identical positions
+class SceneMerger {
+ public:
+  explicit SceneMerger(TriMesh* out) : out_(out) {}
+
+  void add_node(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent) {
+    const aiMatrix4x4 transform = parent * node.mTransformation;
+    for (unsigned m = 0; m < node.mNumMeshes; ++m) {
+      if (node.mMeshes[m] < scene.mNumMeshes) add_mesh(*scene.mMeshes[node.mMeshes[m]], transform);
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c) {
+      if (node.mChildren[c] != nullptr) add_node(scene, *node.mChildren[c], transform);
+    }
+  }
+
+ private:
+  void add_mesh(const aiMesh& mesh, const aiMatrix4x4& transform) {
+    std::vector<int32_t> ids(mesh.mNumVertices);
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const aiVector3D p = transform * mesh.mVertices[v];
+      ids[v] = weld(Vec3(p.x, p.y, p.z));
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
+      std::array<int32_t, 3> tri{};
+      bool in_range = true;
+      for (int c = 0; c < 3; ++c) {
+        in_range = in_range && face.mIndices[c] < mesh.mNumVertices;
+        if (in_range) tri[c] = ids[face.mIndices[c]];
+      }
+      if (in_range) out_->triangles.push_back(tri);
+    }
+  }
+
+  int32_t weld(Vec3 p) {
+    p = p + Vec3::Zero();  // turns -0.0 into +0.0
+    const PositionKey key{std::bit_cast<uint64_t>(p.x()), std::bit_cast<uint64_t>(p.y()),
+                          std::bit_cast<uint64_t>(p.z())};
+    const auto [it, inserted] = index_.try_emplace(key, static_cast<int32_t>(out_->vertices_m.size()));
+    if (inserted) out_->vertices_m.push_back(p);
+    return it->second;
+  }
+
+  TriMesh* out_;
+  std::unordered_map<PositionKey, int32_t, PositionKeyHash> index_;
+};
+
+// drops triangles with repeated vertices or zero area, then vertices no triangle uses
+void drop_degenerates(TriMesh* mesh) {
+  const auto& v = mesh->vertices_m;
+  std::erase_if(mesh->triangles, [&](const std::array<int32_t, 3>& t) {
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
+    return (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).isZero(0.0);
+  });
+  std::vector<int32_t> remap(v.size(), -1);
+  std::vector<Vec3> kept;
+  for (auto& t : mesh->triangles) {
+    for (int32_t& id : t) {
+      if (remap[id] < 0) {
+        remap[id] = static_cast<int32_t>(kept.size());
+        kept.push_back(v[id]);
+      }
+      id = remap[id];
+    }
+  }
+  mesh->vertices_m = std::move(kept);
+}
+
+// smallest stored size of one PLY property: 2 characters in ASCII ("0 "), the (count) type's size in binary
+double ply_property_bytes(const std::string& type, bool ascii) {
+  if (ascii) return 2;
+  if (type.find("64") != std::string::npos || type == "double") return 8;
+  if (type.find("32") != std::string::npos || type == "int" || type == "uint" || type == "float") return 4;
+  if (type.find("16") != std::string::npos || type == "short" || type == "ushort") return 2;
+  return 1;
+}
+
+// Element counts from an OFF or PLY header that the file's bytes cannot hold, else empty. assimp reserves
+// memory for declared counts before reading them (assimp-testmodels' invalid/OutOfMemory.off costs 16 GB).
+std::string implausible_counts(const std::string& path, double size_bytes) {
+  std::ifstream file(path, std::ios::binary);
+  std::string head(4096, '\0');
+  file.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(file.gcount()));
+  std::istringstream in(head);
+  std::string word;
+  in >> word;
+  if (word.size() >= 3 && word.ends_with("OFF")) {
+    // OFF: vertex and face counts follow the keyword and any '#' comments; at least "0 0 0\n" per vertex
+    double nv = 0, nf = 0;
+    while (in >> std::ws && in.peek() == '#') std::getline(in, word);
+    if (!(in >> nv >> nf)) return {};
+    if (6 * nv + 2 * nf <= size_bytes) return {};
+    std::ostringstream msg;
+    msg << std::fixed << std::setprecision(0) << "header declares " << nv << " vertices and " << nf
+        << " faces, more than the " << size_bytes << "-byte file can hold";
+    return msg.str();
+  }
+  if (word != "ply") return {};
+  const std::size_t end = head.find("end_header");
+  if (end == std::string::npos) return {};
+  const bool ascii = head.find("format ascii") < end;
+  double need_bytes = 0, per_element = 0, count = 0;
+  std::ostringstream elements;
+  elements << std::fixed << std::setprecision(0);
+  std::istringstream lines(head.substr(0, end));
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::string key, a, b;
+    words >> key >> a >> b;
+    if (key == "element") {
+      need_bytes += count * per_element;
+      count = std::strtod(b.c_str(), nullptr);
+      per_element = 0;
+      elements << (elements.tellp() > 0 ? ", " : "") << a << " " << count;
+    } else if (key == "property") {
+      per_element += ply_property_bytes(a == "list" ? b : a, ascii);
+    }
+  }
+  need_bytes += count * per_element;
+  if (need_bytes <= size_bytes) return {};
+  return "header declares " + elements.str() + ", more than the " + std::to_string(std::llround(size_bytes)) +
+         "-byte file can hold";
+}
+
+}  // namespace
+
+Result<TriMesh> load_mesh(const std::string& path) {
+  const std::string who = "mesh '" + path + "': ";
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) return make_error(who, "file not found");
+  if (!std::filesystem::is_regular_file(status)) return make_error(who, "not a regular file");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return make_error(who, "cannot read size (", ec.message(), ")");
+  if (size == 0) return make_error(who, "file is empty");
+  const std::string implausible = implausible_counts(path, static_cast<double>(size));
+  if (!implausible.empty()) return make_error(who, implausible);
+
+  TriMesh mesh;
+  install_error_capture();
+  t_assimp_errors.clear();
+  try {
+    Assimp::Importer importer;
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_ValidateDataStructure;
+    const aiScene* scene = importer.ReadFile(path, flags);
+    if (scene == nullptr) {
+      std::string message = importer.GetErrorString();
+      if (message.empty()) message = "assimp could not read the file";
+      return make_error(who, message);
+    }
+    // a reader that skipped or fixed faces read a damaged surface: refuse it rather than guess
+    const std::string repaired = face_repair_error();
+    if (!repaired.empty()) return make_error(who, "malformed faces (assimp: ", repaired, ")");
+    SceneMerger merger(&mesh);
+    if (scene->mRootNode != nullptr) merger.add_node(*scene, *scene->mRootNode, aiMatrix4x4());
+  } catch (const std::exception& e) {
+    return make_error(who, "assimp failed: ", e.what());
+  }
+  drop_degenerates(&mesh);
+  if (mesh.triangles.empty()) return make_error(who, "no triangles");
+  return mesh;
+}
+
+TriMesh make_box_mesh(const Vec3& size_m, int subdivisions) {
+  const int n = std::max(subdivisions, 1);
+  const int np = n + 1;
+  TriMesh mesh;
+  // surface points of the (n+1)^3 lattice, created once and shared by the faces that meet there
+  std::vector<int32_t> lattice_to_vertex(static_cast<std::size_t>(np) * np * np, -1);
+  auto vertex = [&](const std::array<int, 3>& g) {
+    int32_t& id = lattice_to_vertex[g[0] + np * (g[1] + np * g[2])];
+    if (id < 0) {
+      id = static_cast<int32_t>(mesh.vertices_m.size());
+      Vec3 p;
+      for (int a = 0; a < 3; ++a) p[a] = size_m[a] * (static_cast<double>(g[a]) / n - 0.5);
+      mesh.vertices_m.push_back(p);
+    }
+    return id;
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    // (u, v, axis) is right-handed, so quads ordered u then v face +axis
+    const int u = (axis + 1) % 3;
+    const int w = (axis + 2) % 3;
+    for (int side = 0; side < 2; ++side) {
+      for (int b = 0; b < n; ++b) {
+        for (int a = 0; a < n; ++a) {
+          std::array<int32_t, 4> q{};
+          const int corner[4][2] = {{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}};
+          for (int c = 0; c < 4; ++c) {
+            std::array<int, 3> g{};
+            g[axis] = side * n;
+            g[u] = corner[c][0];
+            g[w] = corner[c][1];
+            q[c] = vertex(g);
+          }
+          if (side == 1) {
+            mesh.triangles.push_back({q[0], q[1], q[2]});
+            mesh.triangles.push_back({q[0], q[2], q[3]});
+          } else {
+            mesh.triangles.push_back({q[0], q[2], q[1]});
+            mesh.triangles.push_back({q[0], q[3], q[2]});
+          }
+        }
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace palpate

@@ -1,0 +1,297 @@
+#include "core/scene.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace palpate {
+namespace {
+
+using Json = nlohmann::json;
+
+std::string fmt_num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Reads one JSON object strictly: every key must be read, types and ranges are checked,
+// and the first problem is kept as an error naming the full key path.
+class ObjectReader {
+ public:
+  ObjectReader(const Json& j, std::string prefix, std::string* error)
+      : j_(j), prefix_(std::move(prefix)), error_(error) {
+    // an absent (null) section takes its defaults
+    if (error_->empty() && !j_.is_null() && !j_.is_object()) fail(prefix_.empty() ? "top level" : prefix_.substr(0, prefix_.size() - 1), "must be an object");
+  }
+
+  bool has(const std::string& key) const { return j_.is_object() && j_.contains(key); }
+
+  void number(const std::string& key, double* out, double lo, double hi) {
+    const Json* v = take(key);
+    if (!v) return;
+    if (!v->is_number()) return fail(path(key), "must be a number");
+    const double x = v->get<double>();
+    if (!std::isfinite(x) || x < lo || x > hi)
+      return fail(path(key), fmt_num(x) + " out of range [" + fmt_num(lo) + ", " + fmt_num(hi) + "]");
+    *out = x;
+  }
+
+  void integer(const std::string& key, int* out, int lo, int hi) {
+    const Json* v = take(key);
+    if (!v) return;
+    if (!v->is_number_integer()) return fail(path(key), "must be an integer");
+    const long long x = v->get<long long>();
+    if (x < lo || x > hi)
+      return fail(path(key), std::to_string(x) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    *out = static_cast<int>(x);
+  }
+
+  void boolean(const std::string& key, bool* out) {
+    const Json* v = take(key);
+    if (!v) return;
+    if (!v->is_boolean()) return fail(path(key), "must be true or false");
+    *out = v->get<bool>();
+  }
+
+  void string(const std::string& key, std::string* out) {
+    const Json* v = take(key);
+    if (!v) return;
+    if (!v->is_string()) return fail(path(key), "must be a string");
+    *out = v->get<std::string>();
+  }
+
+  // A string that must be one of `choices`; returns its position or -1.
+  int choice(const std::string& key, const std::vector<std::string>& choices) {
+    std::string s;
+    const bool present = has(key);
+    string(key, &s);
+    if (!present || !error_->empty()) return -1;
+    for (std::size_t i = 0; i < choices.size(); ++i)
+      if (choices[i] == s) return static_cast<int>(i);
+    std::string list;
+    for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+    fail(path(key), "'" + s + "' is not one of: " + list);
+    return -1;
+  }
+
+  void vec3(const std::string& key, Vec3* out, double lo, double hi) {
+    const Json* v = take(key);
+    if (!v) return;
+    vec3_value(*v, path(key), out, lo, hi);
+  }
+
+  void vec3_value(const Json& v, const std::string& p, Vec3* out, double lo, double hi) {
+    if (!v.is_array() || v.size() != 3) return fail(p, "must be an array of 3 numbers");
+    for (int i = 0; i < 3; ++i) {
+      if (!v[i].is_number()) return fail(p, "must be an array of 3 numbers");
+      const double x = v[i].get<double>();
+      if (!std::isfinite(x) || x < lo || x > hi)
+        return fail(p + "[" + std::to_string(i) + "]", fmt_num(x) + " out of range [" + fmt_num(lo) + ", " + fmt_num(hi) + "]");
+      (*out)[i] = x;
+    }
+  }
+
+  // The sub-object at key (null json when absent) for a nested reader.
+  const Json& object(const std::string& key) {
+    const Json* v = take(key);
+    return v ? *v : null_;
+  }
+
+  const Json* take(const std::string& key) {
+    if (!error_->empty() || !j_.is_object() || !j_.contains(key)) return nullptr;
+    used_.insert(key);
+    return &j_.at(key);
+  }
+
+  void require(const std::string& key) {
+    if (error_->empty() && !has(key)) fail(path(key), "is required");
+  }
+
+  // Reports the first key that nobody read.
+  void finish() {
+    if (!error_->empty() || !j_.is_object()) return;
+    for (const auto& [k, v] : j_.items())
+      if (!used_.count(k)) return fail(path(k), "unknown key");
+  }
+
+  std::string path(const std::string& key) const { return prefix_ + key; }
+
+  void fail(const std::string& p, const std::string& msg) {
+    if (error_->empty()) *error_ = p + ": " + msg;
+  }
+
+ private:
+  const Json& j_;
+  std::string prefix_;
+  std::string* error_;
+  std::set<std::string> used_;
+  Json null_;
+};
+
+void read_mesh(ObjectReader& top, Scene* s, std::string* err) {
+  top.require("mesh");
+  ObjectReader r(top.object("mesh"), "mesh.", err);
+  r.string("file", &s->mesh.file);
+  r.vec3("box_m", &s->mesh.box_size_m, 1e-4, 10.0);
+  r.integer("box_subdivisions", &s->mesh.box_subdivisions, 1, 256);
+  r.number("size_m", &s->mesh.size_m, 1e-3, 10.0);
+  const int up = r.choice("up_axis", {"x", "y", "z"});
+  if (up >= 0) s->mesh.up_axis = static_cast<char>('x' + up);
+  if (err->empty() && s->mesh.file.empty() && s->mesh.box_size_m.isZero())
+    r.fail("mesh", "needs either \"file\" or \"box_m\"");
+  if (err->empty() && !s->mesh.file.empty() && !s->mesh.box_size_m.isZero())
+    r.fail("mesh", "\"file\" and \"box_m\" are exclusive");
+  r.finish();
+}
+
+void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
+  ObjectReader r(top.object("lattice"), "lattice.", err);
+  LatticeSpec& l = s->lattice;
+  r.integer("level", &l.level, 1, 8);
+  r.integer("radius_cells", &l.radius_cells, 1, 128);
+  r.number("node_mass_kg", &l.node_mass_kg, 1e-7, 100.0);
+  const Json& k = r.object("stiffness_N_per_m");
+  if (!k.is_null()) {
+    ObjectReader kr(k, "lattice.stiffness_N_per_m.", err);
+    kr.number("structural", &l.structural_N_per_m, 0.0, 1e9);
+    kr.number("shear", &l.shear_N_per_m, 0.0, 1e9);
+    kr.number("bend", &l.bend_N_per_m, 0.0, 1e9);
+    kr.finish();
+  }
+  r.number("damping_Ns_per_m", &l.damping_Ns_per_m, 0.0, 1e6);
+  r.vec3("gravity_m_per_s2", &l.gravity_m_per_s2, -1e3, 1e3);
+  r.boolean("fix_floor", &l.fix_floor);
+  const int integ = r.choice("integrator", {"explicit_euler", "symplectic_euler"});
+  if (integ >= 0) l.integrator = static_cast<IntegratorKind>(integ);
+  r.integer("max_substeps", &l.max_substeps, 1, 100000);
+  r.finish();
+}
+
+void read_device(ObjectReader& top, Scene* s, std::string* err) {
+  ObjectReader r(top.object("device"), "device.", err);
+  DeviceSpec& d = s->device;
+  r.choice("driver", {"scripted"});
+  r.number("max_force_N", &d.max_force_N, 0.0, 100.0);
+  r.number("coupling_N_per_m", &d.coupling_N_per_m, 0.0, 1e5);
+  r.number("coupling_damping_Ns_per_m", &d.coupling_damping_Ns_per_m, 0.0, 1e3);
+  r.number("tool_radius_m", &d.tool_radius_m, 1e-5, 1.0);
+  r.number("workspace_half_m", &d.workspace_half_m, 1e-3, 100.0);
+  r.finish();
+
+  ObjectReader h(top.object("hand"), "hand.", err);
+  h.number("mass_kg", &s->hand.mass_kg, 1e-4, 100.0);
+  h.number("stiffness_N_per_m", &s->hand.stiffness_N_per_m, 0.0, 1e6);
+  h.number("damping_Ns_per_m", &s->hand.damping_Ns_per_m, 0.0, 1e5);
+  h.finish();
+}
+
+void read_trajectory(ObjectReader& top, Scene* s, std::string* err) {
+  top.require("trajectory");
+  const Json* t = top.take("trajectory");
+  if (!t) return;
+  if (!t->is_array() || t->empty()) return top.fail("trajectory", "must be a non-empty array of keyframes");
+  for (std::size_t i = 0; i < t->size() && err->empty(); ++i) {
+    const std::string p = "trajectory[" + std::to_string(i) + "].";
+    ObjectReader r((*t)[i], p, err);
+    Keyframe k;
+    r.require("t_s");
+    r.require("pos_m");
+    r.number("t_s", &k.t_s, 0.0, 1e6);
+    r.vec3("pos_m", &k.pos_m, -100.0, 100.0);
+    r.boolean("button", &k.button);
+    r.finish();
+    if (err->empty() && !s->trajectory.empty() && k.t_s <= s->trajectory.back().t_s)
+      r.fail(p + "t_s", fmt_num(k.t_s) + " must be later than the previous keyframe");
+    s->trajectory.push_back(k);
+  }
+}
+
+void read_render(ObjectReader& top, Scene* s, std::string* err) {
+  ObjectReader r(top.object("render"), "render.", err);
+  r.integer("width", &s->render.width, 16, 8192);
+  r.integer("height", &s->render.height, 16, 8192);
+  const std::vector<std::string> styles{"solid", "wireframe", "both"};
+  const int st = r.choice("style", styles);
+  if (st >= 0) s->render.style = styles[st];
+  const std::vector<std::string> backends{"auto", "osmesa", "egl"};
+  const int b = r.choice("backend", backends);
+  if (b >= 0) s->render.backend = backends[b];
+  r.finish();
+}
+
+}  // namespace
+
+Result<Scene> parse_scene(const std::string& json_text, const std::string& path) {
+  const std::string who = "scene '" + path + "': ";
+  Json j;
+  try {
+    j = Json::parse(json_text);
+  } catch (const Json::parse_error& e) {
+    return make_error(who, "invalid JSON: ", e.what());
+  }
+  Scene s;
+  s.path = path;
+  std::string err;
+  ObjectReader top(j, "", &err);
+  top.string("name", &s.name);
+  read_mesh(top, &s, &err);
+  const Json& grid = top.object("grid");
+  if (!grid.is_null()) {
+    ObjectReader g(grid, "grid.", &err);
+    g.integer("levels", &s.grid_levels, 1, 8);
+    g.finish();
+  }
+  read_lattice(top, &s, &err);
+  read_device(top, &s, &err);
+  const Json& inter = top.object("interaction");
+  if (!inter.is_null()) {
+    ObjectReader r(inter, "interaction.", &err);
+    const int m = r.choice("mode", {"touch", "pull"});
+    if (m >= 0) s.mode = static_cast<InteractionMode>(m);
+    r.number("grab_radius_m", &s.grab_radius_m, 0.0, 10.0);
+    r.finish();
+  }
+  read_trajectory(top, &s, &err);
+  read_render(top, &s, &err);
+  const int rm = top.choice("run_mode", {"lockstep", "realtime"});
+  if (rm >= 0) s.run_mode = static_cast<RunMode>(rm);
+  top.number("duration_s", &s.duration_s, 1.0 / 60.0, 3600.0);
+  top.finish();
+  if (err.empty() && s.lattice.level > s.grid_levels)
+    err = "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);
+  if (!err.empty()) return make_error(who, err);
+  if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();
+  // a relative mesh path is relative to the scene file's folder
+  if (!s.mesh.file.empty() && std::filesystem::path(s.mesh.file).is_relative())
+    s.mesh.file = (std::filesystem::path(path).parent_path() / s.mesh.file).lexically_normal().string();
+  return s;
+}
+
+Result<Scene> load_scene(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return make_error("scene '", path, "': file not found");
+  if (std::filesystem::is_directory(path, ec)) return make_error("scene '", path, "': is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return make_error("scene '", path, "': cannot open for reading");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  if (buf.str().empty()) return make_error("scene '", path, "': file is empty");
+  return parse_scene(buf.str(), path);
+}
+
+const char* integrator_name(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::kExplicitEuler: return "explicit_euler";
+    case IntegratorKind::kSymplecticEuler: return "symplectic_euler";
+  }
+  return "?";
+}
+
+const char* mode_name(InteractionMode mode) { return mode == InteractionMode::kPull ? "pull" : "touch"; }
+
+}  // namespace palpate

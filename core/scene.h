@@ -1,0 +1,102 @@
+#pragma once
+/// Scene: everything a recording needs, parsed strictly from JSON (unknown keys and out-of-range values are errors).
+
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "core/types.h"
+
+namespace palpate {
+
+/// Which integrator steps the lattice.
+enum class IntegratorKind { kExplicitEuler, kSymplecticEuler };
+/// How the tool interacts with the model.
+enum class InteractionMode { kTouch, kPull };
+/// Which clock drives a recording.
+enum class RunMode { kLockstep, kRealtime };
+
+/// Where the model comes from and how it is normalised.
+struct MeshSpec {
+  std::string file;                   ///< mesh path (resolved against the scene's folder); empty for a box
+  Vec3 box_size_m = Vec3::Zero();     ///< generated box sides when file is empty
+  int box_subdivisions = 8;           ///< quads per box face edge
+  double size_m = 0.1;                ///< largest side after normalisation
+  char up_axis = 'z';                 ///< the file's up axis (x, y or z); rotated to world z on load
+};
+
+/// The local mass-spring lattice (paper section 4.2) and its dynamics.
+struct LatticeSpec {
+  int level = 4;                        ///< grid level the lattice is built at
+  int radius_cells = 2;                 ///< region: solid cells within this Chebyshev distance of the contact cell
+  double node_mass_kg = 0.002;          ///< M, per node
+  double structural_N_per_m = 40.0;     ///< K of axis springs; 0 switches the family off
+  double shear_N_per_m = 20.0;          ///< K of face/body diagonal springs; 0 = off
+  double bend_N_per_m = 10.0;           ///< K of skip-one springs; 0 = off
+  double damping_Ns_per_m = 0.05;       ///< C_d, relative-velocity damping per spring (eq. 4)
+  Vec3 gravity_m_per_s2 = Vec3::Zero(); ///< g (eq. 6)
+  bool fix_floor = false;               ///< also fix nodes on the lowest z plane of the model
+  IntegratorKind integrator = IntegratorKind::kSymplecticEuler;
+  int max_substeps = 256;               ///< cap on automatic substeps per frame
+};
+
+/// Device limits and the proxy coupling.
+struct DeviceSpec {
+  std::string driver = "scripted";          ///< device driver name
+  double max_force_N = 3.3;                 ///< force clamp
+  double coupling_N_per_m = 300.0;          ///< k_c of the proxy spring
+  double coupling_damping_Ns_per_m = 0.5;   ///< b_c on the tool velocity while in contact
+  double tool_radius_m = 0.003;             ///< drawn tool sphere radius
+  double workspace_half_m = 0.5;            ///< poses outside this cube around the origin are rejected
+};
+
+/// The scripted hand: a mass pulled toward keyframe targets by a spring-damper.
+struct HandSpec {
+  double mass_kg = 0.12;
+  double stiffness_N_per_m = 150.0;
+  double damping_Ns_per_m = 6.0;
+};
+
+/// One trajectory keyframe; positions are linearly interpolated, the button holds until the next key.
+struct Keyframe {
+  double t_s = 0.0;
+  Vec3 pos_m = Vec3::Zero();
+  bool button = false;
+};
+
+/// Off-screen rendering.
+struct RenderSpec {
+  int width = 640;
+  int height = 480;
+  std::string style = "solid";     ///< solid | wireframe | both
+  std::string backend = "auto";    ///< auto | osmesa | egl
+};
+
+/// A whole scene.
+struct Scene {
+  std::string path;                 ///< the file it came from
+  std::string name;
+  MeshSpec mesh;
+  int grid_levels = 5;
+  LatticeSpec lattice;
+  DeviceSpec device;
+  HandSpec hand;
+  InteractionMode mode = InteractionMode::kTouch;
+  double grab_radius_m = 0.01;      ///< pull: grab when the surface is this close on button press
+  std::vector<Keyframe> trajectory;
+  RenderSpec render;
+  RunMode run_mode = RunMode::kLockstep;
+  double duration_s = 1.0;
+};
+
+/// Parses JSON text; `path` names the scene in errors ("scene 'x.json': lattice.level 9 out of range [1, 8]").
+Result<Scene> parse_scene(const std::string& json_text, const std::string& path);
+/// Reads and parses a scene file.
+Result<Scene> load_scene(const std::string& path);
+
+/// Name of an integrator as written in scenes.
+const char* integrator_name(IntegratorKind kind);
+/// Name of an interaction mode as written in scenes.
+const char* mode_name(InteractionMode mode);
+
+}  // namespace palpate

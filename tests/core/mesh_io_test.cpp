@@ -1,0 +1,274 @@
+#include "core/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <utility>
+
+#include <unistd.h>
+
+namespace palpate {
+namespace {
+
+namespace fs = std::filesystem;
+
+// a fresh directory per test under the system temp dir
+class MeshIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("palpate_mesh_io_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& bytes) const {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p.string();
+  }
+
+  fs::path dir_;
+};
+
+void expect_error(const Result<TriMesh>& r, const std::string& path, const std::string& substring) {
+  ASSERT_FALSE(r.ok()) << path;
+  EXPECT_EQ(r.error().message.rfind("mesh '" + path + "': ", 0), 0u) << r.error().message;
+  EXPECT_NE(r.error().message.find(substring), std::string::npos) << r.error().message;
+}
+
+constexpr const char* kTetraObj =
+    "# tetrahedron\n"
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+    "vn 0 0 1\n"
+    "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+TEST_F(MeshIoTest, ObjTetrahedron) {
+  const auto r = load_mesh(write("tetra.obj", kTetraObj));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.value().num_vertices(), 4u);
+  EXPECT_EQ(r.value().num_triangles(), 4u);
+}
+
+TEST_F(MeshIoTest, ObjDegenerateTrianglesAndUnusedVerticesDropped) {
+  // face 5 repeats a vertex, face 6 is collinear, vertex 5 is a duplicate position, vertex 6 unused
+  const std::string text =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 0 0\nv 7 7 7\nv 2 0 0\n"
+      "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 5 3 4\nf 1 1 2\nf 1 2 7\n";
+  const auto r = load_mesh(write("degenerate.obj", text));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.value().num_vertices(), 4u);
+  EXPECT_EQ(r.value().num_triangles(), 4u);
+}
+
+TEST_F(MeshIoTest, PlyCubeQuadsTriangulated) {
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 6\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+      "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n";
+  const auto r = load_mesh(write("cube.ply", text));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.value().num_vertices(), 8u);
+  EXPECT_EQ(r.value().num_triangles(), 12u);
+}
+
+TEST_F(MeshIoTest, OffCube) {
+  const std::string text =
+      "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+      "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n";
+  const auto r = load_mesh(write("cube.off", text));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.value().num_vertices(), 8u);
+  EXPECT_EQ(r.value().num_triangles(), 12u);
+}
+
+TEST_F(MeshIoTest, AsciiStlVerticesJoined) {
+  const std::string text =
+      "solid tetra\n"
+      "facet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
+      "facet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
+      "facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
+      "facet normal 1 1 1\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\n"
+      "endsolid tetra\n";
+  const auto r = load_mesh(write("tetra.stl", text));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.value().num_vertices(), 4u);
+  EXPECT_EQ(r.value().num_triangles(), 4u);
+}
+
+TEST_F(MeshIoTest, BinaryStlCubeVerticesJoined) {
+  const TriMesh box = make_box_mesh(Vec3(1, 2, 3), 1);
+  std::string bytes(80, ' ');
+  auto put = [&](const void* p, std::size_t n) { bytes.append(static_cast<const char*>(p), n); };
+  const uint32_t count = static_cast<uint32_t>(box.num_triangles());
+  put(&count, 4);
+  for (const auto& t : box.triangles) {
+    const Vec3 n = (box.vertices_m[t[1]] - box.vertices_m[t[0]])
+                       .cross(box.vertices_m[t[2]] - box.vertices_m[t[0]])
+                       .normalized();
+    const float normal[3] = {float(n.x()), float(n.y()), float(n.z())};
+    put(normal, sizeof(normal));
+    for (int32_t id : t) {
+      const float p[3] = {float(box.vertices_m[id].x()), float(box.vertices_m[id].y()),
+                          float(box.vertices_m[id].z())};
+      put(p, sizeof(p));
+    }
+    const uint16_t attribute = 0;
+    put(&attribute, 2);
+  }
+  const auto r = load_mesh(write("cube.stl", bytes));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.value().num_vertices(), 8u);
+  EXPECT_EQ(r.value().num_triangles(), 12u);
+}
+
+TEST_F(MeshIoTest, MissingFile) {
+  const std::string path = (dir_ / "nope.obj").string();
+  expect_error(load_mesh(path), path, "file not found");
+}
+
+TEST_F(MeshIoTest, Directory) {
+  const std::string path = dir_.string();
+  expect_error(load_mesh(path), path, "not a regular file");
+}
+
+TEST_F(MeshIoTest, EmptyFile) {
+  const std::string path = write("empty.obj", "");
+  expect_error(load_mesh(path), path, "file is empty");
+}
+
+TEST_F(MeshIoTest, MalformedObj) {
+  const std::string path = write("bad.obj", "this is not\nan obj file at all\nf x y z\n");
+  const auto r = load_mesh(path);
+  expect_error(r, path, "");
+  EXPECT_GT(r.error().message.size(), ("mesh '" + path + "': ").size());
+}
+
+TEST_F(MeshIoTest, ObjWithoutFaces) {
+  const std::string path = write("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  expect_error(load_mesh(path), path, "");
+}
+
+TEST_F(MeshIoTest, PngGarbage) {
+  std::string bytes = "\x89PNG\r\n\x1a\n";
+  for (int i = 0; i < 512; ++i) bytes.push_back(static_cast<char>((i * 37 + 11) & 0xff));
+  const std::string path = write("image.png", bytes);
+  expect_error(load_mesh(path), path, "");
+}
+
+TEST_F(MeshIoTest, BinaryGarbageWithMeshExtension) {
+  std::string bytes;
+  for (int i = 0; i < 4096; ++i) bytes.push_back(static_cast<char>((i * 131 + 7) & 0xff));
+  for (const char* ext : {"obj", "ply", "stl", "off"}) {
+    const std::string path = write(std::string("garbage.") + ext, bytes);
+    const auto r = load_mesh(path);
+    ASSERT_FALSE(r.ok()) << path;
+    EXPECT_EQ(r.error().message.rfind("mesh '" + path + "': ", 0), 0u) << r.error().message;
+  }
+}
+
+TEST(MeshIoInvalidModels, EveryAssimpInvalidModelFailsCleanly) {
+  fs::path dir;
+  for (const char* candidate : {"/usr/share/assimp/models/invalid", "/usr/share/assimp-testmodels/invalid",
+                                "/usr/share/doc/assimp-testmodels/invalid"}) {
+    if (fs::is_directory(candidate)) {
+      dir = candidate;
+      break;
+    }
+  }
+  if (dir.empty()) GTEST_SKIP() << "assimp-testmodels invalid/ folder not installed";
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (!entry.is_regular_file()) continue;
+    ++files;
+    const std::string path = entry.path().string();
+    const auto r = load_mesh(path);
+    ASSERT_FALSE(r.ok()) << path << " loaded " << r.value().num_triangles() << " triangles";
+    EXPECT_EQ(r.error().message.rfind("mesh '" + path + "': ", 0), 0u) << r.error().message;
+  }
+  EXPECT_GT(files, 0);
+}
+
+// assimp reserves memory for declared counts: these must fail fast instead of allocating gigabytes
+TEST_F(MeshIoTest, OffHeaderCountsBeyondFileSize) {
+  const std::string path = write("huge.off", "OFF\n# comment\n353535235358 6 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_error(load_mesh(path), path, "header declares 353535235358 vertices and 6 faces, more than the");
+}
+
+TEST_F(MeshIoTest, PlyHeaderCountsBeyondFileSize) {
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    const std::string path = write(std::string("huge_") + format + ".ply",
+                                   std::string("ply\nformat ") + format +
+                                       " 1.0\nelement vertex 2000000000\nproperty float x\nproperty float y\n"
+                                       "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                       "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_error(load_mesh(path), path, "header declares vertex 2000000000, face 1, more than the");
+  }
+}
+
+TEST_F(MeshIoTest, ObjWithEmptyFaceLineIsRejected) {
+  const std::string path = write("empty_face.obj", std::string(kTetraObj) + "f\n");
+  expect_error(load_mesh(path), path, "malformed faces (assimp: Obj: Ignoring empty face)");
+}
+
+TEST_F(MeshIoTest, ObjMissingMaterialIsHarmless) {
+  const auto r = load_mesh(write("no_mtl.obj", std::string("mtllib nowhere.mtl\nusemtl Nope\n") + kTetraObj));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r.value().num_triangles(), 4u);
+}
+
+TEST(MeshIoAssimpModels, SameModelInEveryFormatGivesTheSameMesh) {
+  const fs::path dir = "/usr/share/assimp/models";
+  const char* files[] = {"OBJ/WusonOBJ.obj", "PLY/Wuson.ply", "STL/Wuson.stl", "OFF/Wuson.off"};
+  for (const char* f : files) {
+    if (!fs::is_regular_file(dir / f)) GTEST_SKIP() << "assimp-testmodels Wuson files not installed";
+  }
+  for (const char* f : files) {
+    const auto r = load_mesh((dir / f).string());
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r.value().num_vertices(), 2117u) << f;
+    EXPECT_EQ(r.value().num_triangles(), 3732u) << f;
+  }
+}
+
+TEST(MakeBoxMesh, CountsClosedAndOutward) {
+  const Vec3 size_m(0.3, 0.5, 0.7);
+  for (int n : {1, 2, 5}) {
+    const TriMesh box = make_box_mesh(size_m, n);
+    EXPECT_EQ(box.num_vertices(), static_cast<std::size_t>(6 * n * n + 2));
+    EXPECT_EQ(box.num_triangles(), static_cast<std::size_t>(12 * n * n));
+    // closed and consistently oriented: every directed edge appears once, its reverse once
+    std::map<std::pair<int32_t, int32_t>, int> directed;
+    double volume_m3 = 0.0;
+    for (const auto& t : box.triangles) {
+      for (int c = 0; c < 3; ++c) ++directed[{t[c], t[(c + 1) % 3]}];
+      const Vec3& a = box.vertices_m[t[0]];
+      const Vec3& b = box.vertices_m[t[1]];
+      const Vec3& d = box.vertices_m[t[2]];
+      const Vec3 normal = (b - a).cross(d - a);
+      EXPECT_GT(normal.dot((a + b + d) / 3.0), 0.0);  // points away from the centre
+      volume_m3 += a.dot(b.cross(d)) / 6.0;
+    }
+    for (const auto& [edge, count] : directed) {
+      EXPECT_EQ(count, 1);
+      EXPECT_EQ(directed.count({edge.second, edge.first}), 1u);
+    }
+    EXPECT_NEAR(volume_m3, size_m.prod(), 1e-12);
+    // on the surface: inside on every axis and on a face on at least one
+    for (const Vec3& v : box.vertices_m) EXPECT_NEAR((2.0 * v.cwiseAbs() - size_m).maxCoeff(), 0.0, 1e-15);
+  }
+}
+
+TEST(MakeBoxMesh, SubdivisionsBelowOneCountAsOne) {
+  EXPECT_EQ(make_box_mesh(Vec3::Ones(), 0).num_triangles(), 12u);
+}
+
+}  // namespace
+}  // namespace palpate
