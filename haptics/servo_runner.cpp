@@ -1,13 +1,16 @@
 #include "haptics/servo_runner.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <cmath>
 
 #include "core/clock.h"
 
 namespace palpate {
 
-ServoRunner::ServoRunner(Servo* servo, double rate_hz)
-    : servo_(servo), period_ns_(static_cast<int64_t>(std::llround(1e9 / rate_hz))) {}
+ServoRunner::ServoRunner(Servo* servo, double rate_hz, int fifo_priority)
+    : servo_(servo), period_ns_(static_cast<int64_t>(std::llround(1e9 / rate_hz))), fifo_priority_(fifo_priority) {}
 
 ServoRunner::~ServoRunner() { stop(); }
 
@@ -15,6 +18,15 @@ void ServoRunner::start(int64_t t0_ns) {
   t0_ns_ = t0_ns;
   stop_.store(false);
   thread_ = std::thread([this] { run(); });
+  if (fifo_priority_ > 0) {
+    // before the first deadline (t0 is set a little ahead by callers); refused without privileges
+    sched_param sp{};
+    sp.sched_priority = fifo_priority_;
+    if (pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &sp) == 0) {
+      timing_.realtime_priority = true;
+      timing_.priority = fifo_priority_;
+    }
+  }
 }
 
 void ServoRunner::stop() {

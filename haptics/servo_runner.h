@@ -16,13 +16,16 @@ struct ServoTiming {
   LatencyHistogram wake_latency;    ///< actual - intended wake time
   LatencyHistogram compute;         ///< time inside tick()
   int64_t overruns = 0;             ///< periods missed (skipped whole)
+  bool realtime_priority = false;   ///< SCHED_FIFO was granted
+  int priority = 0;                 ///< SCHED_FIFO priority when granted
 };
 
 /// Owns the servo thread. Not copyable. Thread: start/stop from the controlling thread.
 class ServoRunner {
  public:
   /// Ticks `servo` at rate_hz until stop(); scene time t = tick / rate_hz from start().
-  ServoRunner(Servo* servo, double rate_hz);
+  /// fifo_priority > 0 asks for SCHED_FIFO at that priority (falls back to normal scheduling when refused).
+  ServoRunner(Servo* servo, double rate_hz, int fifo_priority = 80);
   ~ServoRunner();
   ServoRunner(const ServoRunner&) = delete;
   ServoRunner& operator=(const ServoRunner&) = delete;
@@ -42,6 +45,7 @@ class ServoRunner {
   Servo* servo_;
   int64_t period_ns_;
   int64_t t0_ns_ = 0;
+  int fifo_priority_ = 0;
   std::atomic<bool> stop_{false};
   std::atomic<int64_t> ticks_{0};
   ServoTiming timing_;

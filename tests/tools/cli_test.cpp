@@ -1,0 +1,128 @@
+// The palpate command as a user runs it: exit codes and one-line errors naming the culprit.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "support/fixtures.h"
+
+namespace palpate {
+namespace {
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out;  // stdout + stderr
+};
+
+CliRun palpate(const std::string& args) {
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/palpate " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int st = pclose(p);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string tmp(const std::string& name) { return (fs::path(testing::TempDir()) / ("palpate_cli_" + name)).string(); }
+
+void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+// A scene using the given mesh file, written next to it.
+std::string scene_for_mesh(const std::string& mesh, const std::string& name) {
+  const std::string s = tmp(name + ".json");
+  write(s, R"({"mesh": {"file": ")" + mesh + R"("}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.1]}], "duration_s": 0.1})");
+  return s;
+}
+
+void expect_error(const CliRun& r, const std::string& needle) {
+  EXPECT_TRUE(r.code == 1 || r.code == 2) << "exit " << r.code << ": " << r.out;
+  EXPECT_NE(r.out.find(needle), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line expected: " << r.out;
+}
+
+TEST(Cli, HelpListsCommands) {
+  const CliRun r = palpate("--help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("record"), std::string::npos);
+  EXPECT_NE(r.out.find("info"), std::string::npos);
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  EXPECT_EQ(palpate("").code, 2);
+  EXPECT_EQ(palpate("record").code, 2);
+  EXPECT_EQ(palpate("record x.json --mode fast").code, 2);
+}
+
+TEST(Cli, InfoReportsTheBunnyAndItsLevels) {
+  const CliRun r = palpate("info scenes/bunny.obj --levels 4 --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"vertices\": 1839"), std::string::npos);
+  EXPECT_NE(r.out.find("\"triangles\": 3674"), std::string::npos);
+  EXPECT_NE(r.out.find("\"level\": 4"), std::string::npos);
+}
+
+TEST(Cli, MissingMeshNamesTheFile) {
+  const std::string out = tmp("out_missing");
+  fs::remove_all(out);
+  expect_error(palpate("record " + scene_for_mesh("/nonexistent/m.obj", "missing") + " --out " + out + " -q"),
+               "mesh '/nonexistent/m.obj': file not found");
+  EXPECT_FALSE(fs::exists(out));  // nothing written for a bad input
+}
+
+TEST(Cli, EmptyMalformedAndNonMeshFiles) {
+  const std::string empty = tmp("empty.obj"), bad = tmp("bad.obj"), png = tmp("picture.stl");
+  write(empty, "");
+  write(bad, "v 1 2\nf 1 2 9 x\nthis is not obj\n");
+  write(png, std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR garbage", 24));
+  expect_error(palpate("info " + empty), "mesh '" + empty + "': file is empty");
+  for (const auto& f : {bad, png}) {
+    const CliRun r = palpate("info " + f);
+    expect_error(r, "mesh '" + f + "'");
+  }
+}
+
+TEST(Cli, FlatMeshIsRejected) {
+  const std::string flat = tmp("flat.obj");
+  write(flat, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+  expect_error(palpate("info " + flat), "flat on axis z");
+  expect_error(palpate("record " + scene_for_mesh(flat, "flat") + " -q --out " + tmp("out_flat")), "flat on axis z");
+}
+
+TEST(Cli, SceneWithWrongKeyNamesTheKey) {
+  const std::string s = tmp("wrongkey.json");
+  write(s, R"({"mesh": {"box_m": [0.05, 0.05, 0.05]}, "lattice": {"stifness": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})");
+  expect_error(palpate("record " + s + " -q"), "lattice.stifness: unknown key");
+}
+
+TEST(Cli, UnwritableOutputFolderIsAnError) {
+  const std::string file = tmp("a_file");
+  write(file, "x");
+  expect_error(palpate("record scenes/cube_press.json -q --duration 0.1 --out " + file + "/sub"),
+               "output '" + file + "/sub': cannot create folder");
+}
+
+TEST(Cli, AssimpInvalidModelsGiveErrorsNotCrashes) {
+  const fs::path dir = "/usr/share/assimp/models/invalid";
+  if (!fs::exists(dir)) GTEST_SKIP() << "assimp-testmodels not installed";
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const CliRun r = palpate("info '" + e.path().string() + "'");
+    EXPECT_TRUE(r.code == 1) << e.path() << " exit " << r.code << ": " << r.out;
+    EXPECT_NE(r.out.find("mesh '"), std::string::npos) << r.out;
+    ++n;
+  }
+  EXPECT_GT(n, 0);
+}
+
+}  // namespace
+}  // namespace palpate

@@ -1,0 +1,177 @@
+#include "tools/session/frame_stage.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "core/state_hash.h"
+
+namespace palpate {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticSample>* samples,
+                       TripleBuffer<LocalModel>* local_model, Renderer* renderer, PngWriter* writer, HapticLog* log)
+    : scene_(scene),
+      model_(model),
+      samples_(samples),
+      local_model_(local_model),
+      renderer_(renderer),
+      writer_(writer),
+      log_(log),
+      vertices_m_(model.rest.vertices_m) {
+  latest_.tool_pos_m = scene.trajectory.front().pos_m;
+  latest_.proxy_pos_m = latest_.tool_pos_m;
+  stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
+  stats_.render_ms.reserve(stats_.sim_ms.capacity());
+}
+
+void FrameStage::drain() {
+  HapticSample s;
+  while (samples_->try_pop(&s)) {
+    if (log_) log_->append(s);
+    ++stats_.samples;
+    ++frame_samples_;
+    force_sum_N_ += s.force_N;
+    if (s.contact != ContactState::kFree && s.contact_tri >= 0) {
+      contact_ = s;
+      contact_this_frame_ = true;
+    }
+    latest_ = s;
+  }
+}
+
+void FrameStage::drain_remaining() { drain(); }
+
+void FrameStage::build_lattice_at(const Vec3& p_m) {
+  const int level = scene_.lattice.level;
+  const CellCoord center = model_.grid.cell_of(p_m, level);
+  auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, center, scene_.lattice.radius_cells));
+  if (!lat) return;  // no solid cell near the contact: nothing to deform
+  lattice_ = std::move(lat).value();
+  deformer_.attach(*lattice_, model_.bindings);
+  f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
+  stats_.lattice_nodes = lattice_->num_nodes();
+  stats_.lattice_springs = lattice_->springs.size();
+  stats_.lattice_vertices = deformer_.num_bound_vertices();
+}
+
+void FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
+  std::fill(f_ext->begin(), f_ext->end(), Vec3::Zero());
+  if (!contact_this_frame_ || frame_samples_ == 0) return;
+  // the frame's mean device force, reacted on the material point P_s: -F spread over the cell nodes of the
+  // contact triangle's vertices by barycentric and trilinear weights
+  const Vec3 f_obj = -force_sum_N_ / static_cast<double>(frame_samples_);
+  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
+  for (int c = 0; c < 3; ++c) {
+    const VertexBinding& b = model_.bindings[static_cast<std::size_t>(tri[c])];
+    const int32_t slot = lattice_->slot_of_cell[b.cell];
+    if (slot < 0) continue;
+    const auto w = trilinear_weights(b.local);
+    for (int k = 0; k < 8; ++k) (*f_ext)[lattice_->cell_nodes[slot][k]] += contact_.contact_bary[c] * w[k] * f_obj;
+  }
+}
+
+void FrameStage::publish_patch() {
+  LocalModel& m = local_model_->write_buffer();
+  // triangles near the tool and the proxy, with a margin for the deformation since rest
+  const double margin = std::max(2.0 * model_.leaf_cell_m, scene_.grab_radius_m) + stats_.max_displacement_m;
+  const Vec3 lo = latest_.tool_pos_m.cwiseMin(latest_.proxy_pos_m) - Vec3::Constant(margin);
+  const Vec3 hi = latest_.tool_pos_m.cwiseMax(latest_.proxy_pos_m) + Vec3::Constant(margin);
+  model_.grid.triangles_near(lo, hi, &near_tris_);
+  // keep the held triangle first, then the nearest ones
+  const Vec3 tool = latest_.tool_pos_m;
+  auto dist = [&](int32_t t) {
+    const auto& tr = model_.rest.triangles[static_cast<std::size_t>(t)];
+    return ((vertices_m_[tr[0]] + vertices_m_[tr[1]] + vertices_m_[tr[2]]) / 3.0 - tool).squaredNorm();
+  };
+  const int32_t held = latest_.contact != ContactState::kFree ? latest_.contact_tri : -1;
+  m.truncated = near_tris_.size() > static_cast<std::size_t>(LocalModel::kMaxTriangles);
+  if (m.truncated) {
+    std::nth_element(near_tris_.begin(), near_tris_.begin() + LocalModel::kMaxTriangles - 1, near_tris_.end(),
+                     [&](int32_t a, int32_t b) { return dist(a) < dist(b); });
+    near_tris_.resize(LocalModel::kMaxTriangles - 1);
+  }
+  int n = 0;
+  auto put = [&](int32_t t) {
+    const auto& tr = model_.rest.triangles[static_cast<std::size_t>(t)];
+    m.tri_ids[n] = t;
+    m.tri_m[n] = {vertices_m_[tr[0]], vertices_m_[tr[1]], vertices_m_[tr[2]]};
+    m.normal[n] = {normals_[tr[0]], normals_[tr[1]], normals_[tr[2]]};
+    ++n;
+  };
+  if (held >= 0) put(held);
+  for (int32_t t : near_tris_)
+    if (t != held && n < LocalModel::kMaxTriangles) put(t);
+  m.num_triangles = n;
+  m.frame = stats_.frames;
+  local_model_->publish();
+}
+
+void FrameStage::render(int64_t index, bool block) {
+  if (!renderer_ || !writer_) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  uint8_t* buf = writer_->acquire(block);
+  if (!buf) {
+    ++stats_.frames_dropped;
+    return;
+  }
+  FrameView view{};
+  view.vertices_m = &vertices_m_;
+  view.triangles = &model_.rest.triangles;
+  view.normals = &normals_;
+  view.tool_pos_m = latest_.tool_pos_m;
+  view.tool_radius_m = scene_.device.tool_radius_m;
+  view.in_contact = latest_.contact != ContactState::kFree;
+  view.show_proxy = view.in_contact;
+  view.proxy_pos_m = latest_.proxy_pos_m;
+  renderer_->draw(view, buf);
+  writer_->submit(static_cast<int>(index), buf);
+  ++stats_.frames_rendered;
+  stats_.render_ms.push_back(ms_since(t0));
+}
+
+void FrameStage::frame(int64_t index, double /*t_s*/, bool block_on_writer) {
+  const auto t0 = std::chrono::steady_clock::now();
+  contact_this_frame_ = false;
+  force_sum_N_.setZero();
+  frame_samples_ = 0;
+  drain();
+  if (!lattice_ && contact_this_frame_) build_lattice_at(contact_.proxy_pos_m);
+  if (lattice_) {
+    apply_contact_force(&f_ext_N_);
+    const StepReport rep = step_lattice(&*lattice_, scene_.lattice.integrator, 1.0 / 60.0, scene_.lattice.max_substeps,
+                                        f_ext_N_, &ws_);
+    stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
+    if (!rep.finite) {
+      // a diverged state is counted and replaced by rest, so the run goes on
+      ++stats_.nan_events;
+      lattice_->reset_to_rest();
+    }
+    for (std::size_t i = 0; i < lattice_->num_nodes(); ++i)
+      stats_.max_displacement_m = std::max(stats_.max_displacement_m, (lattice_->x_m[i] - lattice_->rest_m[i]).norm());
+    deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, &vertices_m_);
+  }
+  // normals for the servo's inside test and for shading (all of them until only moved ones are tracked)
+  if (lattice_ || normals_.empty()) compute_vertex_normals(vertices_m_, model_.rest.triangles, &normals_);
+  publish_patch();
+  stats_.sim_ms.push_back(ms_since(t0));
+  ++stats_.frames;
+  render(index, block_on_writer);
+}
+
+std::string FrameStage::state_hash() const {
+  StateHash h;
+  if (lattice_) {
+    h.add(lattice_->x_m);
+    h.add(lattice_->v_m_per_s);
+  }
+  h.add(vertices_m_);
+  return h.hex();
+}
+
+}  // namespace palpate

@@ -1,0 +1,90 @@
+#pragma once
+/// FrameStage: the 60 Hz work — drain servo samples, load and step the lattice, deform the mesh,
+/// publish the surface patch for the servo, render and queue the PNG.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/spsc_queue.h"
+#include "core/triple_buffer.h"
+#include "haptics/haptic_sample.h"
+#include "haptics/local_model.h"
+#include "render/gl_context.h"
+#include "render/png_writer.h"
+#include "render/renderer.h"
+#include "sim/deformer.h"
+#include "sim/integrator.h"
+#include "sim/lattice.h"
+#include "tools/session/haptic_log.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+
+/// Figures the frame stage collects (read after the run).
+struct FrameStats {
+  std::vector<double> sim_ms;       ///< per frame: drain + step + deform + publish
+  std::vector<double> render_ms;    ///< per rendered frame
+  int64_t frames = 0;               ///< frames processed
+  int64_t frames_rendered = 0;      ///< frames handed to the PNG writer
+  int64_t frames_dropped = 0;       ///< realtime: frames not rendered because the writer was full
+  int64_t nan_events = 0;           ///< lattice states that went non-finite (reset to rest)
+  int64_t samples = 0;              ///< servo samples drained
+  double max_displacement_m = 0.0;  ///< largest node displacement from rest
+  int max_substeps = 0;             ///< most substeps in one frame
+  std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< simulated per frame
+};
+
+/// Owns the lattice, deformer and render state of one recording. Thread: the sim thread only.
+class FrameStage {
+ public:
+  /// All pointers must outlive the stage. renderer / writer may be null (no rendering).
+  FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticSample>* samples,
+             TripleBuffer<LocalModel>* local_model, Renderer* renderer, PngWriter* writer, HapticLog* log);
+
+  /// Processes frame `index` at scene time t_s; block_on_writer waits for a free PNG buffer (lockstep)
+  /// instead of dropping the frame (realtime).
+  void frame(int64_t index, double t_s, bool block_on_writer);
+  /// Drains and logs samples left after the last frame.
+  void drain_remaining();
+  /// 16-hex-digit hash of lattice state and deformed mesh.
+  std::string state_hash() const;
+  /// Collected figures.
+  const FrameStats& stats() const { return stats_; }
+  /// Current deformed vertex positions.
+  const std::vector<Vec3>& vertices_m() const { return vertices_m_; }
+  /// The lattice, once a contact has built it.
+  const std::optional<Lattice>& lattice() const { return lattice_; }
+
+ private:
+  void drain();
+  void build_lattice_at(const Vec3& p_m);
+  void apply_contact_force(std::vector<Vec3>* f_ext) const;
+  void publish_patch();
+  void render(int64_t index, bool block);
+
+  const Scene& scene_;
+  const Model& model_;
+  SpscQueue<HapticSample>* samples_;
+  TripleBuffer<LocalModel>* local_model_;
+  Renderer* renderer_;
+  PngWriter* writer_;
+  HapticLog* log_;
+
+  std::optional<Lattice> lattice_;
+  MeshDeformer deformer_;
+  IntegratorWorkspace ws_;
+  std::vector<Vec3> f_ext_N_;        // external node forces (n)
+  std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
+  std::vector<Vec3> normals_;        // per vertex (n_v)
+  std::vector<int32_t> near_tris_;   // scratch for the patch query
+  HapticSample latest_;              // newest sample drained
+  HapticSample contact_;             // newest sample in contact this frame
+  bool contact_this_frame_ = false;
+  Vec3 force_sum_N_ = Vec3::Zero();  // sum of device forces over the frame's samples
+  int64_t frame_samples_ = 0;
+  FrameStats stats_;
+};
+
+}  // namespace palpate

@@ -1,0 +1,34 @@
+#include "tools/session/model.h"
+
+#include "core/mesh_io.h"
+
+namespace palpate {
+
+Result<Model> load_model(const Scene& scene) {
+  Model m;
+  std::string name = scene.mesh.file;
+  if (scene.mesh.file.empty()) {
+    m.rest = make_box_mesh(scene.mesh.box_size_m, scene.mesh.box_subdivisions);
+    name = "box";
+  } else {
+    auto mesh = load_mesh(scene.mesh.file);
+    if (!mesh) return mesh.error();
+    m.rest = std::move(mesh).value();
+  }
+  // the file's up axis becomes world z (a right-handed rotation)
+  for (Vec3& v : m.rest.vertices_m) {
+    if (scene.mesh.up_axis == 'y') v = Vec3(v.x(), -v.z(), v.y());
+    else if (scene.mesh.up_axis == 'x') v = Vec3(v.y(), v.z(), v.x());
+  }
+  auto norm = normalize_mesh(&m.rest, scene.mesh.size_m, name);
+  if (!norm) return norm.error();
+  m.normalization = norm.value();
+  auto grid = GridHierarchy::build(m.rest, m.normalization.cube, scene.grid_levels);
+  if (!grid) return make_error("mesh '", name, "': ", grid.error().message);
+  m.grid = std::move(grid).value();
+  m.bindings = bind_vertices(m.grid, scene.lattice.level, m.rest.vertices_m);
+  m.leaf_cell_m = m.grid.cell_size_m(m.grid.levels());
+  return m;
+}
+
+}  // namespace palpate

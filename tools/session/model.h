@@ -1,0 +1,27 @@
+#pragma once
+/// Model: a scene's mesh loaded, normalised (paper step 1), indexed by the grid hierarchy (step 2) and bound (step 3).
+
+#include <vector>
+
+#include "core/aabb.h"
+#include "core/binding.h"
+#include "core/grid_hierarchy.h"
+#include "core/result.h"
+#include "core/scene.h"
+#include "core/tri_mesh.h"
+
+namespace palpate {
+
+/// Immutable after load; shared read-only by the stages of a session.
+struct Model {
+  TriMesh rest;                          ///< normalised mesh at rest
+  Normalization normalization;           ///< raw -> world mapping
+  GridHierarchy grid;                    ///< hierarchy over the normalisation cube
+  std::vector<VertexBinding> bindings;   ///< per vertex, at the lattice level
+  double leaf_cell_m = 0.0;              ///< edge of a leaf cell
+};
+
+/// Loads the scene's mesh (or generates its box) and builds grid and bindings. Errors name the mesh file.
+Result<Model> load_model(const Scene& scene);
+
+}  // namespace palpate

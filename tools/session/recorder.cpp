@@ -1,0 +1,253 @@
+#include "tools/session/recorder.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "core/clock.h"
+#include "core/stats.h"
+#include "haptics/latency_histogram.h"
+#include "haptics/servo.h"
+#include "haptics/servo_runner.h"
+#include "tools/session/device_factory.h"
+#include "tools/session/frame_stage.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr double kServoRate_hz = 1000.0;
+constexpr double kFrameRate_hz = 60.0;
+
+// Creates out/ and out/frames, checks it can be written, clears frames of an earlier recording.
+Status prepare_output(const std::string& out, std::string* frames_dir) {
+  std::error_code ec;
+  *frames_dir = (fs::path(out) / "frames").string();
+  fs::create_directories(*frames_dir, ec);
+  if (ec) return make_error("output '", out, "': cannot create folder: ", ec.message());
+  const fs::path probe = fs::path(out) / ".palpate_write_probe";
+  {
+    std::ofstream f(probe);
+    if (!f) return make_error("output '", out, "': cannot write files there");
+  }
+  fs::remove(probe, ec);
+  for (const auto& e : fs::directory_iterator(*frames_dir, ec))
+    if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) fs::remove(e.path(), ec);
+  return Ok{};
+}
+
+// Writes text to path via a temporary name.
+Status write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    f.flush();
+    if (!f) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      return make_error("summary '", path, "': write failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) return make_error("summary '", path, "': ", ec.message());
+  return Ok{};
+}
+
+nlohmann::json ms_json(const std::vector<double>& v) {
+  return {{"p50", percentile(v, 0.5)}, {"p99", percentile(v, 0.99)}, {"max", percentile(v, 1.0)}, {"count", v.size()}};
+}
+
+nlohmann::json hist_json(const LatencyHistogram& h) {
+  return {{"p50", h.quantile_us(0.5)}, {"p99", h.quantile_us(0.99)}, {"p999", h.quantile_us(0.999)},
+          {"max", h.max_us()}, {"count", h.count()}, {"over_2ms", h.overflow()}};
+}
+
+// A single progress line on stderr: rewritten in place on a terminal, one line a second otherwise.
+class Progress {
+ public:
+  Progress(bool quiet, std::string name, double duration_s)
+      : quiet_(quiet), tty_(isatty(STDERR_FILENO)), name_(std::move(name)), duration_s_(duration_s),
+        start_(std::chrono::steady_clock::now()) {}
+  void update(double t_s, int64_t frame, int64_t frames, bool force = false) {
+    if (quiet_) return;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (!force && wall - last_ < (tty_ ? 0.1 : 1.0)) return;
+    last_ = wall;
+    std::fprintf(stderr, "%srecord %s: %6.2f / %.2f s scene, frame %lld / %lld, %.1f s wall%s", tty_ ? "\r" : "",
+                 name_.c_str(), t_s, duration_s_, static_cast<long long>(frame), static_cast<long long>(frames), wall,
+                 tty_ ? "   " : "\n");
+    std::fflush(stderr);
+  }
+  void done() {
+    if (!quiet_ && tty_) std::fputc('\n', stderr);
+  }
+
+ private:
+  bool quiet_, tty_;
+  std::string name_;
+  double duration_s_;
+  std::chrono::steady_clock::time_point start_;
+  double last_ = -1.0;
+};
+
+}  // namespace
+
+Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& opt) {
+  Scene scene = scene_in;
+  if (opt.duration_s > 0.0) scene.duration_s = opt.duration_s;
+  const RunMode mode = opt.override_mode ? opt.mode : scene.run_mode;
+  const bool lockstep = mode == RunMode::kLockstep;
+
+  // inputs first: a bad mesh leaves no output folder behind
+  auto model_r = load_model(scene);
+  if (!model_r) return model_r.error();
+  const Model& model = model_r.value();
+  std::string frames_dir;
+  if (auto st = prepare_output(opt.out_dir, &frames_dir); !st) return st.error();
+
+  // rendering: the context lives on this (the sim) thread
+  std::unique_ptr<GlContext> gl;
+  std::unique_ptr<Renderer> renderer;
+  std::unique_ptr<PngWriter> writer;
+  if (opt.render) {
+    auto ctx = create_gl_context(scene.render.width, scene.render.height, scene.render.backend);
+    if (!ctx) return ctx.error();
+    gl = std::move(ctx).value();
+    const RenderStyle style = scene.render.style == "wireframe" ? RenderStyle::kWireframe
+                              : scene.render.style == "both"    ? RenderStyle::kBoth
+                                                                : RenderStyle::kSolid;
+    const Aabb box = Aabb::of(model.rest.vertices_m);
+    renderer = std::make_unique<Renderer>(gl.get(), style,
+                                          Camera::framing(box.min_m, box.max_m,
+                                                          static_cast<double>(scene.render.width) / scene.render.height));
+    writer = std::make_unique<PngWriter>(frames_dir, scene.render.width, scene.render.height, 6);
+  }
+
+  HapticLog log;
+  const std::string csv_path = (fs::path(opt.out_dir) / "haptic.csv").string();
+  if (auto st = log.open(csv_path); !st) return st.error();
+
+  // the servo side
+  auto device_r = make_device(scene, opt.device, kServoRate_hz);
+  if (!device_r) return device_r.error();
+  Device& device = *device_r.value();
+  ServoParams sp;
+  sp.mode = scene.mode;
+  sp.coupling_N_per_m = scene.device.coupling_N_per_m;
+  sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
+  sp.grab_radius_m = scene.grab_radius_m;
+  sp.period_s = 1.0 / kServoRate_hz;
+  SpscQueue<HapticSample> samples(8192);
+  auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
+  Servo servo(sp, &device, &samples, local_model.get());
+  FrameStage stage(scene, model, &samples, local_model.get(), renderer.get(), writer.get(), &log);
+
+  const int64_t ticks = std::llround(scene.duration_s * kServoRate_hz);
+  const auto frames = static_cast<int64_t>(std::ceil(scene.duration_s * kFrameRate_hz - 1e-9));
+  Progress progress(opt.quiet, scene.name, scene.duration_s);
+  const auto wall0 = std::chrono::steady_clock::now();
+  ServoTiming timing;
+  LatencyHistogram frame_latency;   // realtime: frame start - frame deadline
+  int64_t frames_late = 0;
+
+  if (lockstep) {
+    // virtual clock: 1000 servo ticks and 60 frames per scene-second, in a fixed order
+    int64_t next_frame = 0;
+    for (int64_t i = 0; i < ticks; ++i) {
+      const double t = static_cast<double>(i) / kServoRate_hz;
+      while (next_frame < frames && static_cast<double>(next_frame) / kFrameRate_hz <= t + 1e-12) {
+        stage.frame(next_frame, static_cast<double>(next_frame) / kFrameRate_hz, true);
+        ++next_frame;
+        progress.update(t, next_frame, frames);
+      }
+      const int64_t c0 = monotonic_ns();
+      servo.tick(i, t);
+      timing.compute.add(monotonic_ns() - c0);
+    }
+    for (; next_frame < frames; ++next_frame) stage.frame(next_frame, static_cast<double>(next_frame) / kFrameRate_hz, true);
+  } else {
+    ServoRunner runner(&servo, kServoRate_hz);
+    const int64_t t0_ns = monotonic_ns() + 2'000'000;
+    runner.start(t0_ns);
+    const double frame_ns = 1e9 / kFrameRate_hz;
+    for (int64_t f = 0; f < frames; ++f) {
+      const int64_t deadline = t0_ns + static_cast<int64_t>(std::llround(static_cast<double>(f) * frame_ns));
+      sleep_until_ns(deadline);
+      const int64_t late = monotonic_ns() - deadline;
+      frame_latency.add(late);
+      if (late > static_cast<int64_t>(frame_ns)) ++frames_late;
+      stage.frame(f, static_cast<double>(f) / kFrameRate_hz, false);
+      progress.update(static_cast<double>(f) / kFrameRate_hz, f + 1, frames);
+    }
+    sleep_until_ns(t0_ns + static_cast<int64_t>(scene.duration_s * 1e9));
+    runner.stop();
+    timing = runner.timing();
+  }
+  stage.drain_remaining();
+  progress.update(scene.duration_s, frames, frames, true);
+  progress.done();
+  if (writer) writer->finish();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const Status log_status = log.close();
+
+  const FrameStats& fst = stage.stats();
+  const ServoCounters& sc = servo.counters();
+  nlohmann::json j;
+  j["scene"] = scene.path;
+  j["mode"] = lockstep ? "lockstep" : "realtime";
+  j["interaction"] = mode_name(scene.mode);
+  j["duration_s"] = scene.duration_s;
+  j["frames_written"] = writer ? writer->frames_written() : 0;
+  j["frames_dropped"] = fst.frames_dropped;
+  j["servo_ticks"] = sc.ticks;
+  j["max_force_N"] = sc.max_force_N;
+  j["max_displacement_m"] = fst.max_displacement_m;
+  j["nan_events"] = fst.nan_events;
+  j["dropped_samples"] = sc.dropped_samples;
+  j["rejected_inputs"] = sc.rejected_inputs;
+  j["haptic_rows"] = log.rows();
+  j["servo"] = {{"clock", lockstep ? "virtual" : "wall"},
+                {"latency_us", hist_json(timing.wake_latency)},
+                {"compute_us", hist_json(timing.compute)},
+                {"overruns", timing.overruns},
+                {"sched", timing.realtime_priority ? "fifo:" + std::to_string(timing.priority) : std::string("other")}};
+  j["sim"] = {{"ms", ms_json(fst.sim_ms)},
+              {"integrator", integrator_name(scene.lattice.integrator)},
+              {"max_substeps", fst.max_substeps},
+              {"nodes", fst.lattice_nodes},
+              {"springs", fst.lattice_springs},
+              {"vertices", fst.lattice_vertices},
+              {"frame_latency_us", hist_json(frame_latency)},
+              {"frames_late", frames_late}};
+  j["render"] = {{"ms", ms_json(fst.render_ms)}, {"backend", gl ? gl->backend_name() : "none"},
+                 {"width", scene.render.width}, {"height", scene.render.height}};
+  j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
+              {"write_errors", writer ? writer->write_errors() : 0}};
+  j["wall_s"] = wall_s;
+  j["wall_s_per_scene_s"] = wall_s / scene.duration_s;
+  if (lockstep) j["state_hash"] = stage.state_hash();
+  j["outputs"] = {{"frames", frames_dir}, {"haptic_csv", csv_path}};
+
+  RecordResult res;
+  res.summary_path = (fs::path(opt.out_dir) / "summary.json").string();
+  res.summary_json = j.dump(2) + "\n";
+  res.frames_written = writer ? writer->frames_written() : 0;
+  res.state_hash = lockstep ? stage.state_hash() : "";
+  if (auto st = write_file_atomic(res.summary_path, res.summary_json); !st) return st.error();
+  if (writer && writer->write_errors() > 0)
+    return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());
+  if (!log_status) return log_status.error();
+  return res;
+}
+
+}  // namespace palpate
