@@ -1,37 +1,49 @@
 #pragma once
 /// ServoRunner: runs Servo::tick on its own thread at a fixed rate, paced by absolute deadlines
-/// (clock_nanosleep TIMER_ABSTIME, next += period), measuring wake latency and counting overruns.
+/// (clock_nanosleep TIMER_ABSTIME, next += period), optionally sleeping to just before the deadline and
+/// spinning the rest; measures wake latency and compute time, counts and locates overruns.
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <thread>
 
 #include "haptics/latency_histogram.h"
+#include "haptics/rt_setup.h"
 #include "haptics/servo.h"
 
 namespace palpate {
 
-/// Timing figures of a realtime servo run.
+/// How the servo thread runs.
+struct ServoRunnerConfig {
+  double rate_hz = 1000.0;  ///< tick rate
+  int spin_us = 0;          ///< sleep until deadline - spin_us, then spin (0 = sleep only)
+  RtRequest rt;             ///< priority, pinning (memory locking is the caller's, process-wide)
+};
+
+/// Timing figures of a realtime servo run; kept without allocating.
 struct ServoTiming {
+  static constexpr int kOverrunTicks = 8;
   LatencyHistogram wake_latency;    ///< actual - intended wake time
   LatencyHistogram compute;         ///< time inside tick()
   int64_t overruns = 0;             ///< periods missed (skipped whole)
-  bool realtime_priority = false;   ///< SCHED_FIFO was granted
-  int priority = 0;                 ///< SCHED_FIFO priority when granted
+  std::array<int64_t, kOverrunTicks> first_overrun_ticks{};  ///< tick numbers of the first overruns
+  int overrun_ticks_recorded = 0;   ///< entries used in first_overrun_ticks
+  RtGrant rt;                       ///< what the system granted
 };
 
 /// Owns the servo thread. Not copyable. Thread: start/stop from the controlling thread.
 class ServoRunner {
  public:
-  /// Ticks `servo` at rate_hz until stop(); scene time t = tick / rate_hz from start().
-  /// fifo_priority > 0 asks for SCHED_FIFO at that priority (falls back to normal scheduling when refused).
-  ServoRunner(Servo* servo, double rate_hz, int fifo_priority = 80);
+  /// Ticks `servo` at config.rate_hz until stop(); scene time t = tick / rate_hz from start().
+  ServoRunner(Servo* servo, const ServoRunnerConfig& config);
   ~ServoRunner();
   ServoRunner(const ServoRunner&) = delete;
   ServoRunner& operator=(const ServoRunner&) = delete;
 
-  /// Starts the thread; t0_ns is the monotonic time of tick 0.
-  void start(int64_t t0_ns);
+  /// Starts the thread, waits until it has applied its real-time settings, and returns what was granted;
+  /// tick 0 is due at monotonic time t0_ns.
+  const RtGrant& start(int64_t t0_ns);
   /// Asks the thread to finish and joins it.
   void stop();
   /// Ticks completed so far (any thread).
@@ -43,10 +55,11 @@ class ServoRunner {
   void run() noexcept;  // Thread: servo
 
   Servo* servo_;
+  ServoRunnerConfig config_;
   int64_t period_ns_;
   int64_t t0_ns_ = 0;
-  int fifo_priority_ = 0;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> ready_{false};
   std::atomic<int64_t> ticks_{0};
   ServoTiming timing_;
   std::thread thread_;

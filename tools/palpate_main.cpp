@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/scene.h"
+#include "tools/bench_loop.h"
 #include "tools/info_command.h"
 #include "tools/session/recorder.h"
 
@@ -55,6 +56,11 @@ int main(int argc, char** argv) {
   rec->add_flag("--quiet,-q", opt.quiet, "No progress line");
   rec->add_flag("--no-render", no_render, "Simulate and log only: no GL, no frames");
   rec->add_option("--device", opt.device, "Device driver, overriding the scene's (scripted)");
+  rec->add_option("--spin-us", opt.spin_us, "realtime: spin this many us before each servo deadline (0 = sleep only)")
+      ->check(CLI::Range(0, 1000));
+  rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
+      ->check(CLI::Range(0, 99));
+  rec->add_option("--servo-rate", opt.servo_rate_hz, "realtime: servo rate in Hz")->check(CLI::Range(100.0, 20000.0));
 
   auto* info = app.add_subcommand("info", "Mesh counts, box and grid hierarchy per level");
   std::string mesh_path;
@@ -63,6 +69,24 @@ int main(int argc, char** argv) {
   info->add_option("mesh", mesh_path, "Mesh file (OBJ, PLY, STL, OFF, ...)")->required();
   info->add_option("--levels,-k", levels, "Grid levels (1..8)")->check(CLI::Range(1, 8));
   info->add_flag("--json", json, "Print JSON");
+
+  // benchmarks: one sub-subcommand each
+  auto* bench = app.add_subcommand("bench", "Benchmarks: figures as tables, JSON and plots");
+  bench->require_subcommand(1);
+  auto* bloop = bench->add_subcommand("loop", "Servo loop timing alone or beside the sim / record pipeline");
+  palpate::BenchLoopOptions lo;
+  bloop->add_option("--scene", lo.scene, "Scene whose device, model and pipeline are used")->capture_default_str();
+  bloop->add_option("--rate", lo.rate_hz, "Servo rate in Hz")->check(CLI::Range(100.0, 50000.0))->capture_default_str();
+  bloop->add_option("--seconds", lo.seconds, "Seconds per run")->check(CLI::Range(0.1, 3600.0))->capture_default_str();
+  bloop->add_option("--load", lo.load, "none | sim | record")->check(CLI::IsMember({"none", "sim", "record"}))
+      ->capture_default_str();
+  bloop->add_option("--spin-us", lo.spin_us, "Spin this many us before each deadline (default: the recorder's)")
+      ->check(CLI::Range(0, 1000));
+  bloop->add_option("--priority", lo.priority, "SCHED_FIFO priority, 0 = normal scheduling")->check(CLI::Range(0, 99))
+      ->capture_default_str();
+  bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate without overruns");
+  bloop->add_option("--json", lo.json_path, "Write the figures (with the latency histogram) as JSON");
+  bloop->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log count) as PNG");
 
   try {
     app.parse(argc, argv);
@@ -75,5 +99,6 @@ int main(int argc, char** argv) {
     return run_record(scene_path, opt, mode);
   }
   if (*info) return palpate::run_info(mesh_path, levels, json);
+  if (*bloop) return palpate::run_bench_loop(lo);
   return 2;
 }

@@ -159,6 +159,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   ServoTiming timing;
   LatencyHistogram frame_latency;   // realtime: frame start - frame deadline
   int64_t frames_late = 0;
+  bool memory_locked = false;
 
   if (lockstep) {
     // virtual clock: 1000 servo ticks and 60 frames per scene-second, in a fixed order
@@ -176,9 +177,23 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     }
     for (; next_frame < frames; ++next_frame) stage.frame(next_frame, static_cast<double>(next_frame) / kFrameRate_hz, true);
   } else {
-    ServoRunner runner(&servo, kServoRate_hz);
-    const int64_t t0_ns = monotonic_ns() + 2'000'000;
-    runner.start(t0_ns);
+    std::string mem_refused;
+    const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);
+    ServoRunnerConfig cfg;
+    cfg.rate_hz = opt.servo_rate_hz;
+    cfg.spin_us = opt.spin_us;
+    cfg.rt.fifo_priority = opt.fifo_priority;
+    cfg.rt.cpu = opt.servo_cpu;
+    ServoRunner runner(&servo, cfg);
+    const int64_t t0_ns = monotonic_ns() + 5'000'000;
+    const RtGrant& grant = runner.start(t0_ns);
+    // said once: what the system refused and what the servo runs with instead
+    if (!grant.refused.empty() || (opt.lock_memory && !locked)) {
+      std::string what = grant.refused;
+      if (opt.lock_memory && !locked) what += (what.empty() ? "" : "; ") + mem_refused;
+      std::fprintf(stderr, "palpate: servo: refused: %s; running with %s%s\n", what.c_str(),
+                   grant.fifo ? "SCHED_FIFO" : "normal priority", grant.timer_slack_1ns ? ", timer slack 1 ns" : "");
+    }
     const double frame_ns = 1e9 / kFrameRate_hz;
     for (int64_t f = 0; f < frames; ++f) {
       const int64_t deadline = t0_ns + static_cast<int64_t>(std::llround(static_cast<double>(f) * frame_ns));
@@ -192,6 +207,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     sleep_until_ns(t0_ns + static_cast<int64_t>(scene.duration_s * 1e9));
     runner.stop();
     timing = runner.timing();
+    memory_locked = locked;
   }
   stage.drain_remaining();
   progress.update(scene.duration_s, frames, frames, true);
@@ -220,7 +236,12 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                 {"latency_us", hist_json(timing.wake_latency)},
                 {"compute_us", hist_json(timing.compute)},
                 {"overruns", timing.overruns},
-                {"sched", timing.realtime_priority ? "fifo:" + std::to_string(timing.priority) : std::string("other")}};
+                {"first_overrun_ticks", std::vector<int64_t>(timing.first_overrun_ticks.begin(),
+                                                             timing.first_overrun_ticks.begin() + timing.overrun_ticks_recorded)},
+                {"rate_hz", lockstep ? kServoRate_hz : opt.servo_rate_hz},
+                {"spin_us", lockstep ? 0 : opt.spin_us},
+                {"rt", {{"memory_locked", memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
+                        {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};
   j["sim"] = {{"ms", ms_json(fst.sim_ms)},
               {"integrator", integrator_name(scene.lattice.integrator)},
               {"max_substeps", fst.max_substeps},
@@ -243,6 +264,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   res.summary_json = j.dump(2) + "\n";
   res.frames_written = writer ? writer->frames_written() : 0;
   res.state_hash = lockstep ? stage.state_hash() : "";
+  res.servo_timing = timing;
+  res.frame_latency = frame_latency;
+  res.frames_late = frames_late;
+  res.frames_dropped = fst.frames_dropped;
   if (auto st = write_file_atomic(res.summary_path, res.summary_json); !st) return st.error();
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());

@@ -6,8 +6,12 @@
 
 #include "core/result.h"
 #include "core/scene.h"
+#include "haptics/servo_runner.h"
 
 namespace palpate {
+
+/// Default sleep-then-spin window of the realtime servo (see README, "Servo timing").
+inline constexpr int kDefaultSpin_us = 0;
 
 /// How to run a recording (command-line overrides of the scene).
 struct RecordOptions {
@@ -18,6 +22,11 @@ struct RecordOptions {
   bool quiet = false;            ///< no progress line
   bool render = true;            ///< false: no GL, no frames (sim and haptics only)
   std::string device;            ///< device override ("scripted", ...); empty = the scene's driver
+  double servo_rate_hz = 1000.0; ///< realtime servo rate (lockstep always ticks 1000 per scene-second)
+  int spin_us = kDefaultSpin_us; ///< realtime: spin this long before each servo deadline
+  int fifo_priority = 80;        ///< realtime: SCHED_FIFO priority for the servo, 0 = normal scheduling
+  int servo_cpu = -1;            ///< realtime: CPU to pin the servo to, -1 = the last allowed CPU
+  bool lock_memory = true;       ///< realtime: mlockall before starting
 };
 
 /// What a finished recording reports (also written to summary.json).
@@ -26,6 +35,10 @@ struct RecordResult {
   std::string summary_json;      ///< the summary as written
   int frames_written = 0;
   std::string state_hash;        ///< lockstep only
+  ServoTiming servo_timing;      ///< realtime: the servo's timing (lockstep: compute time only)
+  LatencyHistogram frame_latency;///< realtime: 60 Hz loop wake latency
+  int64_t frames_late = 0;       ///< realtime: frames started more than a period late
+  int64_t frames_dropped = 0;    ///< realtime: frames not rendered because the writer was full
 };
 
 /// Runs the recording. Errors (unwritable output, GL failure, write failures) name the culprit;

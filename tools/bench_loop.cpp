@@ -1,0 +1,182 @@
+#include "tools/bench_loop.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "core/clock.h"
+#include "core/scene.h"
+#include "haptics/servo_runner.h"
+#include "tools/session/device_factory.h"
+#include "tools/session/frame_stage.h"
+#include "tools/session/model.h"
+#include "tools/session/recorder.h"
+
+namespace palpate {
+namespace {
+namespace fs = std::filesystem;
+
+/// One run's figures.
+struct LoopRun {
+  double rate_hz = 0;
+  std::string load;
+  int spin_us = 0;
+  ServoTiming timing;
+  LatencyHistogram frame_latency;
+  int64_t frames_late = 0, frames_dropped = 0;
+  int64_t ticks = 0;
+};
+
+// The servo alone: a real device driver and the real surface patch of the scene, nothing else running
+// except a light drain of the sample queue.
+Status run_servo_alone(const Scene& scene, const BenchLoopOptions& o, int spin_us, LoopRun* out) {
+  auto model = load_model(scene);
+  if (!model) return model.error();
+  auto device = make_device(scene, "", o.rate_hz);
+  if (!device) return device.error();
+  SpscQueue<HapticSample> q(8192);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  FrameStage stage(scene, model.value(), &q, tb.get(), nullptr, nullptr, nullptr);
+  stage.frame(0, 0.0, false);  // publishes the surface patch around the tool's start
+  ServoParams sp;
+  sp.mode = scene.mode;
+  sp.coupling_N_per_m = scene.device.coupling_N_per_m;
+  sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
+  sp.grab_radius_m = scene.grab_radius_m;
+  sp.period_s = 1.0 / o.rate_hz;
+  Servo servo(sp, device.value().get(), &q, tb.get());
+  std::string why;
+  lock_process_memory(&why);
+  ServoRunnerConfig cfg;
+  cfg.rate_hz = o.rate_hz;
+  cfg.spin_us = spin_us;
+  cfg.rt.fifo_priority = o.priority;
+  ServoRunner runner(&servo, cfg);
+  const int64_t t0 = monotonic_ns() + 5'000'000;
+  runner.start(t0);
+  HapticSample s;
+  while (monotonic_ns() < t0 + static_cast<int64_t>(o.seconds * 1e9)) {
+    while (q.try_pop(&s)) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  runner.stop();
+  out->timing = runner.timing();
+  out->ticks = runner.ticks();
+  return Ok{};
+}
+
+Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, LoopRun* out) {
+  out->rate_hz = rate_hz;
+  out->load = o.load;
+  out->spin_us = o.spin_us >= 0 ? o.spin_us : kDefaultSpin_us;
+  BenchLoopOptions oo = o;
+  oo.rate_hz = rate_hz;
+  if (o.load == "none") return run_servo_alone(scene, oo, out->spin_us, out);
+  RecordOptions ro;
+  ro.out_dir = (fs::temp_directory_path() / ("palpate_bench_loop_" + std::to_string(getpid()))).string();
+  ro.override_mode = true;
+  ro.mode = RunMode::kRealtime;
+  ro.duration_s = o.seconds;
+  ro.quiet = true;
+  ro.render = o.load == "record";
+  ro.servo_rate_hz = rate_hz;
+  ro.spin_us = out->spin_us;
+  ro.fifo_priority = o.priority;
+  auto r = record_scene(scene, ro);
+  std::error_code ec;
+  fs::remove_all(ro.out_dir, ec);
+  if (!r) return r.error();
+  out->timing = r.value().servo_timing;
+  out->frame_latency = r.value().frame_latency;
+  out->frames_late = r.value().frames_late;
+  out->frames_dropped = r.value().frames_dropped;
+  out->ticks = out->timing.wake_latency.count();
+  return Ok{};
+}
+
+nlohmann::json to_json(const LoopRun& r) {
+  const auto& w = r.timing.wake_latency;
+  nlohmann::json buckets = nlohmann::json::array();
+  for (int i = 0; i < LatencyHistogram::kBuckets; ++i)
+    if (w.bucket(i) > 0) buckets.push_back({i, w.bucket(i)});
+  return {{"rate_hz", r.rate_hz},
+          {"load", r.load},
+          {"spin_us", r.spin_us},
+          {"ticks", r.ticks},
+          {"latency_us", {{"p50", w.quantile_us(0.5)}, {"p99", w.quantile_us(0.99)}, {"p999", w.quantile_us(0.999)},
+                          {"max", w.max_us()}, {"over_2ms", w.overflow()}, {"histogram_1us", buckets}}},
+          {"compute_us", {{"p50", r.timing.compute.quantile_us(0.5)}, {"p99", r.timing.compute.quantile_us(0.99)},
+                          {"max", r.timing.compute.max_us()}}},
+          {"overruns", r.timing.overruns},
+          {"sched_fifo", r.timing.rt.fifo},
+          {"cpu", r.timing.rt.cpu},
+          {"frame_latency_us", {{"p50", r.frame_latency.quantile_us(0.5)}, {"p99", r.frame_latency.quantile_us(0.99)},
+                                {"max", r.frame_latency.max_us()}}},
+          {"frames_late", r.frames_late},
+          {"frames_dropped", r.frames_dropped}};
+}
+
+void print_row(const LoopRun& r) {
+  const auto& w = r.timing.wake_latency;
+  std::printf("%8.0f %-7s %5d %8lld %7.0f %7.0f %7.0f %9.1f %9lld %8.0f %8.0f %6lld %6lld\n", r.rate_hz, r.load.c_str(),
+              r.spin_us, static_cast<long long>(r.ticks), w.quantile_us(0.5), w.quantile_us(0.99), w.quantile_us(0.999),
+              w.max_us(), static_cast<long long>(r.timing.overruns), r.timing.compute.quantile_us(0.5),
+              r.timing.compute.quantile_us(0.99), static_cast<long long>(r.frames_late),
+              static_cast<long long>(r.frames_dropped));
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int run_bench_loop(const BenchLoopOptions& o) {
+  auto scene = load_scene(o.scene);
+  if (!scene) {
+    std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
+    return 1;
+  }
+  std::vector<double> rates = o.sweep ? std::vector<double>{1000, 2000, 5000, 10000} : std::vector<double>{o.rate_hz};
+  std::printf("servo loop: scene %s, %.1f s per run, load %s\n", o.scene.c_str(), o.seconds, o.load.c_str());
+  std::printf("%8s %-7s %5s %8s %7s %7s %7s %9s %9s %8s %8s %6s %6s\n", "rate_hz", "load", "spin", "ticks", "p50_us",
+              "p99_us", "p999_us", "max_us", "overruns", "cmp_p50", "cmp_p99", "f_late", "f_drop");
+  std::vector<LoopRun> runs;
+  double best_rate = 0;
+  for (double rate : rates) {
+    LoopRun r;
+    if (auto st = run_one(scene.value(), o, rate, &r); !st) {
+      std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
+      return 1;
+    }
+    print_row(r);
+    if (r.timing.overruns == 0) best_rate = std::max(best_rate, rate);
+    runs.push_back(r);
+  }
+  if (o.sweep) std::printf("highest rate with no overruns: %.0f Hz\n", best_rate);
+  if (!runs.front().timing.rt.fifo)
+    std::printf("note: SCHED_FIFO was refused (%s); figures are for normal scheduling\n",
+                runs.front().timing.rt.refused.c_str());
+  if (!o.json_path.empty()) {
+    nlohmann::json j;
+    j["scene"] = o.scene;
+    j["runs"] = nlohmann::json::array();
+    for (const auto& r : runs) j["runs"].push_back(to_json(r));
+    if (o.sweep) j["highest_rate_without_overruns_hz"] = best_rate;
+    std::ofstream f(o.json_path + ".tmp");
+    f << j.dump(2) << "\n";
+    f.close();
+    std::error_code ec;
+    if (!f || (fs::rename(o.json_path + ".tmp", o.json_path, ec), ec)) {
+      std::fprintf(stderr, "palpate: bench loop: cannot write '%s'\n", o.json_path.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace palpate

@@ -1,0 +1,25 @@
+#pragma once
+/// `palpate bench loop`: the servo's loop-rate figures, alone or beside the sim or the full record pipeline.
+
+#include <string>
+#include <vector>
+
+namespace palpate {
+
+/// What to run.
+struct BenchLoopOptions {
+  std::string scene = "scenes/bunny_pull.json";  ///< scene whose device, model and pipeline are used
+  double rate_hz = 1000.0;                       ///< servo rate
+  double seconds = 5.0;                          ///< run length per rate
+  std::string load = "none";                     ///< none | sim | record
+  int spin_us = -1;                              ///< -1 = the recorder's default
+  int priority = 80;                             ///< SCHED_FIFO priority, 0 = normal scheduling
+  bool sweep = false;                            ///< try 1, 2, 5, 10 kHz and report the highest without overruns
+  std::string json_path;                         ///< write JSON here when set
+  std::string plot_path;                         ///< draw the wake-latency histogram here when set
+};
+
+/// Runs the benchmark, prints a table; returns the process exit code (errors on stderr).
+int run_bench_loop(const BenchLoopOptions& options);
+
+}  // namespace palpate
