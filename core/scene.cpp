@@ -181,6 +181,9 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.number("coupling_damping_Ns_per_m", &d.coupling_damping_Ns_per_m, 0.0, 1e3);
   r.number("tool_radius_m", &d.tool_radius_m, 1e-5, 1.0);
   r.number("workspace_half_m", &d.workspace_half_m, 1e-3, 100.0);
+  r.number("max_stiffness_N_per_m", &d.max_stiffness_N_per_m, 1.0, 1e5);
+  r.boolean("passivity", &d.passivity);
+  r.number("ramp_s", &d.ramp_s, 0.0, 10.0);
   r.finish();
 
   ObjectReader h(top.object("hand"), "hand.", err);

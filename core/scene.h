@@ -48,6 +48,9 @@ struct DeviceSpec {
   double coupling_damping_Ns_per_m = 0.5;   ///< b_c on the tool velocity while in contact
   double tool_radius_m = 0.003;             ///< drawn tool sphere radius
   double workspace_half_m = 0.5;            ///< poses outside this cube around the origin are rejected
+  double max_stiffness_N_per_m = 700.0;     ///< highest stable rendered stiffness; caps coupling_N_per_m
+  bool passivity = true;                    ///< energy-based passivity observer/controller on the coupling
+  double ramp_s = 0.2;                      ///< force ramp-in at start and after a reset
 };
 
 /// The scripted hand: a mass pulled toward keyframe targets by a spring-damper.

@@ -37,8 +37,9 @@ void ScriptedDevice::target(double t_s, Vec3* pos_m, bool* button) const noexcep
 }
 
 bool ScriptedDevice::read(double t_s, DevicePose* out) noexcept {
-  // hand: m a = k (target - x) - b v + F_device, semi-implicit Euler in steps of at most 1 ms
-  constexpr double kMaxStep_s = 1e-3;
+  // hand: m a = k (target - x) - b v + F_device; the hand is continuous, the device force is held between
+  // servo ticks (zero-order hold), so the hand is integrated in steps ten times finer than a 1 kHz period
+  constexpr double kMaxStep_s = 1e-4;
   while (t_s_ < t_s - 1e-12) {
     const double h = std::min(kMaxStep_s, t_s - t_s_);
     Vec3 goal;

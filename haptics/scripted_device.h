@@ -16,7 +16,7 @@ class ScriptedDevice final : public Device {
   ScriptedDevice(const DeviceSpecs& specs, const HandSpec& hand, std::vector<Keyframe> keys);
 
   const DeviceSpecs& specs() const noexcept override { return specs_; }
-  /// Integrates the hand from the previous call's time to t_s (1 ms substeps) and reports the handle.
+  /// Integrates the hand from the previous call's time to t_s (0.1 ms substeps) and reports the handle.
   bool read(double t_s, DevicePose* out) noexcept override;
   void write_force(const Vec3& force_N) noexcept override { force_N_ = force_N; }
 

@@ -125,14 +125,33 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   if (params_.mode == InteractionMode::kTouch) update_touch(m, tool);
   else update_pull(m, tool, button);
 
+  // after a rejected reading the coupling starts again softly
+  if (rejected) {
+    ramp_pending_ = true;
+  } else if (ramp_pending_) {
+    ramp_pending_ = false;
+    ramp_start_s_ = t_s;
+    guard_.reset();
+    ++counters_.ramps;
+  }
   Vec3 force = Vec3::Zero();
   if (contact_ != ContactState::kFree && !rejected) {
     force = params_.coupling_N_per_m * (proxy_m_ - tool) - params_.coupling_damping_Ns_per_m * tool_vel_m_per_s_;
-    const double max_f = device_->specs().max_force_N;
-    const double mag = force.norm();
-    if (!std::isfinite(mag)) force.setZero();
-    else if (mag > max_f) force *= max_f / mag;
+    if (params_.ramp_s > 0.0) force *= std::clamp((t_s - ramp_start_s_) / params_.ramp_s, 0.0, 1.0);
   }
+  if (params_.passivity && !rejected) {
+    const int64_t before = guard_.activations();
+    // the observer runs on every tick; its damping acts only through a contact (never as drag in free air)
+    const Vec3 guarded = guard_.filter(force, tool - prev_tool_m_, params_.period_s);
+    if (contact_ != ContactState::kFree) force = guarded;
+    counters_.passivity_activations += guard_.activations() - before;
+    counters_.passivity_dissipated_J = guard_.dissipated_J();
+  }
+  const double max_f = device_->specs().max_force_N;
+  const double mag = force.norm();
+  if (!std::isfinite(mag)) force.setZero();
+  else if (mag > max_f) force *= max_f / mag;
+  guard_.sent(force);
   device_->write_force(force);
 
   HapticSample s;

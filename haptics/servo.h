@@ -10,6 +10,7 @@
 #include "haptics/device.h"
 #include "haptics/haptic_sample.h"
 #include "haptics/local_model.h"
+#include "haptics/passivity_guard.h"
 
 namespace palpate {
 
@@ -20,6 +21,8 @@ struct ServoParams {
   double coupling_damping_Ns_per_m = 0.5; ///< b_c
   double grab_radius_m = 0.01;            ///< pull: grab distance on button press
   double period_s = 1e-3;                 ///< servo period
+  bool passivity = true;                  ///< energy-based passivity observer/controller on
+  double ramp_s = 0.2;                    ///< force ramp-in time at start and after a reset
 };
 
 /// Counters the servo keeps (read after the run, or approximately while it runs).
@@ -28,6 +31,9 @@ struct ServoCounters {
   int64_t dropped_samples = 0;   ///< samples lost to a full queue
   int64_t rejected_inputs = 0;   ///< non-finite or out-of-workspace device readings
   double max_force_N = 0.0;      ///< largest force magnitude sent
+  int64_t passivity_activations = 0;  ///< ticks on which the passivity controller added damping
+  double passivity_dissipated_J = 0.0;///< energy it dissipated
+  int64_t ramps = 0;             ///< force ramp-ins started (start and resets)
 };
 
 /// The servo's state machine. Thread: servo (tick); constructed and inspected elsewhere before/after.
@@ -66,6 +72,9 @@ class Servo {
   int32_t tri_ = -1;           // triangle holding P_s
   Vec3 bary_ = Vec3::Zero();   // P_s in that triangle
   Vec3 proxy_m_ = Vec3::Zero();
+  PassivityGuard guard_;
+  double ramp_start_s_ = 0.0;  // force scale ramps 0 -> 1 from here
+  bool ramp_pending_ = true;   // restart the ramp at the next good reading
 };
 
 }  // namespace palpate

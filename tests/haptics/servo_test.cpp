@@ -51,6 +51,7 @@ struct ServoRig {
     p.mode = mode;
     p.coupling_N_per_m = 300;
     p.coupling_damping_Ns_per_m = 0.0;
+    p.ramp_s = 0.0;
     servo = std::make_unique<Servo>(p, &dev, &q, tb.get());
     publish_floor(tb.get());
   }
@@ -92,7 +93,7 @@ TEST(Servo, ForceIsClampedToTheDeviceMaximum) {
 
 TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
   ServoRig r(InteractionMode::kPull);
-  r.servo = std::make_unique<Servo>(ServoParams{InteractionMode::kPull, 300, 0, 0.01, 1e-3}, &r.dev, &r.q, r.tb.get());
+  r.servo = std::make_unique<Servo>(ServoParams{InteractionMode::kPull, 300, 0, 0.01, 1e-3, true, 0.0}, &r.dev, &r.q, r.tb.get());
   r.dev.pos_m = Vec3(0.01, 0.02, 0.005);
   r.tick();
   r.dev.buttons = 1;

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -143,7 +144,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   Device& device = *device_r.value();
   ServoParams sp;
   sp.mode = scene.mode;
-  sp.coupling_N_per_m = scene.device.coupling_N_per_m;
+  // the coupling never renders more stiffness than the device can display stably
+  sp.coupling_N_per_m = std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m);
+  sp.passivity = scene.device.passivity;
+  sp.ramp_s = scene.device.ramp_s;
   sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
   sp.grab_radius_m = scene.grab_radius_m;
   sp.period_s = 1.0 / kServoRate_hz;
@@ -231,6 +235,12 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["nan_events"] = fst.nan_events;
   j["dropped_samples"] = sc.dropped_samples;
   j["rejected_inputs"] = sc.rejected_inputs;
+  j["coupling"] = {{"stiffness_N_per_m", sp.coupling_N_per_m},
+                   {"capped", sp.coupling_N_per_m < scene.device.coupling_N_per_m},
+                   {"passivity", sp.passivity},
+                   {"passivity_activations", sc.passivity_activations},
+                   {"passivity_dissipated_J", sc.passivity_dissipated_J},
+                   {"ramps", sc.ramps}};
   j["haptic_rows"] = log.rows();
   j["servo"] = {{"clock", lockstep ? "virtual" : "wall"},
                 {"latency_us", hist_json(timing.wake_latency)},

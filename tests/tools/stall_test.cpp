@@ -1,0 +1,70 @@
+// The servo against a stalled simulation: the hand presses the cube at the device's stiffness limit while the
+// 60 Hz stage publishes nothing for 200 ms; the handle must not oscillate with growing amplitude.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+
+#include "core/scene.h"
+#include "haptics/scripted_device.h"
+#include "haptics/servo.h"
+#include "support/fixtures.h"
+#include "tools/session/frame_stage.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+namespace {
+
+struct Swing {
+  double before = 0, during = 0, after = 0, max_force_N = 0;
+};
+
+Swing run(bool passivity) {
+  Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  scene.device.coupling_N_per_m = scene.device.max_stiffness_N_per_m;  // at the limit
+  const Model model = load_model(scene).value();
+  SpscQueue<HapticSample> q(8192);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
+  DeviceSpecs specs;
+  ScriptedDevice dev(specs, scene.hand, scene.trajectory);
+  ServoParams p;
+  p.mode = scene.mode;
+  p.coupling_N_per_m = scene.device.coupling_N_per_m;
+  p.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
+  p.passivity = passivity;
+  Servo servo(p, &dev, &q, tb.get());
+  Swing s;
+  auto track = [](double* swing, double lo, double hi) { *swing = std::max(*swing, hi - lo); };
+  double lo[3] = {1, 1, 1}, hi[3] = {-1, -1, -1};
+  int64_t frame = 0;
+  for (int64_t i = 0; i < 1000; ++i) {
+    const double t = i * 1e-3;
+    const bool stalled = t >= 0.5 && t < 0.7;
+    if (frame / 60.0 <= t + 1e-12) {
+      if (!stalled) stage.frame(frame, t, false);
+      ++frame;
+    }
+    servo.tick(i, t);
+    const double z = servo.last_sample().tool_pos_m.z();
+    const int w = t < 0.5 ? (t >= 0.35 ? 0 : -1) : t < 0.7 ? 1 : (t >= 0.85 ? 2 : -1);
+    if (w >= 0) lo[w] = std::min(lo[w], z), hi[w] = std::max(hi[w], z);
+    s.max_force_N = std::max(s.max_force_N, servo.last_sample().force_N.norm());
+  }
+  track(&s.before, lo[0], hi[0]);
+  track(&s.during, lo[1], hi[1]);
+  track(&s.after, lo[2], hi[2]);
+  return s;
+}
+
+TEST(Stall, HandleSettlesAfterA200msSimStallAtTheStiffnessLimit) {
+  const Swing s = run(true);
+  EXPECT_LE(s.max_force_N, DeviceSpecs{}.max_force_N + 1e-12);
+  // the press has settled before the stall; the swing afterwards is no larger than during the stall
+  EXPECT_LE(s.after, std::max(s.during, 1e-4)) << "before " << s.before << " during " << s.during << " after " << s.after;
+  EXPECT_LT(s.after, 2e-3);
+  RecordProperty("swing_um", std::to_string(s.before * 1e6) + "/" + std::to_string(s.during * 1e6) + "/" + std::to_string(s.after * 1e6));
+}
+
+}  // namespace
+}  // namespace palpate
