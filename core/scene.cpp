@@ -166,9 +166,16 @@ void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
   r.number("damping_Ns_per_m", &l.damping_Ns_per_m, 0.0, 1e6);
   r.vec3("gravity_m_per_s2", &l.gravity_m_per_s2, -1e3, 1e3);
   r.boolean("fix_floor", &l.fix_floor);
-  const int integ = r.choice("integrator", {"explicit_euler", "symplectic_euler"});
+  const int integ =
+      r.choice("integrator", {"explicit_euler", "symplectic_euler", "implicit_euler", "local_global", "rk4"});
   if (integ >= 0) l.integrator = static_cast<IntegratorKind>(integ);
   r.integer("max_substeps", &l.max_substeps, 1, 100000);
+  r.integer("substeps", &l.substeps, 0, 100000);
+  r.integer("iterations", &l.iterations, 0, 1000);
+  r.number("strain_limit", &l.strain_limit, 0.0, 10.0);
+  r.number("rest_kinetic_J", &l.rest_kinetic_J, 0.0, 1.0);
+  r.number("rest_force_N", &l.rest_force_N, 0.0, 1.0);
+  r.boolean("follow_contact", &l.follow_contact);
   r.finish();
 }
 
@@ -291,8 +298,21 @@ const char* integrator_name(IntegratorKind kind) {
   switch (kind) {
     case IntegratorKind::kExplicitEuler: return "explicit_euler";
     case IntegratorKind::kSymplecticEuler: return "symplectic_euler";
+    case IntegratorKind::kImplicitEuler: return "implicit_euler";
+    case IntegratorKind::kLocalGlobal: return "local_global";
+    case IntegratorKind::kRk4: return "rk4";
   }
   return "?";
+}
+
+bool integrator_from_name(const std::string& name, IntegratorKind* kind) {
+  for (auto k : {IntegratorKind::kExplicitEuler, IntegratorKind::kSymplecticEuler, IntegratorKind::kImplicitEuler,
+                 IntegratorKind::kLocalGlobal, IntegratorKind::kRk4})
+    if (name == integrator_name(k)) {
+      *kind = k;
+      return true;
+    }
+  return false;
 }
 
 const char* mode_name(InteractionMode mode) { return mode == InteractionMode::kPull ? "pull" : "touch"; }

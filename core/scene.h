@@ -9,8 +9,8 @@
 
 namespace palpate {
 
-/// Which integrator steps the lattice.
-enum class IntegratorKind { kExplicitEuler, kSymplecticEuler };
+/// Which integrator steps the lattice (names in scenes: integrator_name()).
+enum class IntegratorKind { kExplicitEuler, kSymplecticEuler, kImplicitEuler, kLocalGlobal, kRk4 };
 /// How the tool interacts with the model.
 enum class InteractionMode { kTouch, kPull };
 /// Which clock drives a recording.
@@ -38,6 +38,12 @@ struct LatticeSpec {
   bool fix_floor = false;               ///< also fix nodes on the lowest z plane of the model
   IntegratorKind integrator = IntegratorKind::kSymplecticEuler;
   int max_substeps = 256;               ///< cap on automatic substeps per frame
+  int substeps = 0;                     ///< fixed substeps per frame; 0 = automatic (explicit/symplectic/rk4: bound, others: 1)
+  int iterations = 0;                   ///< Newton (implicit_euler) or local/global iterations; 0 = the integrator's default
+  double strain_limit = 0.0;            ///< > 0: springs are kept within rest * (1 +- strain_limit); 0 = off
+  double rest_kinetic_J = 1e-12;        ///< the lattice rests (is not stepped) below this kinetic energy ...
+  double rest_force_N = 1e-6;           ///< ... and with every node's net force below this
+  bool follow_contact = true;           ///< move/grow the region when the contact leaves it
 };
 
 /// Device limits and the proxy coupling.
@@ -99,6 +105,8 @@ Result<Scene> load_scene(const std::string& path);
 
 /// Name of an integrator as written in scenes.
 const char* integrator_name(IntegratorKind kind);
+/// The integrator called `name` in scenes; false (and *kind untouched) for an unknown name.
+bool integrator_from_name(const std::string& name, IntegratorKind* kind);
 /// Name of an interaction mode as written in scenes.
 const char* mode_name(InteractionMode mode);
 

@@ -1,22 +1,52 @@
 #include "sim/forces.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace palpate {
+namespace {
+
+// Lengths below this fraction of the rest length count as zero (direction undefined).
+constexpr double kDegenerateLength = 1e-12;
+
+bool degenerate(const Spring& s, double len) { return !(len > kDegenerateLength * s.rest_m + 1e-300); }
+
+}  // namespace
+
+Vec3 spring_force_on_a(const Spring& s, const Vec3& d) {
+  const double len = d.norm();
+  if (degenerate(s, len)) return Vec3::Zero();
+  return s.k_N_per_m * (len - s.rest_m) / len * d;
+}
+
+Mat3 spring_stiffness_block(const Spring& s, const Vec3& d, bool clamp_compression) {
+  const double len = d.norm();
+  if (degenerate(s, len)) return s.k_N_per_m * Mat3::Identity();
+  const Vec3 u = d / len;
+  const Mat3 uu = u * u.transpose();
+  double transverse = 1.0 - s.rest_m / len;
+  if (clamp_compression) transverse = std::max(0.0, transverse);
+  return s.k_N_per_m * (uu + transverse * (Mat3::Identity() - uu));
+}
 
 void compute_forces(const Lattice& lat, const std::vector<Vec3>& x_m, const std::vector<Vec3>& v_m_per_s,
                     const std::vector<Vec3>& f_ext_N, std::vector<Vec3>* f_N) {
   const std::size_t n = lat.num_nodes();
   f_N->resize(n);
   // gravity and external forces
-  for (std::size_t i = 0; i < n; ++i) {
-    (*f_N)[i] = lat.mass_kg[i] * lat.gravity_m_per_s2;
-    if (!f_ext_N.empty()) (*f_N)[i] += f_ext_N[i];
+  if (lat.gravity_m_per_s2.isZero()) {
+    if (f_ext_N.empty()) std::fill(f_N->begin(), f_N->end(), Vec3::Zero());
+    else std::copy(f_ext_N.begin(), f_ext_N.begin() + static_cast<std::ptrdiff_t>(n), f_N->begin());
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      (*f_N)[i] = lat.mass_kg[i] * lat.gravity_m_per_s2;
+      if (!f_ext_N.empty()) (*f_N)[i] += f_ext_N[i];
+    }
   }
   const double c = lat.damping_Ns_per_m;
   for (const Spring& s : lat.springs) {
-    const Vec3 d = x_m[s.b] - x_m[s.a];
-    const double len = d.norm();
-    Vec3 f = c * (v_m_per_s[s.b] - v_m_per_s[s.a]);  // eq. (4) on node a
-    if (len > 1e-12 * s.rest_m + 1e-300) f += s.k_N_per_m * (len - s.rest_m) / len * d;  // eq. (2)
+    Vec3 f = spring_force_on_a(s, x_m[s.b] - x_m[s.a]);                 // eq. (2)
+    if (c != 0.0) f += c * (v_m_per_s[s.b] - v_m_per_s[s.a]);           // eq. (4) on node a
     (*f_N)[s.a] += f;
     (*f_N)[s.b] -= f;
   }
@@ -35,6 +65,22 @@ double lattice_energy_J(const Lattice& lat) {
     e -= lat.mass_kg[i] * lat.gravity_m_per_s2.dot(lat.x_m[i] - lat.rest_m[i]);
   }
   return e;
+}
+
+double kinetic_energy_J(const Lattice& lat) {
+  double e = 0.0;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (!lat.fixed[i]) e += 0.5 * lat.mass_kg[i] * lat.v_m_per_s[i].squaredNorm();
+  return e;
+}
+
+double max_strain(const Lattice& lat) {
+  double m = 0.0;
+  for (const Spring& s : lat.springs) {
+    if (s.rest_m <= 0.0) continue;
+    m = std::max(m, std::abs((lat.x_m[s.b] - lat.x_m[s.a]).norm() - s.rest_m) / s.rest_m);
+  }
+  return m;
 }
 
 }  // namespace palpate

@@ -4,64 +4,139 @@
 #include <cmath>
 
 #include "sim/forces.h"
+#include "sim/implicit_euler.h"
+#include "sim/local_global.h"
+#include "sim/strain_limit.h"
 
 namespace palpate {
+namespace {
 
-StabilityBound stability_bound(const Lattice& lat, double safety) {
-  const std::size_t n = lat.num_nodes();
-  std::vector<double> ksum(n, 0.0), csum(n, 0.0);
-  for (const Spring& s : lat.springs) {
-    ksum[s.a] += s.k_N_per_m;
-    ksum[s.b] += s.k_N_per_m;
-    csum[s.a] += lat.damping_Ns_per_m;
-    csum[s.b] += lat.damping_Ns_per_m;
+constexpr int kDefaultNewtonIterations = 1;
+constexpr int kDefaultLocalGlobalIterations = 10;
+constexpr int kStrainLimitSweeps = 4;
+
+// One explicit (eq. 8) or symplectic Euler substep.
+void euler_substep(Lattice* lat, bool symplectic, double h, const std::vector<Vec3>& f_ext, IntegratorWorkspace* ws) {
+  compute_forces(*lat, lat->x_m, lat->v_m_per_s, f_ext, &ws->f_N);
+  for (std::size_t i = 0; i < lat->num_nodes(); ++i) {
+    if (lat->fixed[i]) continue;
+    const Vec3 a = ws->f_N[i] / lat->mass_kg[i];
+    if (!symplectic) {
+      lat->x_m[i] += h * lat->v_m_per_s[i];  // eq. (8): position from the old velocity
+      lat->v_m_per_s[i] += h * a;
+    } else {
+      lat->v_m_per_s[i] += h * a;            // symplectic: position from the new velocity
+      lat->x_m[i] += h * lat->v_m_per_s[i];
+    }
   }
-  double w2 = 0.0, g = 0.0;
+}
+
+// One classical Runge-Kutta substep of (x' = v, v' = M^-1 f(x, v)).
+void rk4_substep(Lattice* lat, double h, const std::vector<Vec3>& f_ext, IntegratorWorkspace* ws) {
+  const std::size_t n = lat->num_nodes();
+  ws->x0_m = lat->x_m;
+  ws->v0_m_per_s = lat->v_m_per_s;
+  ws->stage_x = lat->x_m;
+  ws->stage_v = lat->v_m_per_s;
+  ws->acc_x.assign(n, Vec3::Zero());
+  ws->acc_v.assign(n, Vec3::Zero());
+  const double stage_step[4] = {0.5 * h, 0.5 * h, h, 0.0};
+  const double weight[4] = {1.0, 2.0, 2.0, 1.0};
+  for (int k = 0; k < 4; ++k) {
+    compute_forces(*lat, ws->stage_x, ws->stage_v, f_ext, &ws->f_N);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (lat->fixed[i]) continue;
+      const Vec3 dx = ws->stage_v[i];
+      const Vec3 dv = ws->f_N[i] / lat->mass_kg[i];
+      ws->acc_x[i] += weight[k] * dx;
+      ws->acc_v[i] += weight[k] * dv;
+      ws->stage_x[i] = ws->x0_m[i] + stage_step[k] * dx;
+      ws->stage_v[i] = ws->v0_m_per_s[i] + stage_step[k] * dv;
+    }
+  }
   for (std::size_t i = 0; i < n; ++i) {
-    if (lat.fixed[i]) continue;
-    w2 = std::max(w2, 2.0 * ksum[i] / lat.mass_kg[i]);
-    g = std::max(g, 2.0 * csum[i] / lat.mass_kg[i]);
+    if (lat->fixed[i]) continue;
+    lat->x_m[i] = ws->x0_m[i] + (h / 6.0) * ws->acc_x[i];
+    lat->v_m_per_s[i] = ws->v0_m_per_s[i] + (h / 6.0) * ws->acc_v[i];
   }
-  StabilityBound b;
-  b.omega_max_rad_per_s = std::sqrt(w2);
-  b.damping_rate_per_s = g;
-  // largest h with h^2 w2 + 2 h g <= 4 s (the symplectic Euler stability region of a damped oscillator)
-  const double rhs = 4.0 * safety;
-  if (w2 > 0.0) b.max_stable_dt_s = (-2.0 * g + std::sqrt(4.0 * g * g + 4.0 * w2 * rhs)) / (2.0 * w2);
-  else if (g > 0.0) b.max_stable_dt_s = rhs / (2.0 * g);
-  else b.max_stable_dt_s = INFINITY;
-  return b;
+}
+
+}  // namespace
+
+IntegratorWorkspace::IntegratorWorkspace() = default;
+IntegratorWorkspace::~IntegratorWorkspace() = default;
+IntegratorWorkspace::IntegratorWorkspace(IntegratorWorkspace&&) noexcept = default;
+IntegratorWorkspace& IntegratorWorkspace::operator=(IntegratorWorkspace&&) noexcept = default;
+
+StepOptions step_options(const LatticeSpec& spec) {
+  StepOptions o;
+  o.kind = spec.integrator;
+  o.substeps = spec.substeps;
+  o.max_substeps = spec.max_substeps;
+  o.iterations = spec.iterations;
+  o.strain_limit = spec.strain_limit;
+  return o;
+}
+
+int substeps_for(const Lattice& lat, const StepOptions& opts, double dt_s) {
+  if (opts.substeps > 0) return opts.substeps;
+  const bool automatic = opts.kind == IntegratorKind::kSymplecticEuler || opts.kind == IntegratorKind::kRk4;
+  if (!automatic) return 1;
+  // RK4's stability interval on the imaginary axis (2.83 / w) contains symplectic Euler's (2 / w): one bound serves
+  const double h_max = stability_bound(lat, 0.8).max_stable_dt_s;
+  int steps = 1;
+  if (std::isfinite(h_max) && h_max > 0.0) steps = static_cast<int>(std::min(std::ceil(dt_s / h_max), 1e9));
+  return std::clamp(steps, 1, std::max(1, opts.max_substeps));
+}
+
+StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, const std::vector<Vec3>& f_ext_N,
+                        IntegratorWorkspace* ws) {
+  StepReport rep;
+  const int steps = substeps_for(*lat, opts, dt_s);
+  const double h = dt_s / steps;
+  for (int s = 0; s < steps; ++s) {
+    int iters = 0;
+    switch (opts.kind) {
+      case IntegratorKind::kExplicitEuler: euler_substep(lat, false, h, f_ext_N, ws); break;
+      case IntegratorKind::kSymplecticEuler: euler_substep(lat, true, h, f_ext_N, ws); break;
+      case IntegratorKind::kRk4: rk4_substep(lat, h, f_ext_N, ws); break;
+      case IntegratorKind::kImplicitEuler:
+        if (!ws->implicit) ws->implicit = std::make_unique<ImplicitEulerSolver>();
+        iters = ws->implicit->step(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations);
+        break;
+      case IntegratorKind::kLocalGlobal:
+        if (!ws->local_global) ws->local_global = std::make_unique<LocalGlobalSolver>();
+        iters = ws->local_global->step(lat, h, f_ext_N,
+                                       opts.iterations > 0 ? opts.iterations : kDefaultLocalGlobalIterations);
+        break;
+    }
+    if (iters < 0) {
+      // a failed factorisation: take the substep with a stable explicit scheme rather than stall
+      rep.solver_ok = false;
+      const double h_safe = stability_bound(*lat, 0.8).max_stable_dt_s;
+      const int sub = std::isfinite(h_safe) && h_safe > 0.0
+                          ? std::clamp(static_cast<int>(std::ceil(h / h_safe)), 1, std::max(1, opts.max_substeps))
+                          : 1;
+      for (int k = 0; k < sub; ++k) euler_substep(lat, true, h / sub, f_ext_N, ws);
+    } else {
+      rep.iterations += iters;
+    }
+    if (opts.strain_limit > 0.0) limit_strain(lat, opts.strain_limit, kStrainLimitSweeps);
+  }
+  rep.substeps = steps;
+  for (std::size_t i = 0; i < lat->num_nodes() && rep.finite; ++i)
+    rep.finite = lat->x_m[i].allFinite() && lat->v_m_per_s[i].allFinite();
+  rep.max_strain = rep.finite ? max_strain(*lat) : INFINITY;
+  rep.diverged = !rep.finite || rep.max_strain > kDivergedStrain;
+  return rep;
 }
 
 StepReport step_lattice(Lattice* lat, IntegratorKind kind, double dt_s, int max_substeps,
                         const std::vector<Vec3>& f_ext_N, IntegratorWorkspace* ws) {
-  StepReport rep;
-  const std::size_t n = lat->num_nodes();
-  int steps = 1;
-  if (kind == IntegratorKind::kSymplecticEuler) {
-    const double h_max = stability_bound(*lat, 0.8).max_stable_dt_s;
-    if (std::isfinite(h_max) && h_max > 0.0) steps = static_cast<int>(std::ceil(dt_s / h_max));
-    steps = std::clamp(steps, 1, std::max(1, max_substeps));
-  }
-  const double h = dt_s / steps;
-  for (int s = 0; s < steps; ++s) {
-    compute_forces(*lat, lat->x_m, lat->v_m_per_s, f_ext_N, &ws->f_N);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (lat->fixed[i]) continue;
-      const Vec3 a = ws->f_N[i] / lat->mass_kg[i];
-      if (kind == IntegratorKind::kExplicitEuler) {
-        lat->x_m[i] += h * lat->v_m_per_s[i];  // eq. (8): position from the old velocity
-        lat->v_m_per_s[i] += h * a;
-      } else {
-        lat->v_m_per_s[i] += h * a;             // symplectic: position from the new velocity
-        lat->x_m[i] += h * lat->v_m_per_s[i];
-      }
-    }
-  }
-  rep.substeps = steps;
-  for (std::size_t i = 0; i < n && rep.finite; ++i)
-    rep.finite = lat->x_m[i].allFinite() && lat->v_m_per_s[i].allFinite();
-  return rep;
+  StepOptions o;
+  o.kind = kind;
+  o.max_substeps = max_substeps;
+  return step_lattice(lat, o, dt_s, f_ext_N, ws);
 }
 
 }  // namespace palpate

@@ -1,38 +1,71 @@
 #pragma once
-/// Time integration of the lattice: the paper's explicit Euler (eq. 8) and symplectic Euler with automatic substeps.
+/// Time integration of the lattice, one entry point for every scheme: the paper's explicit Euler (eq. 8),
+/// symplectic Euler and RK4 with automatic substeps, implicit Euler (Newton, sparse LDL^T) and a
+/// Liu-2013-style local/global solver with a prefactored system matrix.
 
+#include <memory>
 #include <vector>
 
 #include "core/scene.h"
 #include "sim/lattice.h"
+#include "sim/stability.h"
 
 namespace palpate {
 
-/// Cheap bounds on the lattice's fastest dynamics (Gershgorin on M^-1 K and M^-1 C).
-struct StabilityBound {
-  double omega_max_rad_per_s = 0.0;  ///< sqrt(max_i 2 sum_j k_ij / m_i)
-  double damping_rate_per_s = 0.0;   ///< max_i 2 sum_j c_ij / m_i
-  double max_stable_dt_s = 0.0;      ///< largest symplectic Euler step with h^2 w^2 + 2 h g <= 4 * safety
+class ImplicitEulerSolver;
+class LocalGlobalSolver;
+
+/// How to step: scheme, substeps, iterations, strain limit. Plain data; copyable.
+struct StepOptions {
+  IntegratorKind kind = IntegratorKind::kSymplecticEuler;  ///< scheme
+  int substeps = 0;        ///< fixed substeps per step; 0 = automatic (explicit/symplectic/rk4: stability bound, else 1)
+  int max_substeps = 256;  ///< cap on automatic substeps
+  int iterations = 0;      ///< Newton / local-global iterations per substep; 0 = default (1 Newton, 10 local-global)
+  double strain_limit = 0.0;  ///< > 0: after each substep springs are projected into rest * [1 - s, 1 + s]
 };
 
-/// Computes the bound over free nodes (safety factor in (0, 1], e.g. 0.8).
-StabilityBound stability_bound(const Lattice& lat, double safety);
+/// The step options a scene asks for.
+StepOptions step_options(const LatticeSpec& spec);
 
 /// What one step did.
 struct StepReport {
-  int substeps = 0;      ///< substeps taken
-  bool finite = true;    ///< false when the state went non-finite (the caller resets it)
+  int substeps = 0;         ///< substeps taken
+  int iterations = 0;       ///< solver iterations over all substeps (Newton or local/global; 0 for explicit schemes)
+  bool finite = true;       ///< false when the state went non-finite (the caller resets it)
+  bool diverged = false;    ///< non-finite, or a spring stretched past kDivergedStrain (the caller resets it)
+  bool solver_ok = true;    ///< false when a sparse factorisation failed (the step then fell back to symplectic Euler)
+  double max_strain = 0.0;  ///< largest |l - l0| / l0 after the step
 };
 
-/// Scratch buffers reused across steps (no allocation after the first step of a lattice).
+/// A spring strained beyond this (l > 11 l0) is taken as divergence, not deformation.
+inline constexpr double kDivergedStrain = 10.0;
+
+/// Scratch buffers and solver caches reused across steps; caches key on Lattice::revision and the substep.
+/// Move-only. Thread: the one stepping thread.
 struct IntegratorWorkspace {
-  std::vector<Vec3> f_N;  ///< forces (n)
+  IntegratorWorkspace();
+  ~IntegratorWorkspace();
+  IntegratorWorkspace(IntegratorWorkspace&&) noexcept;
+  IntegratorWorkspace& operator=(IntegratorWorkspace&&) noexcept;
+
+  std::vector<Vec3> f_N;                        ///< forces (n)
+  std::vector<Vec3> x0_m, v0_m_per_s;           ///< state at the start of a substep (n)
+  std::vector<Vec3> acc_x, acc_v;               ///< RK4 accumulators (n)
+  std::vector<Vec3> stage_x, stage_v;           ///< RK4 stage state (n)
+  std::unique_ptr<ImplicitEulerSolver> implicit;     ///< created on first use
+  std::unique_ptr<LocalGlobalSolver> local_global;   ///< created on first use
 };
 
-/// Advances the lattice by dt_s. explicit_euler takes one step (eq. 8: x uses the old velocity);
-/// symplectic_euler takes ceil(dt / max_stable_dt) substeps, at most max_substeps.
-/// f_ext_N (n, or empty) is held constant over the step. Fixed nodes stay at rest.
+/// Advances the lattice by dt_s with opts. f_ext_N (n, or empty) is held constant over the step.
+/// Fixed nodes stay at rest. Never throws; bad states are reported, not hidden.
+StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, const std::vector<Vec3>& f_ext_N,
+                        IntegratorWorkspace* ws);
+
+/// Shorthand: automatic substeps (capped at max_substeps), default iterations, no strain limit.
 StepReport step_lattice(Lattice* lat, IntegratorKind kind, double dt_s, int max_substeps,
                         const std::vector<Vec3>& f_ext_N, IntegratorWorkspace* ws);
+
+/// Substeps the scheme takes for dt_s under opts (automatic ones from stability_bound with safety 0.8).
+int substeps_for(const Lattice& lat, const StepOptions& opts, double dt_s);
 
 }  // namespace palpate

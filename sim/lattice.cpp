@@ -1,6 +1,7 @@
 #include "sim/lattice.h"
 
 #include <algorithm>
+#include <atomic>
 #include <unordered_set>
 
 namespace palpate {
@@ -30,6 +31,12 @@ struct Builder {
 };
 
 }  // namespace
+
+void Lattice::touch() {
+  // process-wide counter: two lattices never share a revision, so a workspace cannot confuse them
+  static std::atomic<uint64_t> counter{0};
+  revision = ++counter;
+}
 
 void Lattice::reset_to_rest() {
   x_m = rest_m;
@@ -76,6 +83,7 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
       if (id < 0) {
         id = static_cast<int32_t>(lat.rest_m.size());
         lat.rest_m.push_back(origin + lat.cell_m * Vec3(g.i, g.j, g.k));
+        lat.grid_node.push_back(g.i + nv * (g.j + nv * g.k));
         node_coord.push_back(g);
       }
       corners[corner] = id;
@@ -149,6 +157,7 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
       }
     }
   }
+  lat.touch();
   return lat;
 }
 

@@ -40,10 +40,14 @@ struct Lattice {
   std::vector<uint8_t> fixed;            ///< 1 = held at rest (region border / floor) (n)
   std::vector<Spring> springs;           ///< all springs (n_s)
   std::array<int, 3> springs_per_family{};  ///< counts by SpringFamily
+  std::vector<int32_t> grid_node;        ///< grid vertex index i + (N+1)(j + (N+1)k) of each node (n)
+  uint64_t revision = 0;                 ///< changes whenever nodes, springs or parameters change (solver caches key on it)
 
   std::size_t num_nodes() const { return x_m.size(); }
   /// Puts every node back at rest with zero velocity.
   void reset_to_rest();
+  /// Marks nodes, springs or parameters as changed, so factorisations cached by integrators are rebuilt.
+  void touch();
 };
 
 /// Cells of the region: solid cells at `level` within Chebyshev distance `radius_cells` of `center`.

@@ -1,0 +1,79 @@
+#include "sim/stability.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace palpate {
+namespace {
+
+// Springs meeting at a node of a full lattice: 6 structural, 12 face and 8 body diagonals, 6 bend.
+constexpr int kMaxSpringsPerNode = 32;
+
+ExplicitEulerCheck make_check(double k_max, double c, double rate_per_s, double dt_s) {
+  ExplicitEulerCheck r;
+  const double by_ratio = k_max > 0.0 ? c / k_max : INFINITY;
+  const double by_rate = rate_per_s > 0.0 ? 2.0 / rate_per_s : INFINITY;
+  r.max_dt_s = std::min(by_ratio, by_rate);
+  if (!std::isfinite(r.max_dt_s)) r.max_dt_s = k_max > 0.0 ? 0.0 : INFINITY;  // undamped springs: never stable
+  r.stable = dt_s <= r.max_dt_s;
+  if (!r.stable) {
+    std::ostringstream s;
+    s << "explicit_euler is unstable at dt = " << dt_s << " s: its bound is dt <= ";
+    if (by_ratio <= by_rate) s << "c / k_max = " << c << " / " << k_max << " = " << by_ratio << " s";
+    else s << "2 / damping rate = 2 / " << rate_per_s << " = " << by_rate << " s";
+    if (k_max > 0.0 && c == 0.0) s << " (no damping: never stable)";
+    s << "; raise damping_Ns_per_m, lower the stiffness or choose symplectic_euler / implicit_euler";
+    r.message = s.str();
+  }
+  return r;
+}
+
+}  // namespace
+
+StabilityBound stability_bound(const Lattice& lat, double safety) {
+  const std::size_t n = lat.num_nodes();
+  std::vector<double> ksum(n, 0.0), csum(n, 0.0);
+  for (const Spring& s : lat.springs) {
+    ksum[s.a] += s.k_N_per_m;
+    ksum[s.b] += s.k_N_per_m;
+    csum[s.a] += lat.damping_Ns_per_m;
+    csum[s.b] += lat.damping_Ns_per_m;
+  }
+  double w2 = 0.0, g = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (lat.fixed[i]) continue;
+    w2 = std::max(w2, 2.0 * ksum[i] / lat.mass_kg[i]);
+    g = std::max(g, 2.0 * csum[i] / lat.mass_kg[i]);
+  }
+  StabilityBound b;
+  b.omega_max_rad_per_s = std::sqrt(w2);
+  b.damping_rate_per_s = g;
+  // largest h with h^2 w2 + 2 h g <= 4 s (the symplectic Euler stability region of a damped oscillator)
+  const double rhs = 4.0 * safety;
+  if (w2 > 0.0) b.max_stable_dt_s = (-2.0 * g + std::sqrt(4.0 * g * g + 4.0 * w2 * rhs)) / (2.0 * w2);
+  else if (g > 0.0) b.max_stable_dt_s = rhs / (2.0 * g);
+  else b.max_stable_dt_s = INFINITY;
+  return b;
+}
+
+ExplicitEulerCheck check_explicit_euler(const Lattice& lat, double dt_s) {
+  double k_max = 0.0;
+  for (const Spring& s : lat.springs) k_max = std::max(k_max, s.k_N_per_m);
+  return make_check(k_max, lat.damping_Ns_per_m, stability_bound(lat, 1.0).damping_rate_per_s, dt_s);
+}
+
+ExplicitEulerCheck check_explicit_euler(const LatticeSpec& spec, double dt_s) {
+  const double k_max = std::max({spec.structural_N_per_m, spec.shear_N_per_m, spec.bend_N_per_m});
+  const double rate = 2.0 * kMaxSpringsPerNode * spec.damping_Ns_per_m / spec.node_mass_kg;
+  return make_check(k_max, spec.damping_Ns_per_m, rate, dt_s);
+}
+
+std::string integrator_warning(const LatticeSpec& spec, double dt_s) {
+  if (spec.integrator != IntegratorKind::kExplicitEuler) return "";
+  const double h = dt_s / std::max(1, spec.substeps);
+  const ExplicitEulerCheck c = check_explicit_euler(spec, h);
+  return c.stable ? "" : c.message;
+}
+
+}  // namespace palpate

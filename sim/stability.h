@@ -1,0 +1,39 @@
+#pragma once
+/// Cheap stability bounds of the lattice (Gershgorin on M^-1 K and M^-1 C) and the explicit Euler check.
+
+#include <string>
+
+#include "core/scene.h"
+#include "sim/lattice.h"
+
+namespace palpate {
+
+/// Bounds on the lattice's fastest dynamics.
+struct StabilityBound {
+  double omega_max_rad_per_s = 0.0;  ///< sqrt(max_i 2 sum_j k_ij / m_i)
+  double damping_rate_per_s = 0.0;   ///< max_i 2 sum_j c_ij / m_i
+  double max_stable_dt_s = 0.0;      ///< largest symplectic Euler step with h^2 w^2 + 2 h g <= 4 * safety
+};
+
+/// Computes the bound over free nodes (safety factor in (0, 1], e.g. 0.8).
+StabilityBound stability_bound(const Lattice& lat, double safety);
+
+/// Whether the paper's explicit Euler (eq. 8) is stable at a step: forward Euler on a spring of stiffness k and
+/// relative damping c needs h <= c / k (|1 + h lambda| <= 1 for an underdamped mode), and h <= 2 / damping rate
+/// for the overdamped ones.
+struct ExplicitEulerCheck {
+  bool stable = true;            ///< both bounds hold
+  double max_dt_s = 0.0;         ///< min(c / k_max, 2 / damping rate); 0 when there is no damping
+  std::string message;           ///< empty when stable; otherwise names dt, the bound and the parameters
+};
+
+/// Checks explicit Euler on a built lattice at step dt_s.
+ExplicitEulerCheck check_explicit_euler(const Lattice& lat, double dt_s);
+
+/// Checks explicit Euler from scene parameters alone (start-up), assuming a full lattice (32 springs a node).
+ExplicitEulerCheck check_explicit_euler(const LatticeSpec& spec, double dt_s);
+
+/// A start-up warning for the scene's integrator at frame step dt_s, or "" when there is nothing to say.
+std::string integrator_warning(const LatticeSpec& spec, double dt_s);
+
+}  // namespace palpate
