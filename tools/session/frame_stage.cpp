@@ -4,6 +4,8 @@
 #include <chrono>
 
 #include "core/state_hash.h"
+#include "sim/region.h"
+#include "sim/rest.h"
 
 namespace palpate {
 namespace {
@@ -50,14 +52,61 @@ void FrameStage::drain_remaining() { drain(); }
 void FrameStage::build_lattice_at(const Vec3& p_m) {
   const int level = scene_.lattice.level;
   const CellCoord center = model_.grid.cell_of(p_m, level);
-  auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, center, scene_.lattice.radius_cells));
+  // a moved region keeps the old cells that are still deformed (beyond 1e-3 of a cell), so nothing snaps back
+  const int radius = scene_.lattice.radius_cells;
+  auto lat = build_lattice(model_.grid, scene_.lattice,
+                           lattice_ ? followed_region_cells(model_.grid, *lattice_, center, radius, 1e-3 * lattice_->cell_m)
+                                    : region_cells(model_.grid, level, center, radius));
   if (!lat) return;  // no solid cell near the contact: nothing to deform
+  if (lattice_) {
+    carry_state(*lattice_, &lat.value());
+    // vertices of dropped cells go back to rest; the others are deformed again by the new lattice
+    for (int32_t v : deformer_.vertex_ids()) vertices_m_[v] = model_.rest.vertices_m[v];
+    ++stats_.region_moves;
+  }
   lattice_ = std::move(lat).value();
+  region_center_ = center;
+  resting_ = false;
+  step_opts_ = step_options(scene_.lattice);
   deformer_.attach(*lattice_, model_.bindings);
   f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
-  stats_.lattice_nodes = lattice_->num_nodes();
-  stats_.lattice_springs = lattice_->springs.size();
-  stats_.lattice_vertices = deformer_.num_bound_vertices();
+  stats_.lattice_nodes = std::max(stats_.lattice_nodes, lattice_->num_nodes());
+  stats_.lattice_springs = std::max(stats_.lattice_springs, lattice_->springs.size());
+  stats_.lattice_vertices = std::max(stats_.lattice_vertices, deformer_.num_bound_vertices());
+}
+
+void FrameStage::follow_contact() {
+  if (!scene_.lattice.follow_contact || !contact_this_frame_ || contact_.contact_tri < 0) return;
+  // the material point under the contact, at rest: its cell is where the contact force goes
+  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
+  Vec3 p = Vec3::Zero();
+  for (int c = 0; c < 3; ++c) p += contact_.contact_bary[c] * model_.rest.vertices_m[tri[c]];
+  const CellCoord cell = model_.grid.cell_of(p, lattice_->level);
+  if (contact_leaves_region(*lattice_, region_center_, cell, scene_.lattice.radius_cells)) build_lattice_at(p);
+}
+
+bool FrameStage::step_lattice_frame() {
+  const bool pushed = max_force_N(f_ext_N_) >= scene_.lattice.rest_force_N;
+  if (resting_ && !pushed) {
+    ++stats_.frames_resting;
+    return false;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const StepReport rep = step_lattice(&*lattice_, step_opts_, 1.0 / 60.0, f_ext_N_, &ws_);
+  stats_.step_ms.push_back(ms_since(t0));
+  ++stats_.frames_stepped;
+  stats_.node_frames += static_cast<int64_t>(lattice_->num_nodes());
+  stats_.spring_frames += static_cast<int64_t>(lattice_->springs.size());
+  stats_.vertex_frames += static_cast<int64_t>(deformer_.num_bound_vertices());
+  stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
+  if (rep.diverged) {
+    // a diverged state is counted and replaced by rest, so the run goes on
+    ++(rep.finite ? stats_.divergence_events : stats_.nan_events);
+    lattice_->reset_to_rest();
+  }
+  resting_ = !pushed && lattice_at_rest(*lattice_, f_ext_N_, scene_.lattice.rest_kinetic_J, scene_.lattice.rest_force_N,
+                                        &rest_scratch_);
+  return true;
 }
 
 void FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
@@ -142,22 +191,19 @@ void FrameStage::frame(int64_t index, double /*t_s*/, bool block_on_writer) {
   frame_samples_ = 0;
   drain();
   if (!lattice_ && contact_this_frame_) build_lattice_at(contact_.proxy_pos_m);
+  bool moved = false;
   if (lattice_) {
+    follow_contact();
     apply_contact_force(&f_ext_N_);
-    const StepReport rep = step_lattice(&*lattice_, scene_.lattice.integrator, 1.0 / 60.0, scene_.lattice.max_substeps,
-                                        f_ext_N_, &ws_);
-    stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
-    if (!rep.finite) {
-      // a diverged state is counted and replaced by rest, so the run goes on
-      ++stats_.nan_events;
-      lattice_->reset_to_rest();
-    }
+    moved = step_lattice_frame();
+  }
+  if (moved) {
     for (std::size_t i = 0; i < lattice_->num_nodes(); ++i)
       stats_.max_displacement_m = std::max(stats_.max_displacement_m, (lattice_->x_m[i] - lattice_->rest_m[i]).norm());
     deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, &vertices_m_);
   }
   // normals for the servo's inside test and for shading (all of them until only moved ones are tracked)
-  if (lattice_ || normals_.empty()) compute_vertex_normals(vertices_m_, model_.rest.triangles, &normals_);
+  if (moved || normals_.empty()) compute_vertex_normals(vertices_m_, model_.rest.triangles, &normals_);
   publish_patch();
   stats_.sim_ms.push_back(ms_since(t0));
   ++stats_.frames;

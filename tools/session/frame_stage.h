@@ -33,7 +33,13 @@ struct FrameStats {
   int64_t samples = 0;              ///< servo samples drained
   double max_displacement_m = 0.0;  ///< largest node displacement from rest
   int max_substeps = 0;             ///< most substeps in one frame
-  std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< simulated per frame
+  std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< largest region simulated in a frame
+  std::vector<double> step_ms;      ///< per stepped frame: the integrator step alone
+  int64_t frames_stepped = 0;       ///< frames whose lattice was stepped
+  int64_t frames_resting = 0;       ///< frames skipped because the lattice was at rest
+  int64_t node_frames = 0, spring_frames = 0, vertex_frames = 0;  ///< sums over frames of what was simulated
+  int64_t region_moves = 0;         ///< times the region followed the contact
+  int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
 };
 
 /// Owns the lattice, deformer and render state of one recording. Thread: the sim thread only.
@@ -60,6 +66,10 @@ class FrameStage {
  private:
   void drain();
   void build_lattice_at(const Vec3& p_m);
+  // moves the region when this frame's contact left it (state carried over)
+  void follow_contact();
+  // steps the lattice unless it rests; true when it moved
+  bool step_lattice_frame();
   void apply_contact_force(std::vector<Vec3>* f_ext) const;
   void publish_patch();
   void render(int64_t index, bool block);
@@ -75,6 +85,10 @@ class FrameStage {
   std::optional<Lattice> lattice_;
   MeshDeformer deformer_;
   IntegratorWorkspace ws_;
+  StepOptions step_opts_;            // from the scene, fixed for the run
+  CellCoord region_center_;          // contact cell the region was built around
+  bool resting_ = false;             // the lattice is at rest: not stepped until a force acts
+  std::vector<Vec3> rest_scratch_;   // forces for the rest check (n)
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)

@@ -21,7 +21,7 @@ Status HapticLog::open(const std::string& path) {
 
 void HapticLog::append(const HapticSample& s) {
   if (!f_ || !error_.empty()) return;
-  const int n = std::fprintf(f_, "%lld,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%u,%d\n",
+  const int n = std::fprintf(f_, "%lld,%.6f,%.17g,%.17g,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%u,%d\n",
                              static_cast<long long>(s.tick), s.t_s, s.tool_pos_m.x(), s.tool_pos_m.y(), s.tool_pos_m.z(),
                              s.proxy_pos_m.x(), s.proxy_pos_m.y(), s.proxy_pos_m.z(), s.force_N.x(), s.force_N.y(),
                              s.force_N.z(), static_cast<int>(s.contact), s.buttons, static_cast<int>(s.input_rejected));
