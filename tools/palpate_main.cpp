@@ -9,6 +9,7 @@
 #include "core/scene.h"
 #include "tools/bench_loop.h"
 #include "tools/info_command.h"
+#include "tools/session/device_factory.h"
 #include "tools/session/recorder.h"
 
 namespace {
@@ -23,6 +24,10 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   if (!mode.empty()) {
     opt.override_mode = true;
     opt.mode = mode == "realtime" ? palpate::RunMode::kRealtime : palpate::RunMode::kLockstep;
+  } else if (palpate::device_driver(scene.value(), opt.device) == "shm") {
+    // a device in another process runs on its own wall clock: so does the recording, unless told otherwise
+    opt.override_mode = true;
+    opt.mode = palpate::RunMode::kRealtime;
   }
   auto res = palpate::record_scene(scene.value(), opt);
   if (!res) {
@@ -55,7 +60,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0 / 60.0, 3600.0));
   rec->add_flag("--quiet,-q", opt.quiet, "No progress line");
   rec->add_flag("--no-render", no_render, "Simulate and log only: no GL, no frames");
-  rec->add_option("--device", opt.device, "Device driver, overriding the scene's (scripted)");
+  rec->add_option("--device", opt.device, "Device: scripted | shm:NAME (palpate-device) | plugin:PATH.so | replay:PATH (haptic.csv or recording folder)");
   rec->add_option("--spin-us", opt.spin_us, "realtime: spin this many us before each servo deadline (0 = sleep only)")
       ->check(CLI::Range(0, 1000));
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")

@@ -1,11 +1,55 @@
 #include "tools/session/device_factory.h"
 
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "haptics/plugin_device.h"
+#include "haptics/replay_device.h"
 #include "haptics/scripted_device.h"
+#include "haptics/shm_device.h"
 
 namespace palpate {
+namespace {
+
+std::string hexf(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%a", v);
+  return buf;
+}
+
+// Splits "driver:target" (the scene's driver and device.link when spec is empty).
+void split_spec(const Scene& scene, const std::string& spec, std::string* driver, std::string* target) {
+  if (spec.empty()) {
+    *driver = scene.device.driver;
+    *target = scene.device.link;
+    return;
+  }
+  const auto colon = spec.find(':');
+  *driver = spec.substr(0, colon);
+  *target = colon == std::string::npos ? "" : spec.substr(colon + 1);
+}
+
+}  // namespace
+
+std::string device_driver(const Scene& scene, const std::string& spec) {
+  std::string driver, target;
+  split_spec(scene, spec, &driver, &target);
+  return driver;
+}
+
+std::string plugin_config(const Scene& scene) {
+  std::string c = "scene=" + scene.path + ";hand=" + hexf(scene.hand.mass_kg) + "," + hexf(scene.hand.stiffness_N_per_m) +
+                  "," + hexf(scene.hand.damping_Ns_per_m);
+  for (const Keyframe& k : scene.trajectory)
+    c += ";key=" + hexf(k.t_s) + "," + hexf(k.pos_m.x()) + "," + hexf(k.pos_m.y()) + "," + hexf(k.pos_m.z()) + "," +
+         (k.button ? "1" : "0");
+  return c;
+}
 
 Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, double rate_hz) {
-  const std::string driver = spec.empty() ? scene.device.driver : spec;
+  std::string driver, target;
+  split_spec(scene, spec, &driver, &target);
   DeviceSpecs specs;
   specs.max_force_N = scene.device.max_force_N;
   specs.workspace_half_m = scene.device.workspace_half_m;
@@ -13,7 +57,94 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   if (driver == "scripted") {
     return std::unique_ptr<Device>(std::make_unique<ScriptedDevice>(specs, scene.hand, scene.trajectory));
   }
-  return make_error("device '", driver, "': unknown driver (known: scripted)");
+  if (driver == "shm" || driver == "plugin" || driver == "replay") {
+    if (target.empty())
+      return make_error("device '", driver, "': needs a target (", driver == "shm" ? "shm:NAME" : driver + ":PATH",
+                        ", or device.link in the scene)");
+  }
+  if (driver == "shm") {
+    ShmParams p;
+    p.name = target;
+    p.watchdog_s = scene.device.watchdog_ms * 1e-3;
+    p.ramp_s = scene.device.ramp_ms * 1e-3;
+    p.max_speed_m_per_s = scene.device.max_speed_m_per_s;
+    p.servo_rate_hz = rate_hz;
+    auto d = ShmDevice::connect(p, specs);
+    if (!d) return d.error();
+    return std::unique_ptr<Device>(std::move(d).value());
+  }
+  if (driver == "plugin") {
+    auto d = PluginDevice::load(target, plugin_config(scene), specs);
+    if (!d) return d.error();
+    return std::unique_ptr<Device>(std::move(d).value());
+  }
+  if (driver == "replay") {
+    auto rows = load_haptic_csv(target);
+    if (!rows) return rows.error();
+    return std::unique_ptr<Device>(std::make_unique<ReplayDevice>(specs, std::move(rows).value()));
+  }
+  return make_error("device '", driver, "': unknown driver (known: scripted, shm:NAME, plugin:PATH, replay:PATH)");
+}
+
+nlohmann::json device_report(const Device& device) {
+  nlohmann::json j;
+  if (const auto* shm = dynamic_cast<const ShmDevice*>(&device)) {
+    const ShmCounters& c = shm->counters();
+    nlohmann::json events = nlohmann::json::array();
+    for (int i = 0; i < shm->events().count(); ++i) {
+      const DeviceEvent& e = shm->events().at(i);
+      events.push_back({{"tick", e.tick}, {"t_s", e.t_s}, {"event", device_event_name(e.kind)}, {"silent_ms", e.silent_ms}});
+    }
+    j = {{"driver", "shm"},
+         {"link", shm->params().name},
+         {"connected_at_end", shm->connected()},
+         {"watchdog_ms", shm->params().watchdog_s * 1e3},
+         {"ramp_ms", shm->params().ramp_s * 1e3},
+         {"events", events},
+         {"events_lost", shm->events().lost()},
+         {"poses", c.poses},
+         {"rejected_nonfinite", c.rejected_nonfinite},
+         {"rejected_outside", c.rejected_outside},
+         {"rejected_speed", c.rejected_speed},
+         {"torn_reads", c.torn_reads},
+         {"disconnected_ticks", c.disconnected_ticks},
+         {"forces_sent", c.forces_sent}};
+  } else if (const auto* plugin = dynamic_cast<const PluginDevice*>(&device)) {
+    j = {{"driver", "plugin"}, {"name", plugin->name()}, {"bad_readings", plugin->bad_readings()}};
+  } else if (const auto* replay = dynamic_cast<const ReplayDevice*>(&device)) {
+    j = {{"driver", "replay"}, {"rows", replay->size()}, {"duration_s", replay->duration_s()}};
+  } else {
+    j = {{"driver", "scripted"}};
+  }
+  return j;
+}
+
+Status write_device_events(const Device& device, const std::string& out_dir, bool quiet) {
+  const auto* shm = dynamic_cast<const ShmDevice*>(&device);
+  if (!shm) return Ok{};
+  const std::string path = (std::filesystem::path(out_dir) / "device_events.csv").string();
+  const std::string tmp = path + ".partial";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << "tick,t_s,event,silent_ms\n";
+    for (int i = 0; i < shm->events().count(); ++i) {
+      const DeviceEvent& e = shm->events().at(i);
+      char line[128];
+      std::snprintf(line, sizeof line, "%lld,%.6f,%s,%.3f\n", static_cast<long long>(e.tick), e.t_s,
+                    device_event_name(e.kind), e.silent_ms);
+      f << line;
+      if (!quiet && e.kind != DeviceEventKind::kConnected)
+        std::fprintf(stderr, "palpate: device '%s': %s at tick %lld (t = %.3f s, peer silent %.1f ms)\n",
+                     shm->params().name.c_str(), device_event_name(e.kind), static_cast<long long>(e.tick), e.t_s,
+                     e.silent_ms);
+    }
+    f.flush();
+    if (!f) return make_error("events '", path, "': write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return make_error("events '", path, "': ", ec.message());
+  return Ok{};
 }
 
 }  // namespace palpate

@@ -1,8 +1,11 @@
 #pragma once
-/// Device factory: builds the Device a recording runs against from the scene and the --device override.
+/// Device factory: builds the Device a recording runs against from the scene and the --device override,
+/// and reports what the driver saw (link events, rejected input) after the run.
 
 #include <memory>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "core/result.h"
 #include "core/scene.h"
@@ -10,8 +13,22 @@
 
 namespace palpate {
 
-/// Creates the device named by `spec` ("scripted", or empty for the scene's device.driver).
-/// Errors name the driver and the problem.
+/// Creates the device named by `spec`: "scripted", "shm:NAME", "plugin:PATH.so", "replay:PATH" (a haptic.csv or
+/// a recording folder), or empty for the scene's device.driver (+ device.link). Errors name the driver and the problem.
 Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, double rate_hz);
+
+/// The driver name of a spec ("shm" for "shm:x"; the scene's driver when spec is empty).
+std::string device_driver(const Scene& scene, const std::string& spec);
+
+/// What the driver saw, for summary.json: {"driver", "connected", "events": [{tick, t_s, event, silent_ms}],
+/// counters}. Drivers without a link report just their name.
+nlohmann::json device_report(const Device& device);
+
+/// Writes <out_dir>/device_events.csv (tick,t_s,event,silent_ms) via a temporary name when the driver keeps
+/// link events, and prints one line per event to stderr unless quiet. Errors name the file.
+Status write_device_events(const Device& device, const std::string& out_dir, bool quiet);
+
+/// The config string handed to a plugin's open(): scene path, hand and keyframes as C99 hex floats.
+std::string plugin_config(const Scene& scene);
 
 }  // namespace palpate

@@ -219,6 +219,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (writer) writer->finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const Status log_status = log.close();
+  const Status events_status = write_device_events(device, opt.out_dir, opt.quiet);
 
   const FrameStats& fst = stage.stats();
   const ServoCounters& sc = servo.counters();
@@ -275,6 +276,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["wall_s"] = wall_s;
   j["wall_s_per_scene_s"] = wall_s / scene.duration_s;
   if (lockstep) j["state_hash"] = stage.state_hash();
+  j["device"] = device_report(device);
   j["outputs"] = {{"frames", frames_dir}, {"haptic_csv", csv_path}};
 
   RecordResult res;
@@ -290,6 +292,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());
   if (!log_status) return log_status.error();
+  if (!events_status) return events_status.error();
   return res;
 }
 

@@ -1,0 +1,149 @@
+#include "haptics/shm_device.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/clock.h"
+
+namespace palpate {
+namespace {
+
+bool finite_in(double v, double lo, double hi) { return std::isfinite(v) && v > lo && v <= hi; }
+
+}  // namespace
+
+ShmDevice::ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs& specs)
+    : seg_(std::move(seg)),
+      params_(params),
+      specs_(specs),
+      watchdog_(static_cast<int64_t>(params.watchdog_s * 1e9)),
+      ramp_(static_cast<int64_t>(params.ramp_s * 1e9)) {
+  palpate_shim_segment* s = seg_.get();
+  // continue the force counter of an earlier sim, so the device sees it move forward
+  force_seq_ = __atomic_load_n(&s->force.force.seq, __ATOMIC_ACQUIRE);
+  epoch_ = __atomic_load_n(&s->header.device_epoch, __ATOMIC_ACQUIRE);
+  last_seq_ = __atomic_load_n(&s->pose.pose.seq, __ATOMIC_ACQUIRE);
+}
+
+Result<std::unique_ptr<ShmDevice>> ShmDevice::connect(const ShmParams& p, const DeviceSpecs& limits) {
+  const std::string what = "shm '" + p.name + "'";
+  if (!(p.watchdog_s > 0.0 && p.watchdog_s <= 10.0)) return make_error(what, ": watchdog ", std::to_string(p.watchdog_s), " s out of range (0, 10]");
+  if (!(p.ramp_s >= 0.0 && p.ramp_s <= 10.0)) return make_error(what, ": ramp ", std::to_string(p.ramp_s), " s out of range [0, 10]");
+  if (!(p.max_speed_m_per_s > 0.0)) return make_error(what, ": max speed must be > 0");
+  auto seg = ShmSegment::connect(p.name, p.connect_timeout_s);
+  if (!seg) return seg.error();
+  const palpate_shim_specs ds = seg.value().get()->specs;
+  if (!finite_in(ds.max_force_N, 0.0, 1e3)) return make_error(what, ": device max_force_N ", std::to_string(ds.max_force_N), " out of range (0, 1000]");
+  if (!finite_in(ds.workspace_half_m, 0.0, 100.0))
+    return make_error(what, ": device workspace_half_m ", std::to_string(ds.workspace_half_m), " out of range (0, 100]");
+  if (!finite_in(ds.max_stiffness_N_per_m, 0.0, 1e7))
+    return make_error(what, ": device max_stiffness_N_per_m ", std::to_string(ds.max_stiffness_N_per_m), " out of range (0, 1e7]");
+  if (!finite_in(ds.rate_hz, 0.0, 1e5)) return make_error(what, ": device rate_hz ", std::to_string(ds.rate_hz), " out of range (0, 1e5]");
+  DeviceSpecs specs = limits;
+  specs.max_force_N = std::min(limits.max_force_N, ds.max_force_N);
+  specs.workspace_half_m = std::min(limits.workspace_half_m, ds.workspace_half_m);
+  specs.max_stiffness_N_per_m = std::min(limits.max_stiffness_N_per_m, ds.max_stiffness_N_per_m);
+  std::unique_ptr<ShmDevice> dev(new ShmDevice(std::move(seg).value(), p, specs));
+
+  // wait for a heartbeat, so a recording starts against a live device
+  const int64_t deadline_ns = monotonic_ns() + static_cast<int64_t>(p.connect_timeout_s * 1e9);
+  const uint64_t beats0 = palpate_shim_beats(&dev->seg_.get()->device_hb);
+  dev->watchdog_.update(beats0, monotonic_ns());
+  while (!dev->watchdog_.update(palpate_shim_beats(&dev->seg_.get()->device_hb), monotonic_ns())) {
+    if (monotonic_ns() > deadline_ns)
+      return make_error(what, ": the device's heartbeat did not move in ", std::to_string(p.connect_timeout_s),
+                        " s (device process stopped or hung?)");
+    sleep_until_ns(monotonic_ns() + 1'000'000);
+  }
+  return dev;
+}
+
+bool ShmDevice::accept(const palpate_shim_pose& p, int64_t now_ns) noexcept {
+  const Vec3 pos(p.pos_m[0], p.pos_m[1], p.pos_m[2]);
+  Quat q(p.quat_wxyz[0], p.quat_wxyz[1], p.quat_wxyz[2], p.quat_wxyz[3]);
+  const double qn = q.norm();
+  if (!pos.allFinite() || !std::isfinite(qn) || qn < 0.5 || qn > 2.0) {
+    ++counters_.rejected_nonfinite;
+    return false;
+  }
+  if (pos.cwiseAbs().maxCoeff() > specs_.workspace_half_m) {
+    ++counters_.rejected_outside;
+    return false;
+  }
+  if (have_good_) {
+    // our own clock, not the peer's timestamps: those are untrusted too
+    const double dt_s = std::max(static_cast<double>(now_ns - good_ns_) * 1e-9, 1.0 / params_.servo_rate_hz);
+    if ((pos - good_.pos_m).norm() > params_.max_speed_m_per_s * dt_s) {
+      ++counters_.rejected_speed;
+      return false;
+    }
+  }
+  good_.pos_m = pos;
+  good_.orientation = Quat(q.coeffs() / qn);
+  good_.buttons = static_cast<uint32_t>(p.buttons & 0xffffffffu);
+  good_ns_ = now_ns;
+  have_good_ = true;
+  last_pose_time_ns_ = p.time_ns;
+  ++counters_.poses;
+  return true;
+}
+
+bool ShmDevice::read(double t_s, DevicePose* out) noexcept {
+  palpate_shim_segment* s = seg_.get();
+  const int64_t now = monotonic_ns();
+  now_ns_ = now;
+  palpate_shim_beat(&s->sim_hb, now);
+  const int64_t tick = std::llround(t_s * params_.servo_rate_hz);
+
+  // link health: the device's heartbeat, its state and its epoch (a new process attached)
+  const bool stopped = __atomic_load_n(&s->header.device_state, __ATOMIC_ACQUIRE) == PALPATE_SHIM_DEVICE_STOPPED;
+  const bool alive = watchdog_.update(palpate_shim_beats(&s->device_hb), now) && !stopped;
+  const uint64_t epoch = __atomic_load_n(&s->header.device_epoch, __ATOMIC_ACQUIRE);
+  if (epoch != epoch_) {
+    epoch_ = epoch;
+    have_good_ = false;  // a new device process may hold its handle elsewhere
+    events_.push({tick, t_s, DeviceEventKind::kPeerRestarted, static_cast<double>(watchdog_.silent_ns(now)) * 1e-6});
+  }
+  if (alive != connected_) {
+    const DeviceEventKind kind = alive ? (ever_connected_ ? DeviceEventKind::kReconnected : DeviceEventKind::kConnected)
+                                       : DeviceEventKind::kDisconnected;
+    events_.push({tick, t_s, kind, static_cast<double>(watchdog_.silent_ns(now)) * 1e-6});
+    connected_ = alive;
+    ever_connected_ = ever_connected_ || alive;
+    ramp_.reset(0.0, now);  // zero at once on loss; ramp in from zero on return
+  }
+  if (!connected_) {
+    ++counters_.disconnected_ticks;
+    return false;
+  }
+
+  palpate_shim_pose p{};
+  if (!palpate_shim_read_pose(&s->pose, &p, 4)) {
+    ++counters_.torn_reads;
+  } else if (p.seq != last_seq_) {
+    last_seq_ = p.seq;
+    if (!accept(p, now)) return false;
+  }
+  if (!have_good_) return false;
+  *out = good_;
+  return true;
+}
+
+void ShmDevice::write_force(const Vec3& force_N) noexcept {
+  const double gain = connected_ ? ramp_.update(1.0, now_ns_) : 0.0;
+  Vec3 f = gain * force_N;
+  const double mag = f.norm();
+  if (!std::isfinite(mag)) f.setZero();
+  else if (mag > specs_.max_force_N) f *= specs_.max_force_N / mag;
+  palpate_shim_force rec{};
+  rec.seq = ++force_seq_;
+  rec.time_ns = now_ns_;
+  for (int i = 0; i < 3; ++i) rec.force_N[i] = f[i];
+  rec.pose_seq = last_seq_;
+  rec.pose_time_ns = last_pose_time_ns_;
+  palpate_shim_write_force(&seg_.get()->force, &rec);
+  sent_N_ = f;
+  ++counters_.forces_sent;
+}
+
+}  // namespace palpate

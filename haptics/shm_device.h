@@ -1,0 +1,86 @@
+#pragma once
+/// ShmDevice: the `shm` driver — a device served by another process through the shared-memory shim
+/// (haptics/shim/palpate_shim.h). Everything read from the peer is checked; a watchdog on the peer's heartbeat
+/// zeroes the force at once when it goes silent and ramps it back in when it returns.
+
+#include <memory>
+#include <string>
+
+#include "core/result.h"
+#include "haptics/device.h"
+#include "haptics/device_link.h"
+#include "haptics/shm_segment.h"
+
+namespace palpate {
+
+/// Link settings; validated by connect().
+struct ShmParams {
+  std::string name;                   ///< link name ("/palpate-NAME")
+  double watchdog_s = 0.005;          ///< peer silent this long -> disconnected
+  double ramp_s = 0.2;                ///< force ramp-in time at start and after a reconnect
+  double max_speed_m_per_s = 10.0;    ///< faster pose changes are rejected as impossible
+  double connect_timeout_s = 5.0;     ///< how long connect() waits for the device to publish the segment
+  double servo_rate_hz = 1000.0;      ///< servo ticks per scene second (tick numbers of events)
+};
+
+/// Counters of what the link saw. Plain data.
+struct ShmCounters {
+  int64_t poses = 0;            ///< new poses accepted
+  int64_t rejected_nonfinite = 0;///< poses with NaN/Inf
+  int64_t rejected_outside = 0; ///< poses outside the workspace
+  int64_t rejected_speed = 0;   ///< poses implying an impossible velocity
+  int64_t torn_reads = 0;       ///< ticks the pose record was being rewritten throughout the read
+  int64_t disconnected_ticks = 0;///< ticks spent disconnected
+  int64_t forces_sent = 0;      ///< force commands written
+};
+
+/// The shm driver. Not copyable. Thread: read()/write_force() on the servo thread (no allocation, lock,
+/// syscall other than clock_gettime, or I/O); the accessors after the run.
+class ShmDevice final : public Device {
+ public:
+  /// Connects to the device serving params.name; errors name the link and the problem (absent, foreign owner,
+  /// loose mode, size or version mismatch, bad specs). `limits` caps the device's own specs (scene's max force).
+  static Result<std::unique_ptr<ShmDevice>> connect(const ShmParams& params, const DeviceSpecs& limits);
+
+  const DeviceSpecs& specs() const noexcept override { return specs_; }
+  /// Latest checked pose; false while disconnected or when this tick's new pose was rejected.
+  bool read(double t_s, DevicePose* out) noexcept override;
+  /// Sends force x ramp gain (zero while disconnected), clamped to max_force_N.
+  void write_force(const Vec3& force_N) noexcept override;
+
+  /// True while the peer's heartbeat is alive.
+  bool connected() const noexcept { return connected_; }
+  /// Link events (connected, disconnected, reconnected, peer_restarted) with their servo ticks.
+  const DeviceEventLog& events() const noexcept { return events_; }
+  /// Counters so far.
+  const ShmCounters& counters() const noexcept { return counters_; }
+  /// The link settings.
+  const ShmParams& params() const noexcept { return params_; }
+  /// Force (N) last written to the peer, after ramp and clamp.
+  const Vec3& last_force_sent_N() const noexcept { return sent_N_; }
+
+ private:
+  ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs& specs);
+  bool accept(const palpate_shim_pose& p, int64_t now_ns) noexcept;
+
+  ShmSegment seg_;
+  ShmParams params_;
+  DeviceSpecs specs_;
+  PeerWatchdog watchdog_;
+  ForceRamp ramp_;
+  DeviceEventLog events_;
+  ShmCounters counters_;
+  DevicePose good_;              // last accepted pose
+  bool have_good_ = false;
+  int64_t good_ns_ = 0;          // when it was accepted (our clock)
+  uint64_t last_seq_ = 0;        // seq of the last pose looked at
+  int64_t last_pose_time_ns_ = 0;
+  uint64_t epoch_ = 0;
+  bool connected_ = false;
+  bool ever_connected_ = false;
+  int64_t now_ns_ = 0;           // clock at this tick's read()
+  uint64_t force_seq_ = 0;
+  Vec3 sent_N_ = Vec3::Zero();
+};
+
+}  // namespace palpate
