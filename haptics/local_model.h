@@ -12,11 +12,21 @@ namespace palpate {
 struct LocalModel {
   static constexpr int kMaxTriangles = 512;
   int64_t frame = -1;                                     ///< sim frame that produced it (-1 = none yet)
+  double t_s = 0.0;                                       ///< scene time of that frame
   int num_triangles = 0;                                  ///< triangles in use
   bool truncated = false;                                 ///< more triangles were near than fit
   std::array<int32_t, kMaxTriangles> tri_ids{};           ///< mesh triangle ids
   std::array<std::array<Vec3, 3>, kMaxTriangles> tri_m{}; ///< deformed corner positions
   std::array<std::array<Vec3, 3>, kMaxTriangles> normal{};///< unit vertex normals at the corners
+
+  // the object's response at the contact between frames (multirate force), valid when has_contact_model:
+  // the contact point moves by v0 (t - t_s) + C (F_obj - f0) for a force F_obj pushed on the object
+  bool has_contact_model = false;
+  Vec3 contact_p0_m = Vec3::Zero();       ///< contact point at the frame
+  Vec3 contact_v0_m_per_s = Vec3::Zero(); ///< its velocity at the frame
+  Vec3 contact_f0_N = Vec3::Zero();       ///< force on the object during the frame's step
+  Mat3 compliance_m_per_N = Mat3::Zero(); ///< C, static compliance at the contact (3 x 3, symmetric)
+  double model_radius_m = 0.0;            ///< the model holds for contacts within this distance of p0
 };
 
 }  // namespace palpate

@@ -99,6 +99,19 @@ void Servo::update_pull(const LocalModel& m, const Vec3& tool, bool button) noex
   if (held_point(m, &p)) proxy_m_ = p;
 }
 
+Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept {
+  if (!m.has_contact_model || (proxy_m_ - m.contact_p0_m).norm() > m.model_radius_m) return proxy_m_;
+  // the proxy P rides the surface, which has moved by v0 tau + C (F_obj - f0) with F_obj = -k_c (P - P_t);
+  // solving for P: (I + k_c C) P = P_frame + v0 tau - C f0 + k_c C P_t
+  const double k = params_.coupling_N_per_m;
+  const double tau = std::max(0.0, t_s - m.t_s);
+  const Mat3& c = m.compliance_m_per_N;
+  const Mat3 a = Mat3::Identity() + k * c;
+  const Vec3 rhs = proxy_m_ + tau * m.contact_v0_m_per_s - c * m.contact_f0_N + k * (c * tool);
+  const Vec3 p = a.inverse() * rhs;
+  return p.allFinite() ? p : proxy_m_;
+}
+
 void Servo::tick(int64_t tick_index, double t_s) noexcept {
   DevicePose pose;
   bool rejected = false;
@@ -136,8 +149,17 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   }
   Vec3 force = Vec3::Zero();
   if (contact_ != ContactState::kFree && !rejected) {
-    force = params_.coupling_N_per_m * (proxy_m_ - tool) - params_.coupling_damping_Ns_per_m * tool_vel_m_per_s_;
+    if (params_.force_model == ForceModel::kLocalModel) proxy_m_ = predicted_proxy(m, tool, t_s);
+    if (params_.force_model == ForceModel::kHoldFrame && held_frame_ == m.frame) {
+      force = held_force_N_;
+    } else {
+      force = params_.coupling_N_per_m * (proxy_m_ - tool) - params_.coupling_damping_Ns_per_m * tool_vel_m_per_s_;
+      held_force_N_ = force;
+      held_frame_ = m.frame;
+    }
     if (params_.ramp_s > 0.0) force *= std::clamp((t_s - ramp_start_s_) / params_.ramp_s, 0.0, 1.0);
+  } else {
+    held_frame_ = -2;
   }
   if (params_.passivity && !rejected) {
     const int64_t before = guard_.activations();

@@ -14,6 +14,13 @@
 
 namespace palpate {
 
+/// How the servo turns the latest sim snapshot into a force every tick.
+enum class ForceModel : uint8_t {
+  kHoldFrame,      ///< the force computed when a sim frame arrives is held until the next (the naive baseline)
+  kStaticSurface,  ///< the proxy on the last frame's surface, the tool position fresh every tick
+  kLocalModel,     ///< as kStaticSurface, plus the object's linearised response at the contact (multirate)
+};
+
 /// Servo parameters, validated by the scene loader; read-only while running.
 struct ServoParams {
   InteractionMode mode = InteractionMode::kTouch;
@@ -23,6 +30,7 @@ struct ServoParams {
   double period_s = 1e-3;                 ///< servo period
   bool passivity = true;                  ///< energy-based passivity observer/controller on
   double ramp_s = 0.2;                    ///< force ramp-in time at start and after a reset
+  ForceModel force_model = ForceModel::kLocalModel;  ///< between-frame force
 };
 
 /// Counters the servo keeps (read after the run, or approximately while it runs).
@@ -72,7 +80,12 @@ class Servo {
   int32_t tri_ = -1;           // triangle holding P_s
   Vec3 bary_ = Vec3::Zero();   // P_s in that triangle
   Vec3 proxy_m_ = Vec3::Zero();
+  // the proxy moved by the object's response predicted since the frame (kLocalModel)
+  Vec3 predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept;
+
   PassivityGuard guard_;
+  Vec3 held_force_N_ = Vec3::Zero();  // kHoldFrame: force of the last frame
+  int64_t held_frame_ = -2;           // kHoldFrame: frame it was computed on
   double ramp_start_s_ = 0.0;  // force scale ramps 0 -> 1 from here
   bool ramp_pending_ = true;   // restart the ramp at the next good reading
 };

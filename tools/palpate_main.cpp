@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/scene.h"
+#include "tools/bench_force.h"
 #include "tools/bench_loop.h"
 #include "tools/info_command.h"
 #include "tools/session/device_factory.h"
@@ -93,6 +94,11 @@ int main(int argc, char** argv) {
   bloop->add_option("--json", lo.json_path, "Write the figures (with the latency histogram) as JSON");
   bloop->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log count) as PNG");
 
+  auto* bforce = bench->add_subcommand("force", "Force between sim frames against a 1 kHz reference (per force model)");
+  palpate::BenchForceOptions fo;
+  bforce->add_option("scenes", fo.scenes, "Scenes to replay in lockstep")->capture_default_str();
+  bforce->add_option("--json", fo.json_path, "Write the figures as JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -105,5 +111,6 @@ int main(int argc, char** argv) {
   }
   if (*info) return palpate::run_info(mesh_path, levels, json);
   if (*bloop) return palpate::run_bench_loop(lo);
+  if (*bforce) return palpate::run_bench_force(fo);
   return 2;
 }

@@ -148,6 +148,15 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
   SpscQueue<HapticSample> q(1024);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   publish_floor(tb.get());
+  {
+    // with the multirate contact model published, so its per-tick solve is counted too
+    LocalModel& m = tb->write_buffer();
+    m = tb->read();
+    m.has_contact_model = true;
+    m.compliance_m_per_N = Mat3::Identity() * 0.01;
+    m.model_radius_m = 1.0;
+    tb->publish();
+  }
   for (auto mode : {InteractionMode::kTouch, InteractionMode::kPull}) {
     ServoParams p;
     p.mode = mode;

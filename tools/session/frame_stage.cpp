@@ -92,7 +92,7 @@ bool FrameStage::step_lattice_frame() {
     return false;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const StepReport rep = step_lattice(&*lattice_, step_opts_, 1.0 / 60.0, f_ext_N_, &ws_);
+  const StepReport rep = step_lattice(&*lattice_, step_opts_, step_dt_s_, f_ext_N_, &ws_);
   stats_.step_ms.push_back(ms_since(t0));
   ++stats_.frames_stepped;
   stats_.node_frames += static_cast<int64_t>(lattice_->num_nodes());
@@ -109,20 +109,51 @@ bool FrameStage::step_lattice_frame() {
   return true;
 }
 
+PointWeights FrameStage::contact_weights(int32_t tri_id, const Vec3& bary) const {
+  PointWeights w;
+  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(tri_id)];
+  for (int c = 0; c < 3; ++c) {
+    const VertexBinding& b = model_.bindings[static_cast<std::size_t>(tri[c])];
+    const int32_t slot = lattice_->slot_of_cell[b.cell];
+    if (slot < 0) continue;
+    const auto tw = trilinear_weights(b.local);
+    for (int k = 0; k < 8; ++k) {
+      w.node[w.count] = lattice_->cell_nodes[slot][k];
+      w.weight[w.count] = bary[c] * tw[k];
+      ++w.count;
+    }
+  }
+  return w;
+}
+
 void FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
   std::fill(f_ext->begin(), f_ext->end(), Vec3::Zero());
   if (!contact_this_frame_ || frame_samples_ == 0) return;
   // the frame's mean device force, reacted on the material point P_s: -F spread over the cell nodes of the
   // contact triangle's vertices by barycentric and trilinear weights
   const Vec3 f_obj = -force_sum_N_ / static_cast<double>(frame_samples_);
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-  for (int c = 0; c < 3; ++c) {
-    const VertexBinding& b = model_.bindings[static_cast<std::size_t>(tri[c])];
-    const int32_t slot = lattice_->slot_of_cell[b.cell];
-    if (slot < 0) continue;
-    const auto w = trilinear_weights(b.local);
-    for (int k = 0; k < 8; ++k) (*f_ext)[lattice_->cell_nodes[slot][k]] += contact_.contact_bary[c] * w[k] * f_obj;
-  }
+  const PointWeights w = contact_weights(contact_.contact_tri, contact_.contact_bary);
+  for (int i = 0; i < w.count; ++i) (*f_ext)[w.node[i]] += w.weight[i] * f_obj;
+}
+
+void FrameStage::fill_contact_model(LocalModel* m) {
+  m->has_contact_model = false;
+  if (!lattice_ || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
+  const PointWeights w = contact_weights(latest_.contact_tri, latest_.contact_bary);
+  if (w.count == 0) return;
+  Mat3 c;
+  if (!compliance_.compute(*lattice_, w, false, &c)) return;
+  Vec3 p = Vec3::Zero(), v = Vec3::Zero();
+  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)];
+  for (int k = 0; k < 3; ++k) p += latest_.contact_bary[k] * vertices_m_[tri[k]];
+  for (int i = 0; i < w.count; ++i) v += w.weight[i] * lattice_->v_m_per_s[w.node[i]];
+  m->has_contact_model = true;
+  m->contact_p0_m = p;
+  m->contact_v0_m_per_s = v;
+  m->contact_f0_N = frame_force_obj_N_;
+  m->compliance_m_per_N = c;
+  m->model_radius_m = lattice_->cell_m;
+  ++stats_.contact_models;
 }
 
 void FrameStage::publish_patch() {
@@ -158,6 +189,8 @@ void FrameStage::publish_patch() {
     if (t != held && n < LocalModel::kMaxTriangles) put(t);
   m.num_triangles = n;
   m.frame = stats_.frames;
+  m.t_s = t_s_;
+  fill_contact_model(&m);
   local_model_->publish();
 }
 
@@ -184,13 +217,16 @@ void FrameStage::render(int64_t index, bool block) {
   stats_.render_ms.push_back(ms_since(t0));
 }
 
-void FrameStage::frame(int64_t index, double /*t_s*/, bool block_on_writer) {
+void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   const auto t0 = std::chrono::steady_clock::now();
+  t_s_ = t_s;
   contact_this_frame_ = false;
   force_sum_N_.setZero();
   frame_samples_ = 0;
   drain();
   if (!lattice_ && contact_this_frame_) build_lattice_at(contact_.proxy_pos_m);
+  frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? Vec3(-force_sum_N_ / static_cast<double>(frame_samples_))
+                                                                  : Vec3::Zero();
   bool moved = false;
   if (lattice_) {
     follow_contact();

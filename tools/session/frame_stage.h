@@ -9,6 +9,7 @@
 #include "core/scene.h"
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
+#include "haptics/contact_compliance.h"
 #include "haptics/haptic_sample.h"
 #include "haptics/local_model.h"
 #include "render/gl_context.h"
@@ -40,6 +41,7 @@ struct FrameStats {
   int64_t node_frames = 0, spring_frames = 0, vertex_frames = 0;  ///< sums over frames of what was simulated
   int64_t region_moves = 0;         ///< times the region followed the contact
   int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
+  int64_t contact_models = 0;       ///< frames that published a contact model for the servo
 };
 
 /// Owns the lattice, deformer and render state of one recording. Thread: the sim thread only.
@@ -52,6 +54,8 @@ class FrameStage {
   /// Processes frame `index` at scene time t_s; block_on_writer waits for a free PNG buffer (lockstep)
   /// instead of dropping the frame (realtime).
   void frame(int64_t index, double t_s, bool block_on_writer);
+  /// Sets the lattice step per frame (default 1/60 s; a reference run steps at the servo rate).
+  void set_step_dt(double dt_s) { step_dt_s_ = dt_s; }
   /// Drains and logs samples left after the last frame.
   void drain_remaining();
   /// 16-hex-digit hash of lattice state and deformed mesh.
@@ -71,6 +75,10 @@ class FrameStage {
   // steps the lattice unless it rests; true when it moved
   bool step_lattice_frame();
   void apply_contact_force(std::vector<Vec3>* f_ext) const;
+  // lattice nodes and weights of the material point (tri, bary) (empty when it is outside the lattice)
+  PointWeights contact_weights(int32_t tri, const Vec3& bary) const;
+  // the object's linearised response at the current contact, for the servo between frames
+  void fill_contact_model(LocalModel* m);
   void publish_patch();
   void render(int64_t index, bool block);
 
@@ -93,6 +101,10 @@ class FrameStage {
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
+  ContactCompliance compliance_;     // static condensation of the lattice at the contact
+  Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
+  double t_s_ = 0.0;                 // scene time of the current frame
+  double step_dt_s_ = 1.0 / 60.0;    // lattice step per frame
   HapticSample latest_;              // newest sample drained
   HapticSample contact_;             // newest sample in contact this frame
   bool contact_this_frame_ = false;

@@ -1,0 +1,139 @@
+#include "tools/bench_force.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "haptics/servo.h"
+#include "tools/session/device_factory.h"
+#include "tools/session/frame_stage.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+namespace {
+
+/// Force sent on every servo tick of one lockstep run.
+struct ForceTrace {
+  std::vector<Vec3> force_N;
+  double sim_ms_per_scene_s = 0.0;
+};
+
+// Lockstep run with the sim stepping at frame_hz (60, or 1000 for the reference) and the given force model.
+Result<ForceTrace> run(const Scene& scene, const Model& model, double frame_hz, ForceModel fm) {
+  auto dev = make_device(scene, "scripted", 1000.0);
+  if (!dev) return dev.error();
+  SpscQueue<HapticSample> q(8192);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
+  stage.set_step_dt(1.0 / frame_hz);
+  ServoParams sp;
+  sp.mode = scene.mode;
+  sp.coupling_N_per_m = std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m);
+  sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
+  sp.grab_radius_m = scene.grab_radius_m;
+  sp.passivity = scene.device.passivity;
+  sp.ramp_s = scene.device.ramp_s;
+  sp.force_model = fm;
+  Servo servo(sp, dev.value().get(), &q, tb.get());
+  ForceTrace tr;
+  const int64_t ticks = std::llround(scene.duration_s * 1000.0);
+  tr.force_N.reserve(static_cast<std::size_t>(ticks));
+  int64_t frame = 0;
+  double sim_s = 0.0;
+  for (int64_t i = 0; i < ticks; ++i) {
+    const double t = static_cast<double>(i) * 1e-3;
+    while (static_cast<double>(frame) / frame_hz <= t + 1e-12) {
+      const auto t0 = std::chrono::steady_clock::now();
+      stage.frame(frame, static_cast<double>(frame) / frame_hz, false);
+      sim_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      ++frame;
+    }
+    servo.tick(i, t);
+    tr.force_N.push_back(servo.last_sample().force_N);
+  }
+  tr.sim_ms_per_scene_s = 1e3 * sim_s / scene.duration_s;
+  return tr;
+}
+
+struct ErrorFigures {
+  double rms_N = 0.0, max_N = 0.0;
+};
+
+ErrorFigures compare(const ForceTrace& a, const ForceTrace& ref) {
+  ErrorFigures e;
+  double sum = 0.0;
+  const std::size_t n = std::min(a.force_N.size(), ref.force_N.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = (a.force_N[i] - ref.force_N[i]).norm();
+    sum += d * d;
+    e.max_N = std::max(e.max_N, d);
+  }
+  e.rms_N = n ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+  return e;
+}
+
+const char* model_name(ForceModel m) {
+  switch (m) {
+    case ForceModel::kHoldFrame: return "hold_last_force";
+    case ForceModel::kStaticSurface: return "static_surface";
+    case ForceModel::kLocalModel: return "local_model";
+  }
+  return "?";
+}
+
+}  // namespace
+
+int run_bench_force(const BenchForceOptions& o) {
+  nlohmann::json out;
+  out["reference"] = "lattice stepped at 1000 Hz, surface published every servo tick";
+  out["scenes"] = nlohmann::json::array();
+  std::printf("%-22s %-16s %10s %10s %14s\n", "scene", "force_model", "rms_N", "max_N", "sim_ms/scene_s");
+  for (const std::string& path : o.scenes) {
+    auto scene = load_scene(path);
+    if (!scene) {
+      std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
+      return 1;
+    }
+    auto model = load_model(scene.value());
+    if (!model) {
+      std::fprintf(stderr, "palpate: %s\n", model.error().message.c_str());
+      return 1;
+    }
+    auto ref = run(scene.value(), model.value(), 1000.0, ForceModel::kStaticSurface);
+    if (!ref) {
+      std::fprintf(stderr, "palpate: %s\n", ref.error().message.c_str());
+      return 1;
+    }
+    nlohmann::json js{{"scene", path}, {"reference_sim_ms_per_scene_s", ref.value().sim_ms_per_scene_s}};
+    std::printf("%-22s %-16s %10s %10s %14.1f\n", scene.value().name.c_str(), "reference_1kHz", "-", "-",
+                ref.value().sim_ms_per_scene_s);
+    for (ForceModel fm : {ForceModel::kHoldFrame, ForceModel::kStaticSurface, ForceModel::kLocalModel}) {
+      auto tr = run(scene.value(), model.value(), 60.0, fm);
+      if (!tr) {
+        std::fprintf(stderr, "palpate: %s\n", tr.error().message.c_str());
+        return 1;
+      }
+      const ErrorFigures e = compare(tr.value(), ref.value());
+      std::printf("%-22s %-16s %10.4f %10.4f %14.1f\n", scene.value().name.c_str(), model_name(fm), e.rms_N, e.max_N,
+                  tr.value().sim_ms_per_scene_s);
+      js[model_name(fm)] = {{"rms_N", e.rms_N}, {"max_N", e.max_N}, {"sim_ms_per_scene_s", tr.value().sim_ms_per_scene_s}};
+    }
+    out["scenes"].push_back(js);
+  }
+  if (!o.json_path.empty()) {
+    std::ofstream f(o.json_path);
+    f << out.dump(2) << "\n";
+    if (!f) {
+      std::fprintf(stderr, "palpate: bench force: cannot write '%s'\n", o.json_path.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace palpate
