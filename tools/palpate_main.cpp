@@ -9,6 +9,7 @@
 #include "core/scene.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
+#include "tools/bench_sim.h"
 #include "tools/info_command.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/recorder.h"
@@ -99,6 +100,24 @@ int main(int argc, char** argv) {
   bforce->add_option("scenes", fo.scenes, "Scenes to replay in lockstep")->capture_default_str();
   bforce->add_option("--json", fo.json_path, "Write the figures as JSON");
 
+  auto* bsim = bench->add_subcommand("sim", "Speed against error per integrator x level x substeps/iterations (lockstep)");
+  std::string bsim_scene;
+  palpate::BenchSimOptions so;
+  bsim->add_option("scene", bsim_scene, "Scene whose interaction is replayed, e.g. scenes/bunny_pull.json")->required();
+  bsim->add_option("--json", so.json_path, "Write the rows as JSON");
+  bsim->add_option("--plot", so.plot_path, "Plot node error against ms per frame (log axes, Pareto front) as PNG");
+  bsim->add_option("--integrators", so.integrators, "Integrators to sweep (default: all)")->delimiter(',');
+  bsim->add_option("--levels", so.levels, "Lattice levels to sweep (default: the scene's)")->delimiter(',');
+  bsim->add_option("--substeps", so.substeps, "Substeps per frame to sweep, 0 = automatic")->delimiter(',')
+      ->capture_default_str();
+  bsim->add_option("--iterations", so.iterations, "Newton / local-global iterations to sweep, 0 = default")
+      ->delimiter(',')->capture_default_str();
+  bsim->add_option("--ref-substeps", so.reference_substeps, "RK4 substeps per frame of the reference")
+      ->check(CLI::Range(2, 100000))->capture_default_str();
+  bsim->add_option("--duration", so.duration_s, "Scene seconds to replay (overrides the scene)")
+      ->check(CLI::Range(1.0 / 60.0, 3600.0));
+  bsim->add_flag("--quiet,-q", so.quiet, "No progress lines");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -112,5 +131,14 @@ int main(int argc, char** argv) {
   if (*info) return palpate::run_info(mesh_path, levels, json);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
+  if (*bsim) {
+    auto table = palpate::run_bench_sim(bsim_scene, so);
+    if (!table) {
+      std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
+      return 1;
+    }
+    std::fputs(table.value().c_str(), stdout);
+    return 0;
+  }
   return 2;
 }

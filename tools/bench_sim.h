@@ -1,0 +1,28 @@
+#pragma once
+/// `palpate bench sim`: replays a scene's interaction in lockstep for every integrator x lattice level x
+/// substeps/iterations and reports speed against error relative to a converged RK4 reference.
+
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace palpate {
+
+/// What to sweep and where to write. Plain data.
+struct BenchSimOptions {
+  std::vector<std::string> integrators;  ///< names; empty = all five
+  std::vector<int> levels;               ///< lattice levels; empty = the scene's
+  std::vector<int> substeps{0};          ///< fixed substeps per frame; 0 = automatic
+  std::vector<int> iterations{0};        ///< Newton / local-global iterations (implicit schemes only); 0 = default
+  int reference_substeps = 64;           ///< RK4 substeps per frame of the reference (checked against half as many)
+  double duration_s = 0.0;               ///< > 0 overrides the scene's duration
+  std::string json_path;                 ///< write JSON here when not empty
+  std::string plot_path;                 ///< write the error-against-ms PNG here when not empty
+  bool quiet = false;                    ///< no progress lines on stderr
+};
+
+/// Runs the sweep; returns the table as text. Errors name the scene, an unknown integrator or an output path.
+Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& options);
+
+}  // namespace palpate
