@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/scene.h"
+#include "sim/stability.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
 #include "tools/bench_sim.h"
@@ -23,6 +24,9 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
     return 1;
   }
   if (opt.out_dir.empty()) opt.out_dir = (std::filesystem::path("out") / scene.value().name).string();
+  // the integrator's stability at the frame step, said once before starting
+  if (const std::string w = palpate::integrator_warning(scene.value().lattice, 1.0 / 60.0); !w.empty())
+    std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   if (!mode.empty()) {
     opt.override_mode = true;
     opt.mode = mode == "realtime" ? palpate::RunMode::kRealtime : palpate::RunMode::kLockstep;
