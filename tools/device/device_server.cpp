@@ -132,7 +132,7 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
     p.quat_wxyz[3] = pose.orientation.z();
     p.buttons = pose.buttons;
     for (std::size_t k = 0; k < o.faults.size(); ++k) {
-      if (fault_done[k] || t_s < o.faults[k].t_s) continue;
+      if (fault_done[k] || traj_t0_s < 0.0 || t_s - traj_t0_s < o.faults[k].t_s) continue;
       fault_done[k] = true;
       switch (o.faults[k].kind) {
         case InjectedFault::Kind::kNonFinite: p.pos_m[1] = std::nan(""); break;
