@@ -1,0 +1,167 @@
+#include "sim/cut_model.h"
+
+#include <algorithm>
+
+#include "sim/deformer.h"
+
+namespace palpate {
+
+CutModel::CutModel(const TriMesh& rest, const std::vector<VertexBinding>& bindings, const GridHierarchy* grid, int level,
+                   double blade_length_m)
+    : grid_(grid),
+      level_(level),
+      blade_length_m_(blade_length_m),
+      rest_m_(rest.vertices_m),
+      triangles_(rest.triangles),
+      bindings_(bindings),
+      blocked_(rest.vertices_m.size(), 0),
+      fallback_(rest.vertices_m.size(), -1) {}
+
+void CutModel::add_sample(const Vec3& tip_m, const Vec3& axis, bool cutting) {
+  if (!cutting || !tip_m.allFinite() || !axis.allFinite()) {
+    have_prev_ = false;
+    return;
+  }
+  const Vec3 end = tip_m + blade_length_m_ * axis;
+  if (have_prev_ && ((tip_m - prev_tip_m_).squaredNorm() > 0.0 || (end - prev_end_m_).squaredNorm() > 0.0))
+    pending_.push_back({prev_tip_m_, prev_end_m_, tip_m, end});
+  prev_tip_m_ = tip_m;
+  prev_end_m_ = end;
+  have_prev_ = true;
+}
+
+CutReport CutModel::apply(Lattice* lat, std::vector<Vec3>* vertices_m) {
+  CutReport rep = apply_quads(pending_, lat, vertices_m);
+  pending_.clear();
+  return rep;
+}
+
+bool CutModel::block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const std::vector<BladeQuad>& quads,
+                             const CutBox& box) {
+  const int32_t slot = lat.slot_of_cell[bindings_[v].cell];
+  if (slot < 0) return false;
+  const uint8_t before = blocked_[v];
+  for (int c = 0; c < 8; ++c) {
+    if (blocked_[v] & (1u << c)) continue;
+    if (segment_crosses_any(p_m, lat.x_m[lat.cell_nodes[slot][c]], quads, box)) blocked_[v] |= static_cast<uint8_t>(1u << c);
+  }
+  return blocked_[v] != before;
+}
+
+int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m,
+                                       const std::vector<BladeQuad>& quads, const CutBox& box) const {
+  const CellCoord c = grid_->coord_of(bindings_[v].cell, level_);
+  const int n = lat.cells_per_axis;
+  int32_t best = -1;
+  double best_d2 = 1e300;
+  for (int dk = -1; dk <= 1; ++dk)
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const CellCoord o{c.i + di, c.j + dj, c.k + dk};
+        if (o.i < 0 || o.j < 0 || o.k < 0 || o.i >= n || o.j >= n || o.k >= n) continue;
+        const int32_t slot = lat.slot_of_cell[grid_->linear_index(o, level_)];
+        if (slot < 0) continue;
+        for (int32_t node : lat.cell_nodes[slot]) {
+          const double d2 = (lat.x_m[node] - p_m).squaredNorm();
+          if (d2 < best_d2 && !segment_crosses_any(p_m, lat.x_m[node], quads, box)) {
+            best_d2 = d2;
+            best = node;
+          }
+        }
+      }
+  return best;
+}
+
+CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads, Lattice* lat, std::vector<Vec3>* vertices_m) {
+  CutReport rep;
+  if (quads.empty()) return rep;
+  CutBox box;
+  for (const BladeQuad& q : quads) box.add(q);
+  rep.springs_cut = cut_springs(lat, quads);
+
+  const std::size_t old_count = rest_m_.size();
+  std::vector<SplitVertex> created;
+  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created);
+
+  // existing vertices near the sweep: corners now on the far side of the cut are dropped
+  const double reach = 1.8 * lat->cell_m;
+  for (std::size_t v = 0; v < old_count; ++v) {
+    const Vec3& p = (*vertices_m)[v];
+    if (!box.overlaps_segment(p, p, reach)) continue;
+    if (block_corners(*lat, v, p, quads, box)) ++rep.vertices_rebound;
+  }
+  // new vertices: bound at their rest position, tested from a point just off the cut on their own side
+  for (std::size_t i = 0; i < created.size(); ++i) {
+    const std::size_t v = old_count + i;
+    const SplitVertex& sv = created[i];
+    bindings_.push_back(bind_point(*grid_, level_, rest_m_[v]));
+    const bool same_cell = bindings_[v].cell == bindings_[sv.from].cell;
+    blocked_.push_back(same_cell ? blocked_[sv.from] : 0);
+    fallback_.push_back(same_cell ? fallback_[sv.from] : -1);
+    const Vec3 p = (*vertices_m)[v] + 0.01 * ((*vertices_m)[sv.from] - (*vertices_m)[v]);
+    block_corners(*lat, v, p, quads, box);
+  }
+  // vertices cut off from all their corners follow the nearest node on their side
+  for (std::size_t v = 0; v < rest_m_.size(); ++v) {
+    if (blocked_[v] != 0xff || fallback_[v] >= 0) continue;
+    const Vec3 p = v < old_count ? (*vertices_m)[v]
+                                 : Vec3((*vertices_m)[v] + 0.01 * ((*vertices_m)[created[v - old_count].from] - (*vertices_m)[v]));
+    fallback_[v] = nearest_visible_node(*lat, v, p, quads, box);
+  }
+  return rep;
+}
+
+void CutModel::deform(const Lattice& lat, std::vector<Vec3>* vertices_m) const {
+  orphans_ = 0;
+  vertices_m->resize(rest_m_.size());
+  for (std::size_t v = 0; v < rest_m_.size(); ++v) {
+    const int32_t slot = lat.slot_of_cell[bindings_[v].cell];
+    if (slot < 0) {
+      (*vertices_m)[v] = rest_m_[v];
+      continue;
+    }
+    const auto& nodes = lat.cell_nodes[slot];
+    const auto w = trilinear_weights(bindings_[v].local);
+    const uint8_t mask = blocked_[v];
+    // renormalised trilinear weights over the corners on the vertex's side
+    Vec3 d = Vec3::Zero();
+    double sum = 0.0;
+    int open = 0;
+    for (int c = 0; c < 8; ++c) {
+      if (mask & (1u << c)) continue;
+      d += w[c] * (lat.x_m[nodes[c]] - lat.rest_m[nodes[c]]);
+      sum += w[c];
+      ++open;
+    }
+    if (sum > 1e-6) {
+      (*vertices_m)[v] = rest_m_[v] + d / sum;
+      continue;
+    }
+    // on a face or edge away from its side's corners: equal weights over them, else the fallback node
+    ++orphans_;
+    d.setZero();
+    if (open > 0) {
+      for (int c = 0; c < 8; ++c)
+        if (!(mask & (1u << c))) d += lat.x_m[nodes[c]] - lat.rest_m[nodes[c]];
+      d /= open;
+    } else if (fallback_[v] >= 0) {
+      d = lat.x_m[fallback_[v]] - lat.rest_m[fallback_[v]];
+    }
+    (*vertices_m)[v] = rest_m_[v] + d;
+  }
+}
+
+void CutModel::triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
+                                std::vector<int32_t>* out) const {
+  out->clear();
+  auto inside = [&](int32_t i) {
+    const Vec3& p = vertices_m[i];
+    return (p.array() >= lo_m.array()).all() && (p.array() <= hi_m.array()).all();
+  };
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const auto& tri = triangles_[t];
+    if (inside(tri[0]) || inside(tri[1]) || inside(tri[2])) out->push_back(static_cast<int32_t>(t));
+  }
+}
+
+}  // namespace palpate

@@ -1,0 +1,85 @@
+#pragma once
+/// CutModel: a mesh that can be cut, bound to a lattice so each side of a cut follows its own nodes.
+///
+/// Side binding: every vertex keeps its cell (eq. 1) and a mask of the cell's corners that a cut separates it
+/// from (the straight segment vertex -> corner node crosses the blade's swept surface at the time of the cut).
+/// A vertex is moved by the trilinear weights of its unmasked corners only, renormalised, so the two sides of a
+/// cut cell follow the nodes on their own side; a vertex with no corner left on its side (a sliver) takes the
+/// nearest nodes on its side among the neighbouring cells.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/binding.h"
+#include "core/grid_hierarchy.h"
+#include "core/tri_mesh.h"
+#include "sim/cut.h"
+#include "sim/lattice.h"
+#include "sim/mesh_split.h"
+
+namespace palpate {
+
+/// What one apply() changed.
+struct CutReport {
+  int springs_cut = 0;         ///< springs removed
+  MeshSplitReport split;       ///< mesh split figures
+  int vertices_rebound = 0;    ///< existing vertices that lost a corner to the cut
+  bool changed() const { return springs_cut > 0 || split.edges_cut > 0 || vertices_rebound > 0; }
+};
+
+/// Mesh, side binding and pending blade sweeps of a cut session. Copyable. Thread: the sim thread.
+class CutModel {
+ public:
+  /// Starts from the uncut mesh at rest and its bindings at `level` of `grid` (which must outlive this).
+  CutModel(const TriMesh& rest, const std::vector<VertexBinding>& bindings, const GridHierarchy* grid, int level,
+           double blade_length_m);
+
+  /// Records one servo sample's blade: tip position, unit axis from tip toward the handle, and whether it cuts.
+  /// Consecutive cutting samples add the quad their blade edges sweep; a non-cutting sample ends the stroke.
+  void add_sample(const Vec3& tip_m, const Vec3& axis, bool cutting);
+  /// Quads waiting for apply().
+  const std::vector<BladeQuad>& pending() const { return pending_; }
+  /// Cuts the lattice springs and the mesh with the pending quads (at the current positions *vertices_m, which
+  /// grows by the new vertices), updates the side binding and clears the pending quads.
+  CutReport apply(Lattice* lat, std::vector<Vec3>* vertices_m);
+  /// Cuts with the given quads (as apply() does with the pending ones).
+  CutReport apply_quads(const std::vector<BladeQuad>& quads, Lattice* lat, std::vector<Vec3>* vertices_m);
+  /// Moves every vertex whose cell is in the lattice with its side's nodes; others stay at rest.
+  void deform(const Lattice& lat, std::vector<Vec3>* vertices_m) const;
+
+  /// Current triangles.
+  const std::vector<std::array<int32_t, 3>>& triangles() const { return triangles_; }
+  /// Rest positions of the current vertices.
+  const std::vector<Vec3>& rest_vertices_m() const { return rest_m_; }
+  /// Corners each vertex is cut off from (bit = corner dx + 2dy + 4dz).
+  const std::vector<uint8_t>& blocked() const { return blocked_; }
+  /// Writes the ids of triangles with a current vertex inside [lo_m, hi_m] into *out (cleared first).
+  void triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
+                        std::vector<int32_t>* out) const;
+  /// Vertices moved by the fallback (no corner left on their side) in the last deform().
+  int orphans() const { return orphans_; }
+
+ private:
+  // marks the corners of vertex v (seen from test point p) that the quads separate it from; true when changed
+  bool block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const std::vector<BladeQuad>& quads,
+                     const CutBox& box);
+  // nearest node of the cells around vertex v that the quads do not separate from p (-1 if none)
+  int32_t nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m, const std::vector<BladeQuad>& quads,
+                               const CutBox& box) const;
+
+  const GridHierarchy* grid_;
+  int level_;
+  double blade_length_m_;
+  std::vector<Vec3> rest_m_;                      // rest positions (n_v)
+  std::vector<std::array<int32_t, 3>> triangles_; // (n_t)
+  std::vector<VertexBinding> bindings_;           // cell and local coordinates (n_v)
+  std::vector<uint8_t> blocked_;                  // corners cut off (n_v)
+  std::vector<int32_t> fallback_;                 // node followed when every corner is cut off, else -1 (n_v)
+  std::vector<BladeQuad> pending_;                // swept quads not applied yet
+  bool have_prev_ = false;                        // the previous sample was cutting
+  Vec3 prev_tip_m_ = Vec3::Zero(), prev_end_m_ = Vec3::Zero();
+  mutable int orphans_ = 0;
+};
+
+}  // namespace palpate

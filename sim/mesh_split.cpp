@@ -1,0 +1,164 @@
+#include "sim/mesh_split.h"
+
+#include <algorithm>
+#include <map>
+#include <unordered_map>
+
+namespace palpate {
+namespace {
+
+uint64_t edge_key(int32_t a, int32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
+}
+
+// The two vertices made on one crossed edge: copy[0] on the side of the lower index, copy[1] on the higher.
+struct EdgeCut {
+  std::array<int32_t, 2> copy{-1, -1};
+  int32_t lo = 0;
+  // the copy on the side of vertex v (one of the edge's ends)
+  int32_t side_of(int32_t v) const { return v == lo ? copy[0] : copy[1]; }
+};
+
+}  // namespace
+
+MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
+                           std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created) {
+  MeshSplitReport rep;
+  created->clear();
+  if (quads.empty()) return rep;
+  CutBox box;
+  for (const BladeQuad& q : quads) box.add(q);
+  const std::vector<Vec3>& x = *current_m;
+
+  // crossed edges, in triangle order so the numbering of new vertices is deterministic
+  std::unordered_map<uint64_t, EdgeCut> cuts;
+  std::unordered_map<uint64_t, uint8_t> tested;  // 0 = not crossed
+  for (const auto& tri : *triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = std::min(tri[k], tri[(k + 1) % 3]), b = std::max(tri[k], tri[(k + 1) % 3]);
+      const uint64_t key = edge_key(a, b);
+      if (tested.count(key)) continue;
+      double t = 0.0;
+      const bool hit = segment_crosses_any(x[a], x[b], quads, box, &t) && t > kSplitEdgeEps && t < 1.0 - kSplitEdgeEps;
+      tested.emplace(key, hit ? 1 : 0);
+      if (!hit) continue;
+      EdgeCut c;
+      c.lo = a;
+      const Vec3 rest = (*rest_m)[a] + t * ((*rest_m)[b] - (*rest_m)[a]);
+      const Vec3 cur = x[a] + t * (x[b] - x[a]);
+      for (int side = 0; side < 2; ++side) {
+        c.copy[side] = static_cast<int32_t>(rest_m->size());
+        rest_m->push_back(rest);
+        current_m->push_back(cur);
+        created->push_back(side == 0 ? SplitVertex{a, b, t} : SplitVertex{b, a, 1.0 - t});
+      }
+      cuts.emplace(key, c);
+      ++rep.edges_cut;
+    }
+  }
+  if (cuts.empty()) return rep;
+
+  std::vector<std::array<int32_t, 3>> out;
+  out.reserve(triangles->size() + 2 * cuts.size() + 8);
+  for (const auto& tri : *triangles) {
+    const EdgeCut* e[3];
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      const auto it = cuts.find(edge_key(tri[k], tri[(k + 1) % 3]));
+      e[k] = it == cuts.end() ? nullptr : &it->second;
+      n += e[k] ? 1 : 0;
+    }
+    if (n == 0) {
+      out.push_back(tri);
+    } else if (n == 1) {
+      // rotate so the crossed edge is a -> b; the opening runs from the crossing to the far corner c
+      int k = 0;
+      while (!e[k]) ++k;
+      const int32_t a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
+      out.push_back({a, e[k]->side_of(a), c});
+      out.push_back({e[k]->side_of(b), b, c});
+      ++rep.tris_one_cut;
+    } else if (n == 2) {
+      // rotate so the uncrossed edge is a -> b: b -> c crossed at q, c -> a at r; c alone on its side
+      int k = 0;
+      while (e[k]) ++k;
+      const int32_t a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
+      const EdgeCut& q = *e[(k + 1) % 3];
+      const EdgeCut& r = *e[(k + 2) % 3];
+      out.push_back({q.side_of(c), c, r.side_of(c)});
+      const int32_t qb = q.side_of(b), ra = r.side_of(a);
+      // the quad a, b, q, r split along its shorter diagonal
+      if (((*rest_m)[a] - (*rest_m)[qb]).squaredNorm() <= ((*rest_m)[b] - (*rest_m)[ra]).squaredNorm()) {
+        out.push_back({a, b, qb});
+        out.push_back({a, qb, ra});
+      } else {
+        out.push_back({a, b, ra});
+        out.push_back({b, qb, ra});
+      }
+      ++rep.tris_two_cut;
+    } else {
+      const int32_t a = tri[0], b = tri[1], c = tri[2];
+      out.push_back({a, e[0]->side_of(a), e[2]->side_of(a)});
+      out.push_back({e[0]->side_of(b), b, e[1]->side_of(b)});
+      out.push_back({e[1]->side_of(c), c, e[2]->side_of(c)});
+      ++rep.tris_three_cut;
+    }
+  }
+  rep.triangles_added = static_cast<int>(out.size() - triangles->size());
+  rep.vertices_added = 2 * rep.edges_cut;
+  *triangles = std::move(out);
+  return rep;
+}
+
+std::string mesh_problem(const std::vector<Vec3>& v, const std::vector<std::array<int32_t, 3>>& triangles) {
+  const auto n_v = static_cast<int64_t>(v.size());
+  std::map<std::array<int32_t, 3>, std::size_t> seen;
+  std::unordered_map<uint64_t, std::size_t> directed;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const auto& t = triangles[i];
+    const std::string who = "triangle " + std::to_string(i);
+    for (int32_t idx : t)
+      if (idx < 0 || idx >= n_v) return who + ": vertex index " + std::to_string(idx) + " out of range";
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return who + ": repeated vertex";
+    const Vec3 e1 = v[t[1]] - v[t[0]], e2 = v[t[2]] - v[t[0]];
+    const double longest2 = std::max({e1.squaredNorm(), e2.squaredNorm(), (v[t[2]] - v[t[1]]).squaredNorm()});
+    if (!(e1.cross(e2).norm() > 1e-9 * longest2)) return who + ": zero area";
+    std::array<int32_t, 3> sorted = t;
+    std::sort(sorted.begin(), sorted.end());
+    if (const auto [it, fresh] = seen.emplace(sorted, i); !fresh)
+      return who + ": same vertices as triangle " + std::to_string(it->second);
+    for (int k = 0; k < 3; ++k) {
+      const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(t[k])) << 32) | static_cast<uint32_t>(t[(k + 1) % 3]);
+      if (const auto [it, fresh] = directed.emplace(key, i); !fresh)
+        return who + ": edge " + std::to_string(t[k]) + "->" + std::to_string(t[(k + 1) % 3]) + " also used by triangle " +
+               std::to_string(it->second);
+    }
+  }
+  return "";
+}
+
+int triangle_components(std::size_t num_vertices, const std::vector<std::array<int32_t, 3>>& triangles,
+                        std::vector<int32_t>* label) {
+  std::vector<int32_t> parent(num_vertices);
+  for (std::size_t i = 0; i < num_vertices; ++i) parent[i] = static_cast<int32_t>(i);
+  auto find = [&](int32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& t : triangles)
+    for (int k = 1; k < 3; ++k) {
+      const int32_t a = find(t[0]), b = find(t[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::unordered_map<int32_t, int32_t> id;
+  if (label) label->resize(triangles.size());
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const int32_t root = find(triangles[i][0]);
+    const auto it = id.emplace(root, static_cast<int32_t>(id.size())).first;
+    if (label) (*label)[i] = it->second;
+  }
+  return static_cast<int>(id.size());
+}
+
+}  // namespace palpate

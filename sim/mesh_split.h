@@ -1,0 +1,53 @@
+#pragma once
+/// Splitting a triangle mesh along a cut: every mesh edge the blade's swept surface crosses gets two new
+/// vertices at the crossing, one for each side, and the triangles around it are re-triangulated so the two
+/// sides share no vertex there. The opening is left open (no cap triangles).
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "sim/cut.h"
+
+namespace palpate {
+
+/// A vertex created on a cut edge: at from + t (to - from), on the side of vertex `from`. Plain data.
+struct SplitVertex {
+  int32_t from = 0;  ///< the edge end whose side the new vertex belongs to
+  int32_t to = 0;    ///< the other end
+  double t = 0.0;    ///< position along from -> to, in (0, 1)
+};
+
+/// What one split did. The split formula: triangles_added = tris_one_cut + 2 (tris_two_cut + tris_three_cut),
+/// vertices_added = 2 edges_cut.
+struct MeshSplitReport {
+  int edges_cut = 0;        ///< mesh edges crossed by the swept surface
+  int tris_one_cut = 0;     ///< triangles with one crossed edge (the cut ends inside): 1 -> 2, opening to the far corner
+  int tris_two_cut = 0;     ///< triangles crossed through: 1 -> 3 (a corner triangle and a quad)
+  int tris_three_cut = 0;   ///< triangles with all edges crossed: 1 -> 3 corner triangles (the middle is removed)
+  int triangles_added = 0;  ///< growth of the triangle count
+  int vertices_added = 0;   ///< growth of the vertex count
+};
+
+/// A crossing closer than this fraction of an edge to one of its ends is ignored (no sliver triangles; a cut
+/// along an existing cut does not split the vertices already on it again).
+inline constexpr double kSplitEdgeEps = 1e-3;
+
+/// Splits *triangles along the quads, testing edges at the current positions *current_m; new vertices are
+/// appended to *rest_m and *current_m (interpolated at the crossing) and listed in *created (cleared first) in
+/// the same order. Winding is kept. Returns what it did.
+MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
+                           std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created);
+
+/// The first problem that makes this not a valid triangle mesh, or "" when there is none: an index out of range,
+/// a repeated index, a triangle of (near) zero area, two triangles on the same three vertices, or a directed edge
+/// used by two triangles.
+std::string mesh_problem(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles);
+
+/// Connected components of triangles (sharing a vertex); *label gets one id per triangle when non-null.
+int triangle_components(std::size_t num_vertices, const std::vector<std::array<int32_t, 3>>& triangles,
+                        std::vector<int32_t>* label = nullptr);
+
+}  // namespace palpate

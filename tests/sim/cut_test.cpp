@@ -1,0 +1,196 @@
+// Cutting a block: springs and mesh split by the blade's swept surface, side binding, validity.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/binding.h"
+#include "sim/cut_model.h"
+#include "sim/integrator.h"
+#include "sim_test_util.h"
+
+namespace palpate {
+namespace {
+
+constexpr double kSide_m = 0.08;  // block from -0.04 to 0.04; level 3 cells of 2 cm, mesh quads of 1 cm
+constexpr int kLevel = 3;
+
+struct Block {
+  test::BoxModel box = test::make_box_model(kSide_m, 4, 8);
+  LatticeSpec spec = test::spec_for(kLevel, 40, 20, 10);
+  Lattice lat = build_lattice(box.grid, spec, region_cells(box.grid, kLevel, {1, 1, 1}, 8)).value();
+  CutModel cut{box.mesh, bind_vertices(box.grid, kLevel, box.mesh.vertices_m), &box.grid, kLevel, 0.2};
+  std::vector<Vec3> vertices = box.mesh.vertices_m;
+};
+
+// The plane x = x0 swept through the y range [y0, y1] over the whole height: one quad.
+BladeQuad plane_x(double x0, double y0 = -0.06, double y1 = 0.06) {
+  return {{x0, y0, -0.06}, {x0, y0, 0.06}, {x0, y1, -0.06}, {x0, y1, 0.06}};
+}
+
+// Mesh edges whose ends lie on both sides of x = x0, and triangles with corners on both sides.
+void straddling(const TriMesh& m, double x0, int* edges, int* tris) {
+  std::set<std::pair<int32_t, int32_t>> e;
+  *tris = 0;
+  for (const auto& t : m.triangles) {
+    int below = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = t[k], b = t[(k + 1) % 3];
+      below += m.vertices_m[a].x() < x0;
+      if ((m.vertices_m[a].x() < x0) != (m.vertices_m[b].x() < x0)) e.insert({std::min(a, b), std::max(a, b)});
+    }
+    *tris += below == 1 || below == 2;
+  }
+  *edges = static_cast<int>(e.size());
+}
+
+TEST(Cut, CuttingABlockInTwoLeavesTwoConsistentPieces) {
+  Block b;
+  const std::size_t tris0 = b.cut.triangles().size();
+  const int x_edges = [&] { int e = 0, t = 0; straddling(b.box.mesh, 0.003, &e, &t); return e; }();
+  const int x_tris = [&] { int e = 0, t = 0; straddling(b.box.mesh, 0.003, &e, &t); return t; }();
+  const std::vector<BladeQuad> quads{plane_x(0.003)};
+  const CutReport rep = b.cut.apply_quads(quads, &b.lat, &b.vertices);
+
+  // the split formula: a planar cut through crosses each straddling triangle twice (1 -> 3)
+  EXPECT_GT(rep.springs_cut, 0);
+  EXPECT_EQ(rep.split.edges_cut, x_edges);
+  EXPECT_EQ(rep.split.tris_two_cut, x_tris);
+  EXPECT_EQ(rep.split.tris_one_cut + rep.split.tris_three_cut, 0);
+  EXPECT_EQ(b.cut.triangles().size(), tris0 + 2 * static_cast<std::size_t>(x_tris));
+  EXPECT_EQ(b.vertices.size(), b.box.mesh.vertices_m.size() + 2 * static_cast<std::size_t>(x_edges));
+  EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
+
+  // two pieces of springs, each on one side
+  std::vector<int32_t> label;
+  ASSERT_EQ(spring_components(b.lat, &label), 2);
+  for (const Spring& s : b.lat.springs) {
+    EXPECT_EQ(b.lat.rest_m[s.a].x() < 0.003, b.lat.rest_m[s.b].x() < 0.003);
+    EXPECT_FALSE(segment_crosses_quad(b.lat.x_m[s.a], b.lat.x_m[s.b], quads[0]));
+  }
+  // two pieces of triangles, each on one side (new rim vertices lie on the plane)
+  std::vector<int32_t> tri_label;
+  ASSERT_EQ(triangle_components(b.vertices.size(), b.cut.triangles(), &tri_label), 2);
+  std::array<std::set<bool>, 2> sides;
+  for (std::size_t t = 0; t < tri_label.size(); ++t)
+    for (int32_t v : b.cut.triangles()[t]) {
+      const double x = b.cut.rest_vertices_m()[v].x();
+      if (std::abs(x - 0.003) > 1e-12) sides[tri_label[t]].insert(x < 0.003);
+    }
+  EXPECT_EQ(sides[0].size(), 1u);
+  EXPECT_EQ(sides[1].size(), 1u);
+  EXPECT_NE(*sides[0].begin(), *sides[1].begin());
+}
+
+TEST(Cut, EachSideFollowsItsOwnNodes) {
+  Block b;
+  b.cut.apply_quads({plane_x(0.003)}, &b.lat, &b.vertices);
+  // move the +x side's nodes by 1 cm along x; the -x side stays
+  for (std::size_t i = 0; i < b.lat.num_nodes(); ++i)
+    if (b.lat.rest_m[i].x() > 0.003) b.lat.x_m[i] = b.lat.rest_m[i] + Vec3(0.01, 0, 0);
+  b.cut.deform(b.lat, &b.vertices);
+  // which side a rim vertex is on: its triangle piece
+  std::vector<int32_t> label;
+  triangle_components(b.vertices.size(), b.cut.triangles(), &label);
+  std::vector<int32_t> piece(b.vertices.size(), -1);
+  for (std::size_t t = 0; t < label.size(); ++t)
+    for (int32_t v : b.cut.triangles()[t]) piece[v] = label[t];
+  int32_t plus_piece = -1;
+  for (std::size_t v = 0; v < b.vertices.size(); ++v)
+    if (b.cut.rest_vertices_m()[v].x() > 0.02) plus_piece = piece[v];
+  for (std::size_t v = 0; v < b.vertices.size(); ++v) {
+    const Vec3 moved = b.vertices[v] - b.cut.rest_vertices_m()[v];
+    const double expect = piece[v] == plus_piece ? 0.01 : 0.0;
+    EXPECT_NEAR(moved.x(), expect, 1e-12) << "vertex " << v;
+    EXPECT_NEAR(moved.tail<2>().norm(), 0.0, 1e-12);
+  }
+  EXPECT_EQ(b.cut.orphans(), 0);
+}
+
+TEST(Cut, PartialCutLeavesOnePiece) {
+  Block b;
+  const CutReport rep = b.cut.apply_quads({plane_x(0.003, -0.06, 0.005)}, &b.lat, &b.vertices);
+  EXPECT_GT(rep.springs_cut, 0);
+  EXPECT_GT(rep.split.tris_one_cut, 0);  // where the cut ends inside
+  EXPECT_EQ(static_cast<int>(b.cut.triangles().size() - b.box.mesh.triangles.size()),
+            rep.split.tris_one_cut + 2 * (rep.split.tris_two_cut + rep.split.tris_three_cut));
+  std::vector<int32_t> label;
+  EXPECT_EQ(spring_components(b.lat, &label), 1);
+  EXPECT_EQ(triangle_components(b.vertices.size(), b.cut.triangles()), 1);
+  EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
+}
+
+TEST(Cut, BladeOutsideTheObjectChangesNothing) {
+  Block b;
+  const std::size_t springs = b.lat.springs.size();
+  const uint64_t revision = b.lat.revision;
+  const CutReport rep = b.cut.apply_quads({plane_x(0.07)}, &b.lat, &b.vertices);
+  EXPECT_FALSE(rep.changed());
+  EXPECT_EQ(b.lat.springs.size(), springs);
+  EXPECT_EQ(b.lat.revision, revision);
+  EXPECT_EQ(b.cut.triangles(), b.box.mesh.triangles);
+  EXPECT_EQ(b.vertices, b.box.mesh.vertices_m);
+}
+
+TEST(Cut, SamplesSweepQuadsOnlyWhileCutting) {
+  Block b;
+  b.cut.add_sample({0, 0, 0}, Vec3::UnitZ(), false);
+  b.cut.add_sample({0.001, 0, 0}, Vec3::UnitZ(), true);
+  EXPECT_TRUE(b.cut.pending().empty());  // a stroke starts: nothing swept yet
+  b.cut.add_sample({0.002, 0, 0}, Vec3::UnitZ(), true);
+  b.cut.add_sample({0.002, 0, 0}, Vec3::UnitZ(), true);  // not moved: no quad
+  ASSERT_EQ(b.cut.pending().size(), 1u);
+  EXPECT_NEAR((b.cut.pending()[0].end1_m - Vec3(0.002, 0, 0.2)).norm(), 0.0, 1e-15);
+  b.cut.add_sample({0.003, 0, 0}, Vec3::UnitZ(), false);
+  b.cut.add_sample({0.004, 0, 0}, Vec3::UnitZ(), true);
+  EXPECT_EQ(b.cut.pending().size(), 1u);
+  b.cut.apply(&b.lat, &b.vertices);
+  EXPECT_TRUE(b.cut.pending().empty());
+}
+
+TEST(Cut, CutAlongAnExistingCutAndACrossingCutStayValid) {
+  Block b;
+  b.cut.apply_quads({plane_x(0.003)}, &b.lat, &b.vertices);
+  const std::size_t tris = b.cut.triangles().size();
+  // the same cut again: the rim vertices lie on it, nothing is split twice
+  const CutReport again = b.cut.apply_quads({plane_x(0.003)}, &b.lat, &b.vertices);
+  EXPECT_EQ(again.springs_cut, 0);
+  EXPECT_EQ(b.cut.triangles().size(), tris);
+  // a cut just beside it and one across it
+  b.cut.apply_quads({plane_x(0.0031)}, &b.lat, &b.vertices);
+  const BladeQuad across{{-0.06, 0.013, -0.06}, {-0.06, 0.013, 0.06}, {0.06, 0.013, -0.06}, {0.06, 0.013, 0.06}};
+  const CutReport cross = b.cut.apply_quads({across}, &b.lat, &b.vertices);
+  EXPECT_GT(cross.springs_cut, 0);
+  EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
+  std::vector<int32_t> label;
+  EXPECT_EQ(spring_components(b.lat, &label), 4);
+  EXPECT_EQ(triangle_components(b.vertices.size(), b.cut.triangles()), 4);
+}
+
+TEST(Cut, APieceCutFreeFallsToTheFloorWithoutNaN) {
+  Block b;
+  b.spec.fix_floor = true;
+  b.spec.gravity_m_per_s2 = Vec3(0, 0, -9.81);
+  b.lat = build_lattice(b.box.grid, b.spec, region_cells(b.box.grid, kLevel, {1, 1, 1}, 8)).value();
+  const BladeQuad level_cut{{-0.06, -0.06, 0.013}, {0.06, -0.06, 0.013}, {-0.06, 0.06, 0.013}, {0.06, 0.06, 0.013}};
+  b.cut.apply_quads({level_cut}, &b.lat, &b.vertices);
+  EXPECT_GT(free_nodes(b.lat), 0);
+  IntegratorWorkspace ws;
+  const double floor_z = -kSide_m / 2;
+  for (int f = 0; f < 120; ++f) {
+    step_lattice(&b.lat, IntegratorKind::kSymplecticEuler, 1.0 / 60.0, 256, {}, &ws);
+    apply_floor(&b.lat, floor_z);
+  }
+  for (std::size_t i = 0; i < b.lat.num_nodes(); ++i) EXPECT_GE(b.lat.x_m[i].z(), floor_z);
+  b.cut.deform(b.lat, &b.vertices);
+  double top = -1.0;
+  for (const Vec3& v : b.vertices) {
+    ASSERT_TRUE(v.allFinite());
+    // the floor holds nodes: a surface bound below its nodes reaches into it by less than a cell
+    EXPECT_GE(v.z(), floor_z - b.lat.cell_m);
+    top = std::max(top, v.z());
+  }
+  EXPECT_LT(top, 0.013);  // the top piece has come down
+}
+
+}  // namespace
+}  // namespace palpate
