@@ -162,8 +162,10 @@ Status write_plot_png(const PlotSpec& spec, const std::string& path) {
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
       if (ok(s.x[i], s.y[i])) c.rect(px(s.x[i]) - 4, py(s.y[i]) - 4, px(s.x[i]) + 4, py(s.y[i]) + 4, s.rgb);
   }
-  // legend, top right
-  int ly = top + 10;
+  // legend, bottom right (errors fall with cost, so that corner is usually empty)
+  int entries = 0;
+  for (const auto& s : spec.series) entries += !s.label.empty();
+  int ly = bottom - 10 - 22 * entries;
   for (const auto& s : spec.series) {
     if (s.label.empty()) continue;
     const int lx = right - 20 - Canvas::text_width(s.label) - 30;
