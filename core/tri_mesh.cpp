@@ -1,5 +1,8 @@
 #include "core/tri_mesh.h"
 
+#include <algorithm>
+#include <unordered_map>
+
 namespace palpate {
 
 void compute_vertex_normals(const std::vector<Vec3>& vertices_m,
@@ -15,6 +18,28 @@ void compute_vertex_normals(const std::vector<Vec3>& vertices_m,
     const double len = n.norm();
     if (len > 0.0) n /= len;
   }
+}
+
+TriMesh subdivide_midpoint(const TriMesh& mesh) {
+  TriMesh out;
+  out.vertices_m = mesh.vertices_m;
+  out.triangles.reserve(4 * mesh.triangles.size());
+  std::unordered_map<uint64_t, int32_t> midpoint;  // edge (lo, hi) -> new vertex
+  auto mid = [&](int32_t a, int32_t b) {
+    const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(std::min(a, b))) << 32) |
+                         static_cast<uint32_t>(std::max(a, b));
+    auto [it, fresh] = midpoint.try_emplace(key, static_cast<int32_t>(out.vertices_m.size()));
+    if (fresh) out.vertices_m.push_back(0.5 * (mesh.vertices_m[a] + mesh.vertices_m[b]));
+    return it->second;
+  };
+  for (const auto& t : mesh.triangles) {
+    const int32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+    out.triangles.push_back({t[0], ab, ca});
+    out.triangles.push_back({ab, t[1], bc});
+    out.triangles.push_back({ca, bc, t[2]});
+    out.triangles.push_back({ab, bc, ca});
+  }
+  return out;
 }
 
 }  // namespace palpate

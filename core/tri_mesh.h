@@ -23,4 +23,8 @@ void compute_vertex_normals(const std::vector<Vec3>& vertices_m,
                             const std::vector<std::array<int32_t, 3>>& triangles,
                             std::vector<Vec3>* normals);
 
+/// Midpoint subdivision: every triangle becomes four, new vertices at edge midpoints (shared between neighbours).
+/// Vertices: n_v + n_edges; triangles: 4 n_t. Used to make large meshes from small ones (benchmarks, tests).
+TriMesh subdivide_midpoint(const TriMesh& mesh);
+
 }  // namespace palpate

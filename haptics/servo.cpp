@@ -11,11 +11,13 @@ Servo::Servo(const ServoParams& params, Device* device, SpscQueue<HapticSample>*
              TripleBuffer<LocalModel>* model)
     : params_(params), device_(device), samples_(samples), model_(model) {}
 
-bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary) const noexcept {
+bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
+                             const Vec3* side) const noexcept {
   double best = INFINITY;
   for (int i = 0; i < m.num_triangles; ++i) {
     Vec3 b = Vec3::Zero();
     const auto& t = m.tri_m[i];
+    if (side && (t[1] - t[0]).cross(t[2] - t[0]).dot(*side) <= 0.0) continue;
     const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2], &b);
     const double d = (q - p).squaredNorm();
     if (d < best) {
@@ -47,6 +49,7 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
       Vec3 b = Vec3::Zero();
       if (segment_enters_triangle(prev_tool_m_, tool, t[0], t[1], t[2], &u, &b)) {
         contact_ = ContactState::kTouch;
+        contact_normal_ = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
         break;
       }
     }
@@ -55,13 +58,15 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
       return;
     }
   }
-  // in contact: P_s is the surface point nearest the tool; the tool is inside while it lies behind the
+  // in contact: P_s is the nearest surface point on the side the contact began on (a tool pushed past the middle
+  // of a thin part stays with its entry face: no pop-through); the tool is inside while it lies behind the
   // surface's smooth (vertex-interpolated) normal there, which stays consistent across edges and in dents
   int slot = -1;
   Vec3 q = Vec3::Zero(), b = Vec3::Zero();
-  if (!closest_on_patch(m, tool, &slot, &q, &b)) return;
+  if (!closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_)) return;
   const auto& n = m.normal[slot];
   const Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+  if (normal.squaredNorm() > 0.0) contact_normal_ = normal.normalized();
   if ((tool - q).dot(normal) > 0.0) {
     contact_ = ContactState::kFree;
     tri_ = -1;

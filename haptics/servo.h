@@ -61,7 +61,9 @@ class Servo {
   void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
   // closest point on the patch to p; returns false when the patch is empty
-  bool closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary) const noexcept;
+  // (side: when non-null, only triangles facing the same way, so the far side of a thin part is never taken)
+  bool closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
+                        const Vec3* side = nullptr) const noexcept;
   // position of the held material point in the latest patch (false when its triangle is not in it)
   bool held_point(const LocalModel& m, Vec3* point) const noexcept;
 
@@ -80,6 +82,7 @@ class Servo {
   int32_t tri_ = -1;           // triangle holding P_s
   Vec3 bary_ = Vec3::Zero();   // P_s in that triangle
   Vec3 proxy_m_ = Vec3::Zero();
+  Vec3 contact_normal_ = Vec3::UnitZ();  // touch: surface normal at the proxy (which side we are on)
   // the proxy moved by the object's response predicted since the frame (kLocalModel)
   Vec3 predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept;
 

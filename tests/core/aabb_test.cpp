@@ -132,3 +132,25 @@ TEST(NormalizeMesh, BadSize) {
 
 }  // namespace
 }  // namespace palpate
+
+namespace palpate {
+namespace {
+
+TEST(TriMesh, MidpointSubdivisionCountsAndKeepsTheSurface) {
+  const TriMesh box = make_box_mesh(Vec3(1, 2, 3), 2);  // closed: edges = 3 t / 2
+  const TriMesh sub = subdivide_midpoint(box);
+  EXPECT_EQ(sub.num_triangles(), 4 * box.num_triangles());
+  EXPECT_EQ(sub.num_vertices(), box.num_vertices() + 3 * box.num_triangles() / 2);
+  // flat faces stay flat: total area and the box are unchanged
+  auto area = [](const TriMesh& m) {
+    double a = 0;
+    for (const auto& t : m.triangles)
+      a += 0.5 * (m.vertices_m[t[1]] - m.vertices_m[t[0]]).cross(m.vertices_m[t[2]] - m.vertices_m[t[0]]).norm();
+    return a;
+  };
+  EXPECT_NEAR(area(sub), area(box), 1e-12);
+  EXPECT_NEAR(area(box), 2 * (1 * 2 + 2 * 3 + 1 * 3), 1e-12);
+}
+
+}  // namespace
+}  // namespace palpate
