@@ -33,7 +33,7 @@ void ServoRunner::run() noexcept {
   const int64_t spin_ns = static_cast<int64_t>(config_.spin_us) * 1000;
   int64_t tick = 0;
   int64_t next_ns = t0_ns_;
-  while (!stop_.load(std::memory_order_relaxed)) {
+  while (!stop_.load(std::memory_order_relaxed) && (config_.max_ticks < 0 || tick < config_.max_ticks)) {
     // sleep to the deadline (or to just before it, then spin the rest)
     sleep_until_ns(next_ns - spin_ns);
     int64_t woke_ns = monotonic_ns();

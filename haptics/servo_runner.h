@@ -19,6 +19,7 @@ struct ServoRunnerConfig {
   double rate_hz = 1000.0;  ///< tick rate
   int spin_us = 0;          ///< sleep until deadline - spin_us, then spin (0 = sleep only)
   RtRequest rt;             ///< priority, pinning (memory locking is the caller's, process-wide)
+  int64_t max_ticks = -1;   ///< the thread ends by itself once this many periods have passed; -1 = run until stop()
 };
 
 /// Timing figures of a realtime servo run; kept without allocating.

@@ -122,3 +122,32 @@ TEST(Record, HapticCsvHasOneRowPerServoTick) {
 
 }  // namespace
 }  // namespace palpate
+
+namespace palpate {
+namespace {
+
+TEST(Record, RealtimeRunOnRealThreadsKeepsEverySample) {
+  Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  RecordOptions opt;
+  opt.out_dir = fresh_dir("realtime");
+  opt.override_mode = true;
+  opt.mode = RunMode::kRealtime;
+  opt.duration_s = 0.5;
+  opt.quiet = true;
+  opt.render = false;
+  auto r = record_scene(scene, opt);
+  ASSERT_TRUE(r) << r.error().message;
+  const auto summary = read_json(r.value().summary_path);
+  EXPECT_EQ(summary["mode"], "realtime");
+  const int64_t ticks = summary["servo_ticks"].get<int64_t>();
+  const int64_t overruns = summary["servo"]["overruns"].get<int64_t>();
+  // every period is either ticked or counted as missed, and every tick reaches haptic.csv
+  EXPECT_NEAR(static_cast<double>(ticks + overruns), 500.0, 3.0);
+  EXPECT_EQ(summary["dropped_samples"].get<int64_t>(), 0);
+  EXPECT_EQ(summary["haptic_rows"].get<int64_t>(), ticks);
+  EXPECT_GT(summary["servo"]["latency_us"]["count"].get<int64_t>(), 0);
+  EXPECT_EQ(summary["nan_events"].get<int64_t>(), 0);
+}
+
+}  // namespace
+}  // namespace palpate
