@@ -226,3 +226,23 @@ TEST(LocalGlobal, FactorsOnceAndConvergesToNewtonsBackwardEuler) {
 
 }  // namespace
 }  // namespace palpate
+
+namespace palpate {
+namespace {
+
+// A region whose nodes are all held (every one on the border) has nothing to solve: every scheme is a no-op.
+TEST(Degenerate, LatticeWithoutFreeNodesIsANoOpForEveryScheme) {
+  Lattice base = test::make_chain(3, 0.01, 40.0, 0.01, 0.05);
+  std::fill(base.fixed.begin(), base.fixed.end(), 1);
+  base.touch();
+  for (IntegratorKind kind : test::all_integrators()) {
+    Lattice lat = base;
+    IntegratorWorkspace ws;
+    const StepReport r = step_lattice(&lat, test::opts(kind), 1.0 / 60.0, {}, &ws);
+    EXPECT_TRUE(r.finite && !r.diverged) << integrator_name(kind);
+    EXPECT_EQ(lat.x_m, base.x_m) << integrator_name(kind);
+  }
+}
+
+}  // namespace
+}  // namespace palpate
