@@ -13,6 +13,7 @@
 #include "core/clock.h"
 #include "core/scene.h"
 #include "haptics/servo_runner.h"
+#include "tools/plot.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/frame_stage.h"
 #include "tools/session/model.h"
@@ -161,6 +162,34 @@ int run_bench_loop(const BenchLoopOptions& o) {
   if (!runs.front().timing.rt.fifo)
     std::printf("note: SCHED_FIFO was refused (%s); figures are for normal scheduling\n",
                 runs.front().timing.rt.refused.c_str());
+  if (!o.plot_path.empty()) {
+    // wake-latency histograms, one line per run, log count against latency
+    PlotSpec spec;
+    spec.title = "servo wake latency (" + o.load + " load)";
+    spec.x_label = "latency us";
+    spec.y_label = "ticks";
+    spec.log_x = true;  // 1 us .. 2 ms spans three decades
+    spec.log_y = true;
+    const std::array<std::array<uint8_t, 3>, 4> colours{{{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}}};
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      PlotSeries ser;
+      ser.label = std::to_string(static_cast<int>(runs[r].rate_hz)) + " hz spin " + std::to_string(runs[r].spin_us);
+      ser.rgb = colours[r % colours.size()];
+      ser.points = false;
+      ser.line = true;
+      const auto& w = runs[r].timing.wake_latency;
+      for (int i = 0; i < LatencyHistogram::kBuckets; ++i)
+        if (w.bucket(i) > 0) {
+          ser.x.push_back(i + 0.5);
+          ser.y.push_back(static_cast<double>(w.bucket(i)));
+        }
+      spec.series.push_back(ser);
+    }
+    if (auto st = write_plot_png(spec, o.plot_path); !st) {
+      std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
+      return 1;
+    }
+  }
   if (!o.json_path.empty()) {
     nlohmann::json j;
     j["scene"] = o.scene;
