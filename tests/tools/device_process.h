@@ -136,13 +136,17 @@ inline Csv read_csv(const std::string& path) {
   return c;
 }
 
-/// cube_press with realtime run mode, the given duration and device keys, written to a temporary file.
+/// cube_press (pressed and held) with realtime run mode, the given duration and device keys, in a temporary file.
 inline std::string device_scene(const std::string& name, double duration_s, const nlohmann::json& device_keys) {
   nlohmann::json j = nlohmann::json::parse(slurp(std::string(PALPATE_SOURCE_DIR) + "/scenes/cube_press.json"));
   j["name"] = name;
   j["duration_s"] = duration_s;
   j["run_mode"] = "realtime";
   for (const auto& [k, v] : device_keys.items()) j["device"][k] = v;
+  // press by 0.3 s and hold: faults injected at loosely timed moments still find the tool in contact
+  j["trajectory"] = nlohmann::json::array({{{"t_s", 0.0}, {"pos_m", {0.004, 0.004, 0.045}}},
+                                           {{"t_s", 0.3}, {"pos_m", {0.004, 0.004, 0.012}}},
+                                           {{"t_s", 60.0}, {"pos_m", {0.004, 0.004, 0.012}}}});
   const std::string path = (std::filesystem::path(testing::TempDir()) / ("palpate_" + name + ".json")).string();
   std::ofstream(path) << j.dump(2);
   return path;

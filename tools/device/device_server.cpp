@@ -70,7 +70,6 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
   uint64_t pose_seq = __atomic_load_n(&seg->pose.pose.seq, __ATOMIC_ACQUIRE);
   bool sim_alive = false;
   double traj_t0_s = -1.0;
-  std::vector<bool> fault_done(o.faults.size(), false);
 
   __atomic_store_n(&seg->header.device_state, uint64_t{PALPATE_SHIM_DEVICE_RUNNING}, __ATOMIC_RELEASE);
   const int64_t t0_ns = monotonic_ns() + period_ns;
@@ -132,8 +131,9 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
     p.quat_wxyz[3] = pose.orientation.z();
     p.buttons = pose.buttons;
     for (std::size_t k = 0; k < o.faults.size(); ++k) {
-      if (fault_done[k] || traj_t0_s < 0.0 || t_s - traj_t0_s < o.faults[k].t_s) continue;
-      fault_done[k] = true;
+      // held for 5 ms, so a sim that samples between two device ticks still sees it
+      const double since_s = t_s - traj_t0_s - o.faults[k].t_s;
+      if (traj_t0_s < 0.0 || since_s < 0.0 || since_s >= 0.005) continue;
       switch (o.faults[k].kind) {
         case InjectedFault::Kind::kNonFinite: p.pos_m[1] = std::nan(""); break;
         case InjectedFault::Kind::kOutside: p.pos_m[0] = 2.0 * o.workspace_half_m; break;

@@ -17,7 +17,7 @@ namespace palpate {
 /// A bad pose to publish on purpose (tests of the sim's input checks).
 struct InjectedFault {
   enum class Kind { kNonFinite, kOutside, kJump } kind = Kind::kNonFinite;
-  double t_s = 0.0;  ///< trajectory time (from the first sim connection) to publish it at
+  double t_s = 0.0;  ///< trajectory time (from the first sim connection) to publish it at, for 5 ms
 };
 
 /// What to serve and how.
