@@ -219,6 +219,14 @@ void read_trajectory(ObjectReader& top, Scene* s, std::string* err) {
     r.number("t_s", &k.t_s, 0.0, 1e6);
     r.vec3("pos_m", &k.pos_m, -100.0, 100.0);
     r.boolean("button", &k.button);
+    if (const Json* q = r.take("orientation_wxyz")) {
+      Eigen::Vector4d wxyz = Eigen::Vector4d::Zero();
+      for (int c = 0; c < 4 && q->is_array() && q->size() == 4; ++c)
+        if ((*q)[c].is_number()) wxyz[c] = (*q)[c].get<double>();
+      if (!(wxyz.allFinite() && wxyz.norm() > 1e-9))
+        r.fail(p + "orientation_wxyz", "must be an array of 4 finite numbers, not all zero (w, x, y, z)");
+      else k.orientation = Quat(wxyz[0], wxyz[1], wxyz[2], wxyz[3]).normalized();
+    }
     r.finish();
     if (err->empty() && !s->trajectory.empty() && k.t_s <= s->trajectory.back().t_s)
       r.fail(p + "t_s", fmt_num(k.t_s) + " must be later than the previous keyframe");
@@ -266,9 +274,11 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   const Json& inter = top.object("interaction");
   if (!inter.is_null()) {
     ObjectReader r(inter, "interaction.", &err);
-    const int m = r.choice("mode", {"touch", "pull"});
+    const int m = r.choice("mode", {"touch", "pull", "cut"});
     if (m >= 0) s.mode = static_cast<InteractionMode>(m);
     r.number("grab_radius_m", &s.grab_radius_m, 0.0, 10.0);
+    r.number("blade_length_m", &s.blade_length_m, 1e-4, 10.0);
+    r.number("cut_resistance_Ns_per_m", &s.cut_resistance_Ns_per_m, 0.0, 1e4);
     r.finish();
   }
   read_trajectory(top, &s, &err);
@@ -320,6 +330,8 @@ bool integrator_from_name(const std::string& name, IntegratorKind* kind) {
   return false;
 }
 
-const char* mode_name(InteractionMode mode) { return mode == InteractionMode::kPull ? "pull" : "touch"; }
+const char* mode_name(InteractionMode mode) {
+  return mode == InteractionMode::kPull ? "pull" : mode == InteractionMode::kCut ? "cut" : "touch";
+}
 
 }  // namespace palpate

@@ -12,7 +12,7 @@ namespace palpate {
 /// Which integrator steps the lattice (names in scenes: integrator_name()).
 enum class IntegratorKind { kExplicitEuler, kSymplecticEuler, kImplicitEuler, kLocalGlobal, kRk4 };
 /// How the tool interacts with the model.
-enum class InteractionMode { kTouch, kPull };
+enum class InteractionMode { kTouch, kPull, kCut };
 /// Which clock drives a recording.
 enum class RunMode { kLockstep, kRealtime };
 
@@ -75,6 +75,7 @@ struct Keyframe {
   double t_s = 0.0;
   Vec3 pos_m = Vec3::Zero();
   bool button = false;
+  Quat orientation = Quat::Identity();  ///< tool orientation (key "orientation_wxyz", normalised), slerped between keys
 };
 
 /// Off-screen rendering.
@@ -96,6 +97,8 @@ struct Scene {
   HandSpec hand;
   InteractionMode mode = InteractionMode::kTouch;
   double grab_radius_m = 0.01;      ///< pull: grab when the surface is this close on button press
+  double blade_length_m = 0.03;     ///< cut: blade edge from the tool tip along the tool's local +z axis
+  double cut_resistance_Ns_per_m = 4.0;  ///< cut: material's viscous resistance to the blade moving through it
   std::vector<Keyframe> trajectory;
   RenderSpec render;
   RunMode run_mode = RunMode::kLockstep;

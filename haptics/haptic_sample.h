@@ -8,7 +8,7 @@
 namespace palpate {
 
 /// Contact state of the tool.
-enum class ContactState : uint8_t { kFree = 0, kTouch = 1, kGrab = 2 };
+enum class ContactState : uint8_t { kFree = 0, kTouch = 1, kGrab = 2, kCut = 3 };
 
 /// One servo tick. Plain data, copied through SpscQueue.
 struct HapticSample {
@@ -22,6 +22,7 @@ struct HapticSample {
   Vec3 contact_bary = Vec3::Zero();    ///< barycentric coordinates of P_s in that triangle
   uint32_t buttons = 0;                ///< device buttons
   uint8_t input_rejected = 0;          ///< 1 when the device reading was rejected this tick
+  Vec3 blade_axis = Vec3::UnitZ();     ///< cut: unit direction of the blade edge from the tip (tool_pos_m) to the handle
 };
 
 }  // namespace palpate

@@ -36,6 +36,15 @@ void ScriptedDevice::target(double t_s, Vec3* pos_m, bool* button) const noexcep
   *pos_m = a.pos_m + u * (it->pos_m - a.pos_m);
 }
 
+Quat ScriptedDevice::orientation_at(double t_s) const noexcept {
+  if (keys_.empty()) return Quat::Identity();
+  if (t_s <= keys_.front().t_s) return keys_.front().orientation;
+  auto it = std::upper_bound(keys_.begin(), keys_.end(), t_s, [](double t, const Keyframe& k) { return t < k.t_s; });
+  if (it == keys_.end()) return keys_.back().orientation;
+  const Keyframe& a = *(it - 1);
+  return a.orientation.slerp((t_s - a.t_s) / (it->t_s - a.t_s), it->orientation);
+}
+
 bool ScriptedDevice::read(double t_s, DevicePose* out) noexcept {
   // hand: m a = k (target - x) - b v + F_device; the hand is continuous, the device force is held between
   // servo ticks (zero-order hold), so the hand is integrated in steps ten times finer than a 1 kHz period
@@ -54,7 +63,7 @@ bool ScriptedDevice::read(double t_s, DevicePose* out) noexcept {
   bool button = false;
   target(t_s, &goal, &button);
   out->pos_m = pos_m_;
-  out->orientation = Quat::Identity();
+  out->orientation = orientation_at(t_s);
   out->buttons = button ? 1u : 0u;
   return true;
 }

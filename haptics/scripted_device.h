@@ -22,6 +22,8 @@ class ScriptedDevice final : public Device {
 
   /// Keyframe target position and button at time t_s (linear in position, button held until the next key).
   void target(double t_s, Vec3* pos_m, bool* button) const noexcept;
+  /// Keyframe tool orientation at time t_s (slerp between keys; the hand holds it exactly).
+  Quat orientation_at(double t_s) const noexcept;
   /// Handle velocity (m/s).
   const Vec3& velocity() const noexcept { return vel_m_per_s_; }
 

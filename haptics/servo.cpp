@@ -104,6 +104,36 @@ void Servo::update_pull(const LocalModel& m, const Vec3& tool, bool button) noex
   if (held_point(m, &p)) proxy_m_ = p;
 }
 
+void Servo::update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, bool button) noexcept {
+  contact_ = ContactState::kFree;
+  tri_ = -1;
+  proxy_m_ = tool;
+  cut_force_N_.setZero();
+  if (!button) return;
+  const Vec3 end = tool + params_.blade_length_m * axis;
+  bool inside = false;
+  for (int i = 0; i < m.num_triangles && !inside; ++i) {
+    const auto& t = m.tri_m[i];
+    double u = 0.0;
+    Vec3 b = Vec3::Zero();
+    inside = segment_enters_triangle(tool, end, t[0], t[1], t[2], &u, &b) ||
+             segment_enters_triangle(end, tool, t[0], t[1], t[2], &u, &b);
+  }
+  if (!inside) {
+    // no crossing: the blade is wholly inside when its tip lies behind the nearest surface point's normal
+    int slot = -1;
+    Vec3 q = Vec3::Zero(), b = Vec3::Zero();
+    if (!closest_on_patch(m, tool, &slot, &q, &b)) return;
+    const auto& n = m.normal[slot];
+    inside = (tool - q).dot(b[0] * n[0] + b[1] * n[1] + b[2] * n[2]) < 0.0;
+  }
+  if (!inside) return;
+  // viscous resistance to the motion across the edge (sliding along the edge is free)
+  contact_ = ContactState::kCut;
+  const Vec3 v_across = tool_vel_m_per_s_ - tool_vel_m_per_s_.dot(axis) * axis;
+  cut_force_N_ = -params_.cut_resistance_Ns_per_m * v_across;
+}
+
 Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept {
   if (!m.has_contact_model || (proxy_m_ - m.contact_p0_m).norm() > m.model_radius_m) return proxy_m_;
   // the proxy P rides the surface, which has moved by v0 tau + C (F_obj - f0) with F_obj = -k_c (P - P_t);
@@ -140,7 +170,11 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
 
   const bool button = (pose.buttons & 1u) != 0;
   const LocalModel& m = model_->read();
-  if (params_.mode == InteractionMode::kTouch) update_touch(m, tool);
+  Vec3 axis = pose.orientation * Vec3::UnitZ();
+  if (!axis.allFinite() || axis.squaredNorm() < 1e-12) axis = Vec3::UnitZ();
+  axis.normalize();
+  if (params_.mode == InteractionMode::kCut) update_cut(m, tool, axis, button);
+  else if (params_.mode == InteractionMode::kTouch) update_touch(m, tool);
   else update_pull(m, tool, button);
 
   // after a rejected reading the coupling starts again softly
@@ -153,7 +187,10 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     ++counters_.ramps;
   }
   Vec3 force = Vec3::Zero();
-  if (contact_ != ContactState::kFree && !rejected) {
+  if (contact_ == ContactState::kCut && !rejected) {
+    force = cut_force_N_;
+    if (params_.ramp_s > 0.0) force *= std::clamp((t_s - ramp_start_s_) / params_.ramp_s, 0.0, 1.0);
+  } else if (contact_ != ContactState::kFree && !rejected) {
     if (params_.force_model == ForceModel::kLocalModel) proxy_m_ = predicted_proxy(m, tool, t_s);
     if (params_.force_model == ForceModel::kHoldFrame && held_frame_ == m.frame) {
       force = held_force_N_;
@@ -192,6 +229,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   s.contact_bary = bary_;
   s.buttons = pose.buttons;
   s.input_rejected = rejected ? 1 : 0;
+  s.blade_axis = axis;
   if (!samples_->try_push(s)) ++counters_.dropped_samples;
   last_ = s;
   counters_.max_force_N = std::max(counters_.max_force_N, force.norm());

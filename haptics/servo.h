@@ -31,6 +31,8 @@ struct ServoParams {
   bool passivity = true;                  ///< energy-based passivity observer/controller on
   double ramp_s = 0.2;                    ///< force ramp-in time at start and after a reset
   ForceModel force_model = ForceModel::kLocalModel;  ///< between-frame force
+  double blade_length_m = 0.03;           ///< cut: blade edge length from the tool tip along the tool's +z axis
+  double cut_resistance_Ns_per_m = 4.0;   ///< cut: viscous resistance to blade motion across its edge in material
 };
 
 /// Counters the servo keeps (read after the run, or approximately while it runs).
@@ -60,6 +62,8 @@ class Servo {
  private:
   void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
+  // cut: the blade cuts while the button is held and the edge crosses the surface or its tip is inside
+  void update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, bool button) noexcept;
   // closest point on the patch to p; returns false when the patch is empty
   // (side: when non-null, only triangles facing the same way, so the far side of a thin part is never taken)
   bool closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
@@ -83,6 +87,7 @@ class Servo {
   Vec3 bary_ = Vec3::Zero();   // P_s in that triangle
   Vec3 proxy_m_ = Vec3::Zero();
   Vec3 contact_normal_ = Vec3::UnitZ();  // touch: surface normal at the proxy (which side we are on)
+  Vec3 cut_force_N_ = Vec3::Zero();      // cut: blade resistance this tick
   // the proxy moved by the object's response predicted since the frame (kLocalModel)
   Vec3 predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept;
 

@@ -81,7 +81,7 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads, Lattice* la
 
   const std::size_t old_count = rest_m_.size();
   std::vector<SplitVertex> created;
-  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created);
+  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_);
 
   // existing vertices near the sweep: corners now on the far side of the cut are dropped
   const double reach = 1.8 * lat->cell_m;

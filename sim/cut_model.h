@@ -77,6 +77,7 @@ class CutModel {
   std::vector<uint8_t> blocked_;                  // corners cut off (n_v)
   std::vector<int32_t> fallback_;                 // node followed when every corner is cut off, else -1 (n_v)
   std::vector<BladeQuad> pending_;                // swept quads not applied yet
+  std::vector<TipTriangle> tips_;                 // crack tips: their halves end triangles_
   bool have_prev_ = false;                        // the previous sample was cutting
   Vec3 prev_tip_m_ = Vec3::Zero(), prev_end_m_ = Vec3::Zero();
   mutable int orphans_ = 0;

@@ -23,22 +23,36 @@ struct EdgeCut {
 }  // namespace
 
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
-                           std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created) {
+                           std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
+                           std::vector<TipTriangle>* tips) {
   MeshSplitReport rep;
   created->clear();
   if (quads.empty()) return rep;
+  const std::size_t count_before = triangles->size();
+  // crack tips go back to their original triangle, their crossing kept
+  std::unordered_map<uint64_t, EdgeCut> cuts;
+  const std::vector<TipTriangle> old_tips = std::move(*tips);
+  tips->clear();
+  triangles->resize(triangles->size() - 2 * old_tips.size());
+  for (const TipTriangle& tip : old_tips) {
+    triangles->push_back(tip.tri);
+    EdgeCut c;
+    c.lo = tip.edge_lo;
+    c.copy = {tip.copy_lo, tip.copy_hi};
+    cuts.emplace(edge_key(tip.edge_lo, tip.edge_hi), c);
+  }
+  rep.tips_reopened = static_cast<int>(old_tips.size());
   CutBox box;
   for (const BladeQuad& q : quads) box.add(q);
   const std::vector<Vec3>& x = *current_m;
 
   // crossed edges, in triangle order so the numbering of new vertices is deterministic
-  std::unordered_map<uint64_t, EdgeCut> cuts;
   std::unordered_map<uint64_t, uint8_t> tested;  // 0 = not crossed
   for (const auto& tri : *triangles) {
     for (int k = 0; k < 3; ++k) {
       const int32_t a = std::min(tri[k], tri[(k + 1) % 3]), b = std::max(tri[k], tri[(k + 1) % 3]);
       const uint64_t key = edge_key(a, b);
-      if (tested.count(key)) continue;
+      if (tested.count(key) || cuts.count(key)) continue;
       double t = 0.0;
       const bool hit = segment_crosses_any(x[a], x[b], quads, box, &t) && t > kSplitEdgeEps && t < 1.0 - kSplitEdgeEps;
       tested.emplace(key, hit ? 1 : 0);
@@ -59,7 +73,7 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
   }
   if (cuts.empty()) return rep;
 
-  std::vector<std::array<int32_t, 3>> out;
+  std::vector<std::array<int32_t, 3>> out, tip_halves;
   out.reserve(triangles->size() + 2 * cuts.size() + 8);
   for (const auto& tri : *triangles) {
     const EdgeCut* e[3];
@@ -76,8 +90,10 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       int k = 0;
       while (!e[k]) ++k;
       const int32_t a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
-      out.push_back({a, e[k]->side_of(a), c});
-      out.push_back({e[k]->side_of(b), b, c});
+      tip_halves.push_back({a, e[k]->side_of(a), c});
+      tip_halves.push_back({e[k]->side_of(b), b, c});
+      const int32_t lo = std::min(a, b), hi = std::max(a, b);
+      tips->push_back({tri, lo, hi, e[k]->side_of(lo), e[k]->side_of(hi)});
       ++rep.tris_one_cut;
     } else if (n == 2) {
       // rotate so the uncrossed edge is a -> b: b -> c crossed at q, c -> a at r; c alone on its side
@@ -105,7 +121,8 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       ++rep.tris_three_cut;
     }
   }
-  rep.triangles_added = static_cast<int>(out.size() - triangles->size());
+  out.insert(out.end(), tip_halves.begin(), tip_halves.end());
+  rep.triangles_added = static_cast<int>(out.size()) - static_cast<int>(count_before);
   rep.vertices_added = 2 * rep.edges_cut;
   *triangles = std::move(out);
   return rep;

@@ -20,11 +20,21 @@ struct SplitVertex {
   double t = 0.0;    ///< position along from -> to, in (0, 1)
 };
 
-/// What one split did. The split formula: triangles_added = tris_one_cut + 2 (tris_two_cut + tris_three_cut),
-/// vertices_added = 2 edges_cut.
+/// A triangle the cut entered through one edge only (its crack tip): kept as two triangles opening from the
+/// crossing to the far corner, and split again from its original shape when a later sweep crosses another edge,
+/// so a cut made over many frames separates as one made at once. Plain data.
+struct TipTriangle {
+  std::array<int32_t, 3> tri{};       ///< the original triangle
+  int32_t edge_lo = 0, edge_hi = 0;   ///< its crossed edge (lower, higher vertex id)
+  int32_t copy_lo = 0, copy_hi = 0;   ///< the crossing's vertex on the side of edge_lo / edge_hi
+};
+
+/// What one split did. The split formula: triangles_added = tris_one_cut + 2 (tris_two_cut + tris_three_cut)
+/// - tips_reopened, vertices_added = 2 edges_cut.
 struct MeshSplitReport {
   int edges_cut = 0;        ///< mesh edges crossed by the swept surface
   int tris_one_cut = 0;     ///< triangles with one crossed edge (the cut ends inside): 1 -> 2, opening to the far corner
+  int tips_reopened = 0;    ///< crack-tip triangles of earlier splits taken back to their original shape first
   int tris_two_cut = 0;     ///< triangles crossed through: 1 -> 3 (a corner triangle and a quad)
   int tris_three_cut = 0;   ///< triangles with all edges crossed: 1 -> 3 corner triangles (the middle is removed)
   int triangles_added = 0;  ///< growth of the triangle count
@@ -37,9 +47,11 @@ inline constexpr double kSplitEdgeEps = 1e-3;
 
 /// Splits *triangles along the quads, testing edges at the current positions *current_m; new vertices are
 /// appended to *rest_m and *current_m (interpolated at the crossing) and listed in *created (cleared first) in
-/// the same order. Winding is kept. Returns what it did.
+/// the same order. Winding is kept. *tips (in/out) lists the crack-tip triangles, whose two halves are the last
+/// 2 * tips->size() triangles of *triangles. Returns what it did.
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
-                           std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created);
+                           std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
+                           std::vector<TipTriangle>* tips);
 
 /// The first problem that makes this not a valid triangle mesh, or "" when there is none: an index out of range,
 /// a repeated index, a triangle of (near) zero area, two triangles on the same three vertices, or a directed edge

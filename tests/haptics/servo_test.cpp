@@ -157,7 +157,7 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     m.model_radius_m = 1.0;
     tb->publish();
   }
-  for (auto mode : {InteractionMode::kTouch, InteractionMode::kPull}) {
+  for (auto mode : {InteractionMode::kTouch, InteractionMode::kPull, InteractionMode::kCut}) {
     ServoParams p;
     p.mode = mode;
     Servo servo(p, &dev, &q, tb.get());

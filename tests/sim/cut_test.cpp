@@ -57,6 +57,7 @@ TEST(Cut, CuttingABlockInTwoLeavesTwoConsistentPieces) {
   EXPECT_EQ(rep.split.tris_two_cut, x_tris);
   EXPECT_EQ(rep.split.tris_one_cut + rep.split.tris_three_cut, 0);
   EXPECT_EQ(b.cut.triangles().size(), tris0 + 2 * static_cast<std::size_t>(x_tris));
+  EXPECT_EQ(rep.split.triangles_added, 2 * x_tris);
   EXPECT_EQ(b.vertices.size(), b.box.mesh.vertices_m.size() + 2 * static_cast<std::size_t>(x_edges));
   EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
 
@@ -190,6 +191,27 @@ TEST(Cut, APieceCutFreeFallsToTheFloorWithoutNaN) {
     top = std::max(top, v.z());
   }
   EXPECT_LT(top, 0.013);  // the top piece has come down
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+TEST(Cut, ManyThinSweepsCutLikeOneQuad) {
+  Block b;
+  // the plane x = 0.003 swept in 1 mm steps of y, applied 16 sweeps at a time like frames of servo samples
+  for (int i = 0; i < 120; ++i) {
+    const double y = -0.06 + 0.001 * i;
+    b.cut.add_sample({0.003, y, -0.06}, Vec3::UnitZ(), true);
+    if (i % 16 == 15) b.cut.apply(&b.lat, &b.vertices);
+  }
+  b.cut.apply(&b.lat, &b.vertices);
+  std::vector<int32_t> label;
+  EXPECT_EQ(spring_components(b.lat, &label), 2);
+  EXPECT_EQ(triangle_components(b.vertices.size(), b.cut.triangles()), 2);
+  EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
 }
 
 }  // namespace

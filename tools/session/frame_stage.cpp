@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "core/state_hash.h"
+#include "sim/cut.h"
 #include "sim/region.h"
 #include "sim/rest.h"
 
@@ -30,6 +31,8 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   latest_.proxy_pos_m = latest_.tool_pos_m;
   stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
+  if (scene.mode == InteractionMode::kCut)
+    cut_.emplace(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m);
 }
 
 void FrameStage::drain() {
@@ -43,6 +46,9 @@ void FrameStage::drain() {
       contact_ = s;
       contact_this_frame_ = true;
     }
+    // the blade cuts whatever it sweeps while the button is held (the servo's in-material test only sets the
+    // resistance: the lattice reaches past the surface, and its springs there must be cut too)
+    if (cut_) cut_->add_sample(s.tool_pos_m, s.blade_axis, (s.buttons & 1u) != 0 && !s.input_rejected);
     latest_ = s;
   }
 }
@@ -73,6 +79,36 @@ void FrameStage::build_lattice_at(const Vec3& p_m) {
   stats_.lattice_nodes = std::max(stats_.lattice_nodes, lattice_->num_nodes());
   stats_.lattice_springs = std::max(stats_.lattice_springs, lattice_->springs.size());
   stats_.lattice_vertices = std::max(stats_.lattice_vertices, deformer_.num_bound_vertices());
+}
+
+bool FrameStage::cut_frame() {
+  if (!lattice_) {
+    // the blade may go anywhere and cuts must persist: one lattice over every solid cell, never moved
+    const int level = scene_.lattice.level;
+    const int n = model_.grid.cells_per_axis(level);
+    auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, {n / 2, n / 2, n / 2}, n));
+    if (!lat) return false;
+    lattice_ = std::move(lat).value();
+    step_opts_ = step_options(scene_.lattice);
+    f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
+    floor_z_m_ = lattice_->rest_m.front().z();
+    for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
+    stats_.lattice_nodes = lattice_->num_nodes();
+    stats_.lattice_springs = lattice_->springs.size();
+    stats_.lattice_vertices = vertices_m_.size();
+  }
+  if (cut_->pending().empty()) return false;
+  const CutReport rep = cut_->apply(&*lattice_, &vertices_m_);
+  ++stats_.frames_cutting;
+  stats_.springs_cut += rep.springs_cut;
+  stats_.triangles_added += rep.split.triangles_added;
+  stats_.vertices_added += rep.split.vertices_added;
+  if (rep.springs_cut > 0) stats_.free_nodes = free_nodes(*lattice_);
+  if (rep.changed()) {
+    resting_ = false;
+    normals_.clear();
+  }
+  return true;
 }
 
 void FrameStage::follow_contact() {
@@ -162,12 +198,24 @@ void FrameStage::publish_patch() {
   const double margin = std::max(2.0 * model_.leaf_cell_m, scene_.grab_radius_m) + stats_.max_displacement_m;
   const Vec3 lo = latest_.tool_pos_m.cwiseMin(latest_.proxy_pos_m) - Vec3::Constant(margin);
   const Vec3 hi = latest_.tool_pos_m.cwiseMax(latest_.proxy_pos_m) + Vec3::Constant(margin);
-  model_.grid.triangles_near(lo, hi, &near_tris_);
+  if (cut_) {
+    // the whole blade edge, whose triangles are not in the grid's leaf lists once split
+    const Vec3 end = latest_.tool_pos_m + scene_.blade_length_m * latest_.blade_axis;
+    cut_->triangles_in_box(vertices_m_, lo.cwiseMin(end - Vec3::Constant(margin)), hi.cwiseMax(end + Vec3::Constant(margin)),
+                           &near_tris_);
+  } else {
+    model_.grid.triangles_near(lo, hi, &near_tris_);
+  }
   // keep the held triangle first, then the nearest ones
   const Vec3 tool = latest_.tool_pos_m;
+  const auto& tris = triangles();
+  // cut mode: nearest to the blade edge, so the triangles it crosses are always kept
+  const Vec3 edge = cut_ ? Vec3(scene_.blade_length_m * latest_.blade_axis) : Vec3::Zero();
   auto dist = [&](int32_t t) {
-    const auto& tr = model_.rest.triangles[static_cast<std::size_t>(t)];
-    return ((vertices_m_[tr[0]] + vertices_m_[tr[1]] + vertices_m_[tr[2]]) / 3.0 - tool).squaredNorm();
+    const auto& tr = tris[static_cast<std::size_t>(t)];
+    const Vec3 c = (vertices_m_[tr[0]] + vertices_m_[tr[1]] + vertices_m_[tr[2]]) / 3.0;
+    const double u = edge.squaredNorm() > 0.0 ? std::clamp((c - tool).dot(edge) / edge.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (c - tool - u * edge).squaredNorm();
   };
   const int32_t held = latest_.contact != ContactState::kFree ? latest_.contact_tri : -1;
   m.truncated = near_tris_.size() > static_cast<std::size_t>(LocalModel::kMaxTriangles);
@@ -178,7 +226,7 @@ void FrameStage::publish_patch() {
   }
   int n = 0;
   auto put = [&](int32_t t) {
-    const auto& tr = model_.rest.triangles[static_cast<std::size_t>(t)];
+    const auto& tr = tris[static_cast<std::size_t>(t)];
     m.tri_ids[n] = t;
     m.tri_m[n] = {vertices_m_[tr[0]], vertices_m_[tr[1]], vertices_m_[tr[2]]};
     m.normal[n] = {normals_[tr[0]], normals_[tr[1]], normals_[tr[2]]};
@@ -204,12 +252,12 @@ void FrameStage::render(int64_t index, bool block) {
   }
   FrameView view{};
   view.vertices_m = &vertices_m_;
-  view.triangles = &model_.rest.triangles;
+  view.triangles = &triangles();
   view.normals = &normals_;
   view.tool_pos_m = latest_.tool_pos_m;
   view.tool_radius_m = scene_.device.tool_radius_m;
   view.in_contact = latest_.contact != ContactState::kFree;
-  view.show_proxy = view.in_contact;
+  view.show_proxy = view.in_contact && latest_.contact != ContactState::kCut;
   view.proxy_pos_m = latest_.proxy_pos_m;
   renderer_->draw(view, buf);
   writer_->submit(static_cast<int>(index), buf);
@@ -224,6 +272,7 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   force_sum_N_.setZero();
   frame_samples_ = 0;
   drain();
+  const bool cutting = cut_ && cut_frame();
   if (!lattice_ && contact_this_frame_) build_lattice_at(contact_.proxy_pos_m);
   frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? Vec3(-force_sum_N_ / static_cast<double>(frame_samples_))
                                                                   : Vec3::Zero();
@@ -232,16 +281,20 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
     follow_contact();
     apply_contact_force(&f_ext_N_);
     moved = step_lattice_frame();
+    if (moved && cut_) apply_floor(&*lattice_, floor_z_m_);
   }
   if (moved) {
     for (std::size_t i = 0; i < lattice_->num_nodes(); ++i)
       stats_.max_displacement_m = std::max(stats_.max_displacement_m, (lattice_->x_m[i] - lattice_->rest_m[i]).norm());
-    deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, &vertices_m_);
+    if (cut_) cut_->deform(*lattice_, &vertices_m_);
+    else deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, &vertices_m_);
   }
   // normals for the servo's inside test and for shading (all of them until only moved ones are tracked)
-  if (moved || normals_.empty()) compute_vertex_normals(vertices_m_, model_.rest.triangles, &normals_);
+  if (moved || normals_.empty()) compute_vertex_normals(vertices_m_, triangles(), &normals_);
   publish_patch();
   stats_.sim_ms.push_back(ms_since(t0));
+  if (cutting) stats_.cutting_ms.push_back(stats_.sim_ms.back());
+  else if (stats_.frames_cutting > 0) stats_.after_cut_ms.push_back(stats_.sim_ms.back());
   ++stats_.frames;
   render(index, block_on_writer);
 }

@@ -15,6 +15,7 @@
 #include "render/gl_context.h"
 #include "render/png_writer.h"
 #include "render/renderer.h"
+#include "sim/cut_model.h"
 #include "sim/deformer.h"
 #include "sim/integrator.h"
 #include "sim/lattice.h"
@@ -42,6 +43,14 @@ struct FrameStats {
   int64_t region_moves = 0;         ///< times the region followed the contact
   int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
   int64_t contact_models = 0;       ///< frames that published a contact model for the servo
+  // cut mode
+  int64_t frames_cutting = 0;       ///< frames that applied blade sweeps
+  int64_t springs_cut = 0;          ///< springs removed by the blade
+  int64_t triangles_added = 0;      ///< growth of the triangle count by mesh splits
+  int64_t vertices_added = 0;       ///< growth of the vertex count by mesh splits
+  int64_t free_nodes = 0;           ///< nodes in pieces cut free of every fixed node (after the last cut)
+  std::vector<double> cutting_ms;   ///< sim_ms of frames that cut
+  std::vector<double> after_cut_ms; ///< sim_ms of frames after the first cut that did not cut
 };
 
 /// Owns the lattice, deformer and render state of one recording. Thread: the sim thread only.
@@ -66,6 +75,10 @@ class FrameStage {
   const std::vector<Vec3>& vertices_m() const { return vertices_m_; }
   /// The lattice, once a contact has built it.
   const std::optional<Lattice>& lattice() const { return lattice_; }
+  /// The triangles drawn and touched: the cut mesh in cut mode, else the model's.
+  const std::vector<std::array<int32_t, 3>>& triangles() const { return cut_ ? cut_->triangles() : model_.rest.triangles; }
+  /// The cut mesh and its side binding (cut mode only, else null).
+  const CutModel* cut_model() const { return cut_ ? &*cut_ : nullptr; }
 
  private:
   void drain();
@@ -80,6 +93,8 @@ class FrameStage {
   // the object's linearised response at the current contact, for the servo between frames
   void fill_contact_model(LocalModel* m);
   void publish_patch();
+  // cut mode: builds the whole-object lattice once, then applies the blade sweeps drained this frame
+  bool cut_frame();
   void render(int64_t index, bool block);
 
   const Scene& scene_;
@@ -91,6 +106,8 @@ class FrameStage {
   HapticLog* log_;
 
   std::optional<Lattice> lattice_;
+  std::optional<CutModel> cut_;      // cut mode: the cut mesh and side binding
+  double floor_z_m_ = 0.0;           // cut mode: lowest node plane, a floor for pieces cut free
   MeshDeformer deformer_;
   IntegratorWorkspace ws_;
   StepOptions step_opts_;            // from the scene, fixed for the run

@@ -150,6 +150,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   sp.ramp_s = scene.device.ramp_s;
   sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
   sp.grab_radius_m = scene.grab_radius_m;
+  sp.blade_length_m = scene.blade_length_m;
+  sp.cut_resistance_Ns_per_m = scene.cut_resistance_Ns_per_m;
   sp.period_s = 1.0 / kServoRate_hz;
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
@@ -274,6 +276,18 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
               {"divergence_events", fst.divergence_events},
               {"frame_latency_us", hist_json(frame_latency)},
               {"frames_late", frames_late}};
+  if (scene.mode == InteractionMode::kCut) {
+    const CutModel* cut = stage.cut_model();
+    j["cut"] = {{"frames_cutting", fst.frames_cutting},
+                {"springs_cut", fst.springs_cut},
+                {"springs_left", stage.lattice() ? stage.lattice()->springs.size() : 0},
+                {"triangles", cut ? cut->triangles().size() : 0},
+                {"triangles_added", fst.triangles_added},
+                {"vertices_added", fst.vertices_added},
+                {"free_nodes", fst.free_nodes},
+                {"sim_ms_cutting", ms_json(fst.cutting_ms)},
+                {"sim_ms_after_cut", ms_json(fst.after_cut_ms)}};
+  }
   j["render"] = {{"ms", ms_json(fst.render_ms)}, {"backend", gl ? gl->backend_name() : "none"},
                  {"width", scene.render.width}, {"height", scene.render.height}};
   j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
