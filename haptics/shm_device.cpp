@@ -25,6 +25,13 @@ ShmDevice::ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs&
   last_seq_ = __atomic_load_n(&s->pose.pose.seq, __ATOMIC_ACQUIRE);
 }
 
+ShmDevice::~ShmDevice() {
+  // a live device keeps its name (it may serve the next session); a dead or stopped one leaves it to us
+  const palpate_shim_segment* s = seg_.get();
+  const bool stopped = __atomic_load_n(&s->header.device_state, __ATOMIC_ACQUIRE) == PALPATE_SHIM_DEVICE_STOPPED;
+  if (stopped || !watchdog_.update(palpate_shim_beats(&s->device_hb), monotonic_ns())) ShmSegment::unlink(params_.name);
+}
+
 Result<std::unique_ptr<ShmDevice>> ShmDevice::connect(const ShmParams& p, const DeviceSpecs& limits) {
   const std::string what = "shm '" + p.name + "'";
   if (!(p.watchdog_s > 0.0 && p.watchdog_s <= 10.0)) return make_error(what, ": watchdog ", std::to_string(p.watchdog_s), " s out of range (0, 10]");

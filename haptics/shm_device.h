@@ -42,6 +42,11 @@ class ShmDevice final : public Device {
   /// loose mode, size or version mismatch, bad specs). `limits` caps the device's own specs (scene's max force).
   static Result<std::unique_ptr<ShmDevice>> connect(const ShmParams& params, const DeviceSpecs& limits);
 
+  /// Removes the link name when the device is gone (crashed or stopped), so no segment is left behind.
+  ~ShmDevice() override;
+  ShmDevice(const ShmDevice&) = delete;
+  ShmDevice& operator=(const ShmDevice&) = delete;
+
   const DeviceSpecs& specs() const noexcept override { return specs_; }
   /// Latest checked pose; false while disconnected or when this tick's new pose was rejected.
   bool read(double t_s, DevicePose* out) noexcept override;

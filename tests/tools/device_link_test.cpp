@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "haptics/shm_segment.h"
 #include "render/png_io.h"
 #include "tools/device_process.h"
 
@@ -207,6 +208,7 @@ TEST(DeviceLink, DeviceCrashLeavesAWholeRecordingWithZeroForce) {
     ASSERT_EQ(std::hypot(r[static_cast<std::size_t>(fx)], r[static_cast<std::size_t>(fx) + 1], r[static_cast<std::size_t>(fx) + 2]), 0.0);
   }
   expect_complete(dir, s, 90);
+  ShmSegment::unlink(link);  // normally already removed by the sim when it closed the dead link
 }
 
 TEST(DeviceLink, SimKilledDeviceRampsItsForceToZero) {
