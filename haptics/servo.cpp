@@ -150,10 +150,12 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
 void Servo::tick(int64_t tick_index, double t_s) noexcept {
   DevicePose pose;
   bool rejected = false;
-  if (!device_->read(t_s, &pose) || !pose.pos_m.allFinite() ||
-      pose.pos_m.cwiseAbs().maxCoeff() > device_->specs().workspace_half_m) {
+  const bool got = device_->read(t_s, &pose);
+  if (!got || !pose.pos_m.allFinite() || pose.pos_m.cwiseAbs().maxCoeff() > device_->specs().workspace_half_m) {
+    // no reading (e.g. a disconnected link) and a refused reading are counted apart
     rejected = true;
-    ++counters_.rejected_inputs;
+    if (got) ++counters_.rejected_inputs;
+    else ++counters_.no_readings;
     pose = pose_;  // keep the last good pose
   } else {
     pose_ = pose;

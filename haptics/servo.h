@@ -40,6 +40,7 @@ struct ServoCounters {
   int64_t ticks = 0;             ///< ticks run
   int64_t dropped_samples = 0;   ///< samples lost to a full queue
   int64_t rejected_inputs = 0;   ///< non-finite or out-of-workspace device readings
+  int64_t no_readings = 0;       ///< ticks on which the device had no reading (read() returned false)
   double max_force_N = 0.0;      ///< largest force magnitude sent
   int64_t passivity_activations = 0;  ///< ticks on which the passivity controller added damping
   double passivity_dissipated_J = 0.0;///< energy it dissipated

@@ -24,6 +24,11 @@ const RtGrant& ServoRunner::start(int64_t t0_ns) {
   return timing_.rt;
 }
 
+void ServoRunner::join() {
+  if (config_.max_ticks < 0) stop();
+  if (thread_.joinable()) thread_.join();
+}
+
 void ServoRunner::stop() {
   stop_.store(true);
   if (thread_.joinable()) thread_.join();

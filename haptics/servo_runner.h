@@ -47,6 +47,8 @@ class ServoRunner {
   const RtGrant& start(int64_t t0_ns);
   /// Asks the thread to finish and joins it.
   void stop();
+  /// Waits for a thread with max_ticks to end by itself (every period ticked or counted as missed).
+  void join();
   /// Ticks completed so far (any thread).
   int64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
   /// Timing, valid after stop().

@@ -215,8 +215,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
       stage.frame(f, static_cast<double>(f) / kFrameRate_hz, false);
       progress.update(static_cast<double>(f) / kFrameRate_hz, f + 1, frames);
     }
-    sleep_until_ns(t0_ns + static_cast<int64_t>(scene.duration_s * 1e9));
-    runner.stop();
+    runner.join();  // the servo ends by itself after the scene's ticks
     timing = runner.timing();
     memory_locked = locked;
   }
@@ -243,6 +242,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["nan_events"] = fst.nan_events;
   j["dropped_samples"] = sc.dropped_samples;
   j["rejected_inputs"] = sc.rejected_inputs;
+  j["no_readings"] = sc.no_readings;
   j["coupling"] = {{"stiffness_N_per_m", sp.coupling_N_per_m},
                    {"capped", sp.coupling_N_per_m < scene.device.coupling_N_per_m},
                    {"passivity", sp.passivity},
