@@ -78,13 +78,17 @@ bool ShmDevice::accept(const palpate_shim_pose& p, int64_t now_ns) noexcept {
     return false;
   }
   if (have_good_) {
-    // our own clock, not the peer's timestamps: those are untrusted too
-    const double dt_s = std::max(static_cast<double>(now_ns - good_ns_) * 1e-9, 1.0 / params_.servo_rate_hz);
-    if ((pos - good_.pos_m).norm() > params_.max_speed_m_per_s * dt_s) {
+    // our own clock, not the peer's timestamps: those are untrusted too. The window is capped at a few periods,
+    // so a servo that was late (a loaded machine) does not widen what counts as possible; a pose that stays away
+    // for kReanchorRejects samples in a row is a real move made while we were not looking, and is taken
+    const double period_s = 1.0 / params_.servo_rate_hz;
+    const double dt_s = std::clamp(static_cast<double>(now_ns - good_ns_) * 1e-9, period_s, 3.0 * period_s);
+    if ((pos - good_.pos_m).norm() > params_.max_speed_m_per_s * dt_s && ++speed_rejects_in_row_ < kReanchorRejects) {
       ++counters_.rejected_speed;
       return false;
     }
   }
+  speed_rejects_in_row_ = 0;
   good_.pos_m = pos;
   good_.orientation = Quat(q.coeffs() / qn);
   good_.buttons = static_cast<uint32_t>(p.buttons & 0xffffffffu);

@@ -76,6 +76,8 @@ class ShmDevice final : public Device {
   DeviceEventLog events_;
   ShmCounters counters_;
   DevicePose good_;              // last accepted pose
+  static constexpr int kReanchorRejects = 20;  // speed rejections in a row before the new place is accepted
+  int speed_rejects_in_row_ = 0;               // consecutive poses refused as too fast
   bool have_good_ = false;
   int64_t good_ns_ = 0;          // when it was accepted (our clock)
   uint64_t last_seq_ = 0;        // seq of the last pose looked at

@@ -264,7 +264,8 @@ TEST(DeviceLink, BadPosesAreRejectedCountedAndTheLastGoodPoseKept) {
   EXPECT_GE(s["device"]["rejected_nonfinite"].get<int64_t>(), 1) << s["device"].dump();
   EXPECT_GE(s["device"]["rejected_outside"].get<int64_t>(), 1) << s["device"].dump();
   EXPECT_GE(s["device"]["rejected_speed"].get<int64_t>(), 1) << s["device"].dump();
-  EXPECT_GE(s["rejected_inputs"].get<int64_t>(), 3);
+  // the driver refuses them itself: the servo sees ticks without a reading
+  EXPECT_GE(s["rejected_inputs"].get<int64_t>() + s["no_readings"].get<int64_t>(), 3);
   const Csv h = test::read_csv(dir + "/rec/haptic.csv");
   const auto x = static_cast<std::size_t>(h.col("tool_x_m"));
   for (std::size_t i = 0; i < h.rows.size(); ++i)
