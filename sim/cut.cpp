@@ -81,7 +81,7 @@ int cut_springs(Lattice* lat, const std::vector<BladeQuad>& quads) {
   CutBox box;
   for (const BladeQuad& q : quads) box.add(q);
   const std::size_t before = lat->springs.size();
-  auto crossed = [&](const Spring& s) { return segment_crosses_any(lat->x_m[s.a], lat->x_m[s.b], quads, box); };
+  auto crossed = [&](const Spring& s) { return segment_crosses_any(lat->rest_m[s.a], lat->rest_m[s.b], quads, box); };
   lat->springs.erase(std::remove_if(lat->springs.begin(), lat->springs.end(), crossed), lat->springs.end());
   const int removed = static_cast<int>(before - lat->springs.size());
   if (removed > 0) {

@@ -38,7 +38,7 @@ bool segment_crosses_quad(const Vec3& p_m, const Vec3& q_m, const BladeQuad& qua
 bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const std::vector<BladeQuad>& quads, const CutBox& box,
                          double* t = nullptr);
 
-/// Removes every spring whose current segment x_a-x_b crosses a quad, updates springs_per_family and touches
+/// Removes every spring whose rest segment crosses a quad (in rest coordinates), updates springs_per_family and touches
 /// the lattice (solver caches are rebuilt) when any was removed. Returns the number removed.
 int cut_springs(Lattice* lat, const std::vector<BladeQuad>& quads);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "sim/deformer.h"
+#include "sim/rest_map.h"
 
 namespace palpate {
 
@@ -43,7 +44,8 @@ bool CutModel::block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m,
   const uint8_t before = blocked_[v];
   for (int c = 0; c < 8; ++c) {
     if (blocked_[v] & (1u << c)) continue;
-    if (segment_crosses_any(p_m, lat.x_m[lat.cell_nodes[slot][c]], quads, box)) blocked_[v] |= static_cast<uint8_t>(1u << c);
+    if (segment_crosses_any(p_m, lat.rest_m[lat.cell_nodes[slot][c]], quads, box))
+      blocked_[v] |= static_cast<uint8_t>(1u << c);
   }
   return blocked_[v] != before;
 }
@@ -62,8 +64,8 @@ int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const 
         const int32_t slot = lat.slot_of_cell[grid_->linear_index(o, level_)];
         if (slot < 0) continue;
         for (int32_t node : lat.cell_nodes[slot]) {
-          const double d2 = (lat.x_m[node] - p_m).squaredNorm();
-          if (d2 < best_d2 && !segment_crosses_any(p_m, lat.x_m[node], quads, box)) {
+          const double d2 = (lat.rest_m[node] - p_m).squaredNorm();
+          if (d2 < best_d2 && !segment_crosses_any(p_m, lat.rest_m[node], quads, box)) {
             best_d2 = d2;
             best = node;
           }
@@ -72,9 +74,12 @@ int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const 
   return best;
 }
 
-CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads, Lattice* lat, std::vector<Vec3>* vertices_m) {
+CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* lat, std::vector<Vec3>* vertices_m) {
   CutReport rep;
-  if (quads.empty()) return rep;
+  if (quads_W.empty()) return rep;
+  // every test in rest coordinates, so a node's side of the cut does not drift while the object moves
+  std::vector<BladeQuad> quads;
+  quads_to_rest(*lat, *grid_, quads_W, &last_edge_, &quads);
   CutBox box;
   for (const BladeQuad& q : quads) box.add(q);
   rep.springs_cut = cut_springs(lat, quads);
@@ -86,11 +91,12 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads, Lattice* la
   // existing vertices near the sweep: corners now on the far side of the cut are dropped
   const double reach = 1.8 * lat->cell_m;
   for (std::size_t v = 0; v < old_count; ++v) {
-    const Vec3& p = (*vertices_m)[v];
+    const Vec3& p = rest_m_[v];
     if (!box.overlaps_segment(p, p, reach)) continue;
     if (block_corners(*lat, v, p, quads, box)) ++rep.vertices_rebound;
   }
   // new vertices: bound at their rest position, tested from a point just off the cut on their own side
+  auto off_cut = [&](std::size_t v, int32_t from) { return Vec3(rest_m_[v] + 0.01 * (rest_m_[from] - rest_m_[v])); };
   for (std::size_t i = 0; i < created.size(); ++i) {
     const std::size_t v = old_count + i;
     const SplitVertex& sv = created[i];
@@ -98,14 +104,12 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads, Lattice* la
     const bool same_cell = bindings_[v].cell == bindings_[sv.from].cell;
     blocked_.push_back(same_cell ? blocked_[sv.from] : 0);
     fallback_.push_back(same_cell ? fallback_[sv.from] : -1);
-    const Vec3 p = (*vertices_m)[v] + 0.01 * ((*vertices_m)[sv.from] - (*vertices_m)[v]);
-    block_corners(*lat, v, p, quads, box);
+    block_corners(*lat, v, off_cut(v, sv.from), quads, box);
   }
   // vertices cut off from all their corners follow the nearest node on their side
   for (std::size_t v = 0; v < rest_m_.size(); ++v) {
     if (blocked_[v] != 0xff || fallback_[v] >= 0) continue;
-    const Vec3 p = v < old_count ? (*vertices_m)[v]
-                                 : Vec3((*vertices_m)[v] + 0.01 * ((*vertices_m)[created[v - old_count].from] - (*vertices_m)[v]));
+    const Vec3 p = v < old_count ? rest_m_[v] : off_cut(v, created[v - old_count].from);
     fallback_[v] = nearest_visible_node(*lat, v, p, quads, box);
   }
   return rep;

@@ -2,7 +2,7 @@
 /// CutModel: a mesh that can be cut, bound to a lattice so each side of a cut follows its own nodes.
 ///
 /// Side binding: every vertex keeps its cell (eq. 1) and a mask of the cell's corners that a cut separates it
-/// from (the straight segment vertex -> corner node crosses the blade's swept surface at the time of the cut).
+/// from (the straight rest segment vertex -> corner node crosses the blade's swept surface mapped to rest).
 /// A vertex is moved by the trilinear weights of its unmasked corners only, renormalised, so the two sides of a
 /// cut cell follow the nodes on their own side; a vertex with no corner left on its side (a sliver) takes the
 /// nearest nodes on its side among the neighbouring cells.
@@ -17,6 +17,7 @@
 #include "sim/cut.h"
 #include "sim/lattice.h"
 #include "sim/mesh_split.h"
+#include "sim/rest_map.h"
 
 namespace palpate {
 
@@ -40,10 +41,11 @@ class CutModel {
   void add_sample(const Vec3& tip_m, const Vec3& axis, bool cutting);
   /// Quads waiting for apply().
   const std::vector<BladeQuad>& pending() const { return pending_; }
-  /// Cuts the lattice springs and the mesh with the pending quads (at the current positions *vertices_m, which
-  /// grows by the new vertices), updates the side binding and clears the pending quads.
+  /// Cuts the lattice springs and the mesh with the pending quads, mapped into rest coordinates through the
+  /// current lattice (rest_map.h) and tested against rest positions; *vertices_m (current) grows by the new
+  /// vertices. Updates the side binding and clears the pending quads.
   CutReport apply(Lattice* lat, std::vector<Vec3>* vertices_m);
-  /// Cuts with the given quads (as apply() does with the pending ones).
+  /// Cuts with the given quads, in world coordinates (as apply() does with the pending ones).
   CutReport apply_quads(const std::vector<BladeQuad>& quads, Lattice* lat, std::vector<Vec3>* vertices_m);
   /// Moves every vertex whose cell is in the lattice with its side's nodes; others stay at rest.
   void deform(const Lattice& lat, std::vector<Vec3>* vertices_m) const;
@@ -77,6 +79,7 @@ class CutModel {
   std::vector<uint8_t> blocked_;                  // corners cut off (n_v)
   std::vector<int32_t> fallback_;                 // node followed when every corner is cut off, else -1 (n_v)
   std::vector<BladeQuad> pending_;                // swept quads not applied yet
+  RestEdge last_edge_;                            // the last blade edge mapped to rest
   std::vector<TipTriangle> tips_;                 // crack tips: their halves end triangles_
   bool have_prev_ = false;                        // the previous sample was cutting
   Vec3 prev_tip_m_ = Vec3::Zero(), prev_end_m_ = Vec3::Zero();

@@ -44,7 +44,7 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
   rep.tips_reopened = static_cast<int>(old_tips.size());
   CutBox box;
   for (const BladeQuad& q : quads) box.add(q);
-  const std::vector<Vec3>& x = *current_m;
+  const std::vector<Vec3>& x = *rest_m;
 
   // crossed edges, in triangle order so the numbering of new vertices is deterministic
   std::unordered_map<uint64_t, uint8_t> tested;  // 0 = not crossed
@@ -59,8 +59,8 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       if (!hit) continue;
       EdgeCut c;
       c.lo = a;
-      const Vec3 rest = (*rest_m)[a] + t * ((*rest_m)[b] - (*rest_m)[a]);
-      const Vec3 cur = x[a] + t * (x[b] - x[a]);
+      const Vec3 rest = x[a] + t * (x[b] - x[a]);
+      const Vec3 cur = (*current_m)[a] + t * ((*current_m)[b] - (*current_m)[a]);
       for (int side = 0; side < 2; ++side) {
         c.copy[side] = static_cast<int32_t>(rest_m->size());
         rest_m->push_back(rest);

@@ -45,7 +45,7 @@ struct MeshSplitReport {
 /// along an existing cut does not split the vertices already on it again).
 inline constexpr double kSplitEdgeEps = 1e-3;
 
-/// Splits *triangles along the quads, testing edges at the current positions *current_m; new vertices are
+/// Splits *triangles along the quads (rest coordinates), testing edges at the rest positions *rest_m; new vertices are
 /// appended to *rest_m and *current_m (interpolated at the crossing) and listed in *created (cleared first) in
 /// the same order. Winding is kept. *tips (in/out) lists the crack-tip triangles, whose two halves are the last
 /// 2 * tips->size() triangles of *triangles. Returns what it did.

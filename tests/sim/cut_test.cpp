@@ -214,5 +214,35 @@ TEST(Cut, ManyThinSweepsCutLikeOneQuad) {
   EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
 }
 
+
+TEST(Cut, ASlowCutThroughAMovingBlockSeparatesIt) {
+  Block b;
+  b.spec = test::spec_for(kLevel, 400, 200, 100);
+  b.spec.fix_floor = true;
+  // gravity with a sideways pull: the block leans in x while the blade passes, nodes drifting across its plane
+  b.spec.gravity_m_per_s2 = Vec3(4.0, 0, -9.81);
+  b.lat = build_lattice(b.box.grid, b.spec, region_cells(b.box.grid, kLevel, {1, 1, 1}, 8)).value();
+  IntegratorWorkspace ws;
+  const double x_blade = 0.003;
+  int drifted = 0;  // node samples on the other side of the blade from where they rest
+  for (int i = 0; i < 240; ++i) {
+    const double y = -0.06 + 0.0005 * i;
+    b.cut.add_sample({x_blade, y, -0.06}, Vec3::UnitZ(), true);
+    if (i % 8 != 7) continue;
+    b.cut.apply(&b.lat, &b.vertices);
+    step_lattice(&b.lat, IntegratorKind::kSymplecticEuler, 1.0 / 60.0, 256, {}, &ws);
+    b.cut.deform(b.lat, &b.vertices);
+    for (std::size_t n = 0; n < b.lat.num_nodes(); ++n)
+      drifted += (b.lat.rest_m[n].x() < x_blade) != (b.lat.x_m[n].x() < x_blade);
+  }
+  b.cut.apply(&b.lat, &b.vertices);
+  EXPECT_GT(drifted, 0);
+  std::vector<int32_t> label;
+  EXPECT_EQ(spring_components(b.lat, &label), 2);
+  EXPECT_EQ(triangle_components(b.vertices.size(), b.cut.triangles()), 2);
+  EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
+  for (const Vec3& v : b.vertices) ASSERT_TRUE(v.allFinite());
+}
+
 }  // namespace
 }  // namespace palpate

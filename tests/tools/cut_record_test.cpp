@@ -117,6 +117,7 @@ TEST(CutRecord, CuttingTheBlockThroughSeparatesItDeterministically) {
   EXPECT_EQ(j["interaction"], "cut");
   EXPECT_GT(j["cut"]["springs_cut"].get<int>(), 0);
   EXPECT_GT(j["cut"]["triangles_added"].get<int>(), 0);
+  EXPECT_GT(j["cut"]["free_nodes"].get<int>(), 0);  // the top comes free of the floor's nodes
   EXPECT_EQ(j["nan_events"].get<int>(), 0);
   EXPECT_GT(j["max_force_N"].get<double>(), 0.0);  // the blade's resistance
 }
