@@ -21,6 +21,7 @@ constexpr float kWireColor[4] = {0.16f, 0.18f, 0.24f, 1.0f};
 constexpr float kToolFreeColor[4] = {0.15f, 0.45f, 0.85f, 1.0f};
 constexpr float kToolContactColor[4] = {0.90f, 0.10f, 0.08f, 1.0f};
 constexpr float kProxyColor[4] = {0.10f, 0.55f, 0.22f, 1.0f};
+constexpr float kBladeColor[4] = {0.08f, 0.08f, 0.10f, 1.0f};
 
 // Unit UV sphere: positions double as normals.
 void make_unit_sphere(std::vector<float>* positions, std::vector<uint32_t>* indices) {
@@ -93,6 +94,7 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
   draw_mesh(gl, view);
   draw_tool(gl, view);
   draw_proxy(gl, view);
+  draw_blade(gl, view);
   ctx_->read_rgba(rgba);
 }
 
@@ -233,6 +235,22 @@ void Renderer::draw_proxy(const GlApi& gl, const FrameView& view) const {
   gl.LineWidth(1.0f);
   gl.PointSize(1.0f);
   gl.Enable(GL_DEPTH_TEST);
+}
+
+void Renderer::draw_blade(const GlApi& gl, const FrameView& view) const {
+  if (!view.show_blade || !view.blade_tip_m.allFinite() || !view.blade_end_m.allFinite()) return;
+  const float line[6] = {static_cast<float>(view.blade_tip_m.x()), static_cast<float>(view.blade_tip_m.y()),
+                         static_cast<float>(view.blade_tip_m.z()), static_cast<float>(view.blade_end_m.x()),
+                         static_cast<float>(view.blade_end_m.y()), static_cast<float>(view.blade_end_m.z())};
+  // depth-tested: the part inside the object is hidden by its surface, so the blade is seen entering it
+  gl.Disable(GL_LIGHTING);
+  set_color(gl, kBladeColor);
+  gl.EnableClientState(GL_VERTEX_ARRAY);
+  gl.VertexPointer(3, GL_FLOAT, 0, line);
+  gl.LineWidth(4.0f);
+  gl.DrawArrays(GL_LINES, 0, 2);
+  gl.DisableClientState(GL_VERTEX_ARRAY);
+  gl.LineWidth(1.0f);
 }
 
 }  // namespace palpate

@@ -1,5 +1,5 @@
 #pragma once
-/// Renderer: draws the deformed mesh, the tool and the proxy spring into an off-screen GL context.
+/// Renderer: draws the deformed mesh, the tool, the proxy spring and the blade into an off-screen GL context.
 
 #include <array>
 #include <cstdint>
@@ -26,6 +26,9 @@ struct FrameView {
   bool in_contact = false;                     ///< tool drawn red when true
   bool show_proxy = false;                     ///< draw the proxy spring tool -> proxy
   Vec3 proxy_pos_m = Vec3::Zero();             ///< proxy (contact) point, metres
+  bool show_blade = false;                     ///< draw the blade blade_tip_m -> blade_end_m (cut mode)
+  Vec3 blade_tip_m = Vec3::Zero();             ///< blade tip (the tool position), metres
+  Vec3 blade_end_m = Vec3::Zero();             ///< blade end toward the handle, metres
 };
 
 /// Draws frames with legacy fixed-function GL; keeps a pointer to the context (which must outlive it) and
@@ -51,6 +54,7 @@ class Renderer {
   void draw_mesh(const GlApi& gl, const FrameView& view);
   void draw_tool(const GlApi& gl, const FrameView& view) const;
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
+  void draw_blade(const GlApi& gl, const FrameView& view) const;
   // Rebuilds the unique edge list when the triangles changed since the last frame.
   void update_edges(const std::vector<std::array<int32_t, 3>>& triangles);
 

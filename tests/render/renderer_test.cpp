@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -145,6 +146,22 @@ TEST_P(RendererTest, ProxySpringIsDrawnOnlyWhenAsked) {
   const auto dot = pixel(shown, kW, int(p.x()), int(p.y()));
   EXPECT_GT(dot[1], dot[0] + 40) << dot[0] << " " << dot[1] << " " << dot[2];  // green
   EXPECT_GT(dot[1], dot[2] + 40) << dot[0] << " " << dot[1] << " " << dot[2];
+}
+
+TEST_P(RendererTest, BladeIsDrawnAsADarkLineOnlyWhenAsked) {
+  FrameView view = view_;
+  view.blade_tip_m = Vec3(-0.03, -0.07, 0.02);  // in front of the box, not hidden by it
+  view.blade_end_m = Vec3(0.03, -0.07, 0.08);
+  const auto hidden = render(RenderStyle::kSolid, view);
+  view.show_blade = true;
+  const auto shown = render(RenderStyle::kSolid, view);
+  EXPECT_GT(count_different(hidden, shown), 40);
+  const Eigen::Vector2d a = project(view.blade_tip_m), b = project(view.blade_end_m);
+  for (int i = 1; i < 10; ++i) {
+    const Eigen::Vector2d p = a + (i / 10.0) * (b - a);
+    const auto px = pixel(shown, kW, int(std::lround(p.x())), int(std::lround(p.y())));
+    EXPECT_LT(std::max({px[0], px[1], px[2]}), 60) << "at " << i << ": " << px[0] << " " << px[1] << " " << px[2];
+  }
 }
 
 TEST_P(RendererTest, SameFrameTwiceIsIdentical) {

@@ -259,6 +259,11 @@ void FrameStage::render(int64_t index, bool block) {
   view.in_contact = latest_.contact != ContactState::kFree;
   view.show_proxy = view.in_contact && latest_.contact != ContactState::kCut;
   view.proxy_pos_m = latest_.proxy_pos_m;
+  if (cut_) {
+    view.show_blade = true;
+    view.blade_tip_m = latest_.tool_pos_m;
+    view.blade_end_m = latest_.tool_pos_m + scene_.blade_length_m * latest_.blade_axis;
+  }
   renderer_->draw(view, buf);
   writer_->submit(static_cast<int>(index), buf);
   ++stats_.frames_rendered;
