@@ -244,5 +244,22 @@ TEST(Cut, ASlowCutThroughAMovingBlockSeparatesIt) {
   for (const Vec3& v : b.vertices) ASSERT_TRUE(v.allFinite());
 }
 
+
+TEST(Cut, WorldPointsMapToRestThroughADeformedLattice) {
+  Block b;
+  // an affine deformation, which trilinear cells reproduce exactly: the map back is exact inside and outside
+  Mat3 A;
+  A << 1.1, 0.2, 0.0, -0.1, 0.9, 0.15, 0.05, 0.0, 1.2;
+  const Vec3 t(0.004, -0.003, 0.01);
+  for (std::size_t n = 0; n < b.lat.num_nodes(); ++n) b.lat.x_m[n] = A * b.lat.rest_m[n] + t;
+  for (const Vec3& r : {Vec3(0.003, -0.017, 0.021), Vec3(-0.039, 0.038, -0.001), Vec3(0.0, 0.0, 0.05)})
+    EXPECT_NEAR((world_to_rest(b.lat, b.box.grid, A * r + t) - r).norm(), 0.0, 1e-9) << r.transpose();
+  std::vector<BladeQuad> rest;
+  RestEdge last;
+  quads_to_rest(b.lat, b.box.grid, {plane_x(0.003)}, &last, &rest);
+  EXPECT_EQ(rest.size(), 6u);  // a 12 cm blade edge in 2 cm cells
+  EXPECT_EQ(last.pieces, 6);
+}
+
 }  // namespace
 }  // namespace palpate
