@@ -31,13 +31,7 @@ Result<ForceTrace> run(const Scene& scene, const Model& model, double frame_hz, 
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
   stage.set_step_dt(1.0 / frame_hz);
-  ServoParams sp;
-  sp.mode = scene.mode;
-  sp.coupling_N_per_m = std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m);
-  sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
-  sp.grab_radius_m = scene.grab_radius_m;
-  sp.passivity = scene.device.passivity;
-  sp.ramp_s = scene.device.ramp_s;
+  ServoParams sp = servo_params_for(scene, 1000.0);
   sp.force_model = fm;
   Servo servo(sp, dev.value().get(), &q, tb.get());
   ForceTrace tr;

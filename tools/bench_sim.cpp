@@ -43,12 +43,7 @@ Result<Trace> replay(const Scene& scene, const Model& model) {
   auto device_r = make_device(scene, "", kServoRate_hz);
   if (!device_r) return device_r.error();
   // the coupling as `palpate record` sets it up; every configuration gets the same servo
-  ServoParams sp;
-  sp.mode = scene.mode;
-  sp.coupling_N_per_m = scene.device.coupling_N_per_m;
-  sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
-  sp.grab_radius_m = scene.grab_radius_m;
-  sp.period_s = 1.0 / kServoRate_hz;
+  const ServoParams sp = servo_params_for(scene, kServoRate_hz);
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
   Servo servo(sp, device_r.value().get(), &samples, local_model.get());

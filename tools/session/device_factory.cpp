@@ -1,5 +1,7 @@
 #include "tools/session/device_factory.h"
 
+#include <algorithm>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -145,6 +147,21 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
   std::filesystem::rename(tmp, path, ec);
   if (ec) return make_error("events '", path, "': ", ec.message());
   return Ok{};
+}
+
+ServoParams servo_params_for(const Scene& scene, double rate_hz) {
+  ServoParams sp;
+  sp.mode = scene.mode;
+  // the coupling never renders more stiffness than the device can display stably
+  sp.coupling_N_per_m = std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m);
+  sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
+  sp.passivity = scene.device.passivity;
+  sp.ramp_s = scene.device.ramp_s;
+  sp.grab_radius_m = scene.grab_radius_m;
+  sp.blade_length_m = scene.blade_length_m;
+  sp.cut_resistance_Ns_per_m = scene.cut_resistance_Ns_per_m;
+  sp.period_s = 1.0 / rate_hz;
+  return sp;
 }
 
 }  // namespace palpate

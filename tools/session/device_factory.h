@@ -10,6 +10,7 @@
 #include "core/result.h"
 #include "core/scene.h"
 #include "haptics/device.h"
+#include "haptics/servo.h"
 
 namespace palpate {
 
@@ -30,5 +31,9 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
 
 /// The config string handed to a plugin's open(): scene path, hand and keyframes as C99 hex floats.
 std::string plugin_config(const Scene& scene);
+
+/// The servo as a scene asks for it at rate_hz: the coupling capped at the device's stable stiffness, passivity,
+/// ramp, grab and blade settings. Every driver of the pipeline (record, benchmarks, tests) starts from this.
+ServoParams servo_params_for(const Scene& scene, double rate_hz);
 
 }  // namespace palpate

@@ -142,17 +142,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   auto device_r = make_device(scene, opt.device, kServoRate_hz);
   if (!device_r) return device_r.error();
   Device& device = *device_r.value();
-  ServoParams sp;
-  sp.mode = scene.mode;
-  // the coupling never renders more stiffness than the device can display stably
-  sp.coupling_N_per_m = std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m);
-  sp.passivity = scene.device.passivity;
-  sp.ramp_s = scene.device.ramp_s;
-  sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
-  sp.grab_radius_m = scene.grab_radius_m;
-  sp.blade_length_m = scene.blade_length_m;
-  sp.cut_resistance_Ns_per_m = scene.cut_resistance_Ns_per_m;
-  sp.period_s = 1.0 / kServoRate_hz;
+  const ServoParams sp = servo_params_for(scene, kServoRate_hz);
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
   Servo servo(sp, &device, &samples, local_model.get());

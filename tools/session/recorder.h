@@ -11,7 +11,7 @@
 namespace palpate {
 
 /// Default sleep-then-spin window of the realtime servo (see README, "Servo timing").
-inline constexpr int kDefaultSpin_us = 0;
+inline constexpr int kDefaultSpin_us = 100;
 
 /// How to run a recording (command-line overrides of the scene).
 struct RecordOptions {
