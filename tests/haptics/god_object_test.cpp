@@ -4,33 +4,13 @@
 #include <memory>
 
 #include "haptics/servo.h"
+#include "support/haptic_fixtures.h"
 
 namespace palpate {
 namespace {
 
-class PathDevice final : public Device {
- public:
-  const DeviceSpecs& specs() const noexcept override { return specs_; }
-  bool read(double, DevicePose* out) noexcept override {
-    out->pos_m = pos_m;
-    return true;
-  }
-  void write_force(const Vec3& f) noexcept override { force_N = f; }
-  DeviceSpecs specs_;
-  Vec3 pos_m = Vec3::Zero();
-  Vec3 force_N = Vec3::Zero();
-};
-
-// Adds a quad (a, b, c, d counter-clockwise seen from its outside) with flat normals.
-void add_quad(LocalModel* m, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const Vec3 n = (b - a).cross(c - a).normalized();
-  for (const auto& t : {std::array<Vec3, 3>{a, b, c}, std::array<Vec3, 3>{a, c, d}}) {
-    m->tri_ids[m->num_triangles] = m->num_triangles;
-    m->tri_m[m->num_triangles] = t;
-    m->normal[m->num_triangles] = {n, n, n};
-    ++m->num_triangles;
-  }
-}
+using PathDevice = test::FixedDevice;
+using test::add_quad;
 
 std::unique_ptr<Servo> make_servo(PathDevice* dev, SpscQueue<HapticSample>* q, TripleBuffer<LocalModel>* tb) {
   ServoParams p;

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "haptics/servo.h"
+#include "support/haptic_fixtures.h"
 
 namespace palpate {
 namespace {
@@ -62,18 +63,7 @@ TEST(ContactCompliance, FreeFloatingLatticeIsReportedNotNaN) {
   else EXPECT_EQ(c, Mat3::Constant(7.0));
 }
 
-class StillDevice final : public Device {
- public:
-  const DeviceSpecs& specs() const noexcept override { return specs_; }
-  bool read(double, DevicePose* out) noexcept override {
-    out->pos_m = pos_m;
-    return true;
-  }
-  void write_force(const Vec3& f) noexcept override { force_N = f; }
-  DeviceSpecs specs_;
-  Vec3 pos_m = Vec3::Zero();
-  Vec3 force_N = Vec3::Zero();
-};
+using StillDevice = test::FixedDevice;
 
 TEST(Servo, LocalModelGivesTheSeriesSpringOfCouplingAndObject) {
   // floor z = 0 whose contact point yields with compliance c along z: pressing d deep, the device feels the
@@ -83,13 +73,7 @@ TEST(Servo, LocalModelGivesTheSeriesSpringOfCouplingAndObject) {
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   const double k_c = 300, k_o = 100, d = 0.004;
   LocalModel& m = tb->write_buffer();
-  const Vec3 a(-0.1, -0.1, 0), b(0.1, -0.1, 0), c(0.1, 0.1, 0), e(-0.1, 0.1, 0);
-  m.num_triangles = 2;
-  m.tri_ids[0] = 0;
-  m.tri_m[0] = {a, b, c};
-  m.tri_ids[1] = 1;
-  m.tri_m[1] = {a, c, e};
-  m.normal[0] = m.normal[1] = {Vec3::UnitZ(), Vec3::UnitZ(), Vec3::UnitZ()};
+  test::add_quad(&m, Vec3(-0.1, -0.1, 0), Vec3(0.1, -0.1, 0), Vec3(0.1, 0.1, 0), Vec3(-0.1, 0.1, 0));
   m.has_contact_model = true;
   m.contact_p0_m = Vec3::Zero();
   m.compliance_m_per_N = Mat3::Identity() / k_o;

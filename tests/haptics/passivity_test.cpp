@@ -8,23 +8,13 @@
 
 #include "haptics/scripted_device.h"
 #include "haptics/servo.h"
+#include "support/haptic_fixtures.h"
 
 namespace palpate {
 namespace {
 
-// A rigid floor z = 0 as the servo sees it when the sim publishes nothing new (stalled or rigid).
-void publish_floor(TripleBuffer<LocalModel>* tb) {
-  LocalModel& m = tb->write_buffer();
-  const double h = 0.1;
-  const Vec3 a(-h, -h, 0), b(h, -h, 0), c(h, h, 0), d(-h, h, 0);
-  m.num_triangles = 2;
-  m.tri_ids[0] = 0;
-  m.tri_m[0] = {a, b, c};
-  m.tri_ids[1] = 1;
-  m.tri_m[1] = {a, c, d};
-  m.normal[0] = m.normal[1] = {Vec3::UnitZ(), Vec3::UnitZ(), Vec3::UnitZ()};
-  tb->publish();
-}
+// a rigid floor as the servo sees it when the sim publishes nothing new (stalled or rigid)
+using test::publish_floor;
 
 struct WallRun {
   double early_swing_m = 0, late_swing_m = 0, max_force_N = 0;
@@ -42,7 +32,7 @@ WallRun run_wall(bool passivity) {
   ScriptedDevice dev(specs, hand, {{0.0, Vec3(0, 0, 0.004), false}, {0.2, Vec3(0, 0, -0.01), false}});
   SpscQueue<HapticSample> q(16);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  publish_floor(tb.get());
+  publish_floor(tb.get(), 0.1);
   ServoParams p;
   p.mode = InteractionMode::kTouch;
   p.coupling_N_per_m = 700;

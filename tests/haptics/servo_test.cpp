@@ -7,39 +7,13 @@
 
 #include "haptics/scripted_device.h"
 #include "support/alloc_counter.h"
+#include "support/haptic_fixtures.h"
 
 namespace palpate {
 namespace {
 
-// A device that replays a fixed position sequence (possibly non-finite) and records the last force.
-class FixedDevice final : public Device {
- public:
-  const DeviceSpecs& specs() const noexcept override { return specs_; }
-  bool read(double, DevicePose* out) noexcept override {
-    out->pos_m = pos_m;
-    out->buttons = buttons;
-    return true;
-  }
-  void write_force(const Vec3& f) noexcept override { force_N = f; }
-  DeviceSpecs specs_;
-  Vec3 pos_m = Vec3::Zero();
-  uint32_t buttons = 0;
-  Vec3 force_N = Vec3::Zero();
-};
-
-// A flat square patch z = 0 (two triangles, normal +z) published to the servo.
-void publish_floor(TripleBuffer<LocalModel>* tb, double half_m = 0.05) {
-  LocalModel& m = tb->write_buffer();
-  const Vec3 a(-half_m, -half_m, 0), b(half_m, -half_m, 0), c(half_m, half_m, 0), d(-half_m, half_m, 0);
-  m.num_triangles = 2;
-  m.tri_ids[0] = 10;
-  m.tri_m[0] = {a, b, c};
-  m.tri_ids[1] = 11;
-  m.tri_m[1] = {a, c, d};
-  m.normal[0] = m.normal[1] = {Vec3::UnitZ(), Vec3::UnitZ(), Vec3::UnitZ()};
-  m.frame = 0;
-  tb->publish();
-}
+using test::FixedDevice;
+using test::publish_floor;
 
 struct ServoRig {
   FixedDevice dev;
