@@ -1,5 +1,7 @@
 #include "core/tri_mesh.h"
 
+#include "core/pair_key.h"
+
 #include <algorithm>
 #include <unordered_map>
 
@@ -26,9 +28,7 @@ TriMesh subdivide_midpoint(const TriMesh& mesh) {
   out.triangles.reserve(4 * mesh.triangles.size());
   std::unordered_map<uint64_t, int32_t> midpoint;  // edge (lo, hi) -> new vertex
   auto mid = [&](int32_t a, int32_t b) {
-    const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(std::min(a, b))) << 32) |
-                         static_cast<uint32_t>(std::max(a, b));
-    auto [it, fresh] = midpoint.try_emplace(key, static_cast<int32_t>(out.vertices_m.size()));
+    auto [it, fresh] = midpoint.try_emplace(unordered_pair_key(a, b), static_cast<int32_t>(out.vertices_m.size()));
     if (fresh) out.vertices_m.push_back(0.5 * (mesh.vertices_m[a] + mesh.vertices_m[b]));
     return it->second;
   };

@@ -1,5 +1,7 @@
 #include "sim/lattice.h"
 
+#include "core/pair_key.h"
+
 #include <algorithm>
 #include <atomic>
 #include <unordered_set>
@@ -7,18 +9,12 @@
 namespace palpate {
 namespace {
 
-// Key of an unordered node pair for de-duplication.
-uint64_t pair_key(int32_t a, int32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
-}
-
 struct Builder {
   Lattice* lat;
   std::unordered_set<uint64_t> seen;
 
   void add(int32_t a, int32_t b, double k, SpringFamily fam) {
-    if (!seen.insert(pair_key(a, b)).second) return;
+    if (!seen.insert(unordered_pair_key(a, b)).second) return;
     Spring s;
     s.a = a;
     s.b = b;
@@ -124,7 +120,7 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
           if (!(corner & (1 << axis))) {
             const int32_t a = cn[corner], o = cn[corner | (1 << axis)];
             if (spec.structural_N_per_m > 0.0) b.add(a, o, spec.structural_N_per_m, SpringFamily::kStructural);
-            else b.seen.insert(pair_key(a, o));  // bend still needs to know the edge exists
+            else b.seen.insert(unordered_pair_key(a, o));  // bend still needs to know the edge exists
           }
   }
   std::unordered_set<uint64_t> edges = b.seen;  // structural edges, for the bend rule below
@@ -152,7 +148,7 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
         const int32_t far = node_at(g.i + 2 * di, g.j + 2 * dj, g.k + 2 * dk);
         if (mid < 0 || far < 0) continue;
         const int32_t self = static_cast<int32_t>(i);
-        if (edges.count(pair_key(self, mid)) && edges.count(pair_key(mid, far)))
+        if (edges.count(unordered_pair_key(self, mid)) && edges.count(unordered_pair_key(mid, far)))
           b.add(self, far, spec.bend_N_per_m, SpringFamily::kBend);
       }
     }

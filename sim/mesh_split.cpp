@@ -1,16 +1,13 @@
 #include "sim/mesh_split.h"
 
+#include "core/pair_key.h"
+
 #include <algorithm>
 #include <map>
 #include <unordered_map>
 
 namespace palpate {
 namespace {
-
-uint64_t edge_key(int32_t a, int32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
-}
 
 // The two vertices made on one crossed edge: copy[0] on the side of the lower index, copy[1] on the higher.
 struct EdgeCut {
@@ -39,7 +36,7 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
     EdgeCut c;
     c.lo = tip.edge_lo;
     c.copy = {tip.copy_lo, tip.copy_hi};
-    cuts.emplace(edge_key(tip.edge_lo, tip.edge_hi), c);
+    cuts.emplace(unordered_pair_key(tip.edge_lo, tip.edge_hi), c);
   }
   rep.tips_reopened = static_cast<int>(old_tips.size());
   CutBox box;
@@ -51,7 +48,7 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
   for (const auto& tri : *triangles) {
     for (int k = 0; k < 3; ++k) {
       const int32_t a = std::min(tri[k], tri[(k + 1) % 3]), b = std::max(tri[k], tri[(k + 1) % 3]);
-      const uint64_t key = edge_key(a, b);
+      const uint64_t key = unordered_pair_key(a, b);
       if (tested.count(key) || cuts.count(key)) continue;
       double t = 0.0;
       const bool hit = segment_crosses_any(x[a], x[b], quads, box, &t) && t > kSplitEdgeEps && t < 1.0 - kSplitEdgeEps;
@@ -79,7 +76,7 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
     const EdgeCut* e[3];
     int n = 0;
     for (int k = 0; k < 3; ++k) {
-      const auto it = cuts.find(edge_key(tri[k], tri[(k + 1) % 3]));
+      const auto it = cuts.find(unordered_pair_key(tri[k], tri[(k + 1) % 3]));
       e[k] = it == cuts.end() ? nullptr : &it->second;
       n += e[k] ? 1 : 0;
     }
@@ -146,7 +143,7 @@ std::string mesh_problem(const std::vector<Vec3>& v, const std::vector<std::arra
     if (const auto [it, fresh] = seen.emplace(sorted, i); !fresh)
       return who + ": same vertices as triangle " + std::to_string(it->second);
     for (int k = 0; k < 3; ++k) {
-      const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(t[k])) << 32) | static_cast<uint32_t>(t[(k + 1) % 3]);
+      const uint64_t key = ordered_pair_key(t[k], t[(k + 1) % 3]);
       if (const auto [it, fresh] = directed.emplace(key, i); !fresh)
         return who + ": edge " + std::to_string(t[k]) + "->" + std::to_string(t[(k + 1) % 3]) + " also used by triangle " +
                std::to_string(it->second);

@@ -1,7 +1,10 @@
 #pragma once
 // Shared test fixtures: a box model filling its grid cube, tolerances.
 
+#include <filesystem>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "core/aabb.h"
 #include "core/grid_hierarchy.h"
@@ -40,6 +43,13 @@ inline LatticeSpec spec_for(int level, double ks, double kh, double kb) {
   s.damping_Ns_per_m = 0.05;
   s.gravity_m_per_s2 = Vec3::Zero();
   return s;
+}
+
+/// An empty folder under the test temp dir (removed first if a previous run left it).
+inline std::string fresh_dir(const std::string& name) {
+  const std::filesystem::path p = std::filesystem::path(testing::TempDir()) / ("palpate_" + name);
+  std::filesystem::remove_all(p);
+  return p.string();
 }
 
 /// Path of a file in the source tree.

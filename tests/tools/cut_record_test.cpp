@@ -17,11 +17,7 @@ namespace palpate {
 namespace {
 namespace fs = std::filesystem;
 
-std::string fresh_dir(const std::string& name) {
-  const fs::path p = fs::path(testing::TempDir()) / ("palpate_" + name);
-  fs::remove_all(p);
-  return p.string();
-}
+using test::fresh_dir;
 
 // A block with a blade drawn through it along x while the button is held; the blade axis is tilted to +y.
 Scene block_cut_scene(double blade_z_m) {

@@ -15,11 +15,7 @@ namespace palpate {
 namespace {
 namespace fs = std::filesystem;
 
-std::string fresh_dir(const std::string& name) {
-  const fs::path p = fs::path(testing::TempDir()) / ("palpate_" + name);
-  fs::remove_all(p);
-  return p.string();
-}
+using test::fresh_dir;
 
 nlohmann::json read_json(const std::string& path) {
   std::ifstream f(path);
