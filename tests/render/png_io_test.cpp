@@ -66,6 +66,20 @@ TEST(PngIo, WriteIntoMissingDirectoryNamesThePathAndLeavesNoFile) {
   EXPECT_TRUE(std::filesystem::is_empty(dir.str()));
 }
 
+TEST(PngIo, FullDiskNamesThePathAndLeavesNoFrame) {
+  // the temporary name points at /dev/full: every write fails with ENOSPC, as on a full disk
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  test::ScratchDir dir("png_full");
+  const std::string path = dir.file("frame_00003.png");
+  std::filesystem::create_symlink("/dev/full", path + ".tmp");
+  const auto rgba = random_rgba(64, 64, 3);
+  const Status written = write_png(path, 64, 64, rgba.data());
+  ASSERT_FALSE(written.ok());
+  EXPECT_NE(written.error().message.find("png '" + path + "'"), std::string::npos) << written.error().message;
+  EXPECT_NE(written.error().message.find("No space left on device"), std::string::npos) << written.error().message;
+  EXPECT_FALSE(std::filesystem::exists(path));  // never a half-written frame under the final name
+}
+
 TEST(PngIo, WriteOverADirectoryFailsAndRemovesTheTemporary) {
   // the rename onto an existing directory fails after the data was written
   test::ScratchDir dir("png_io");
