@@ -7,8 +7,5 @@ cd "$(dirname "$0")/.."
 scene=${1:-scenes/bunny_pull.json}
 out=${2:-out/$(basename "$scene" .json)}
 scripts/build.sh
-build/bin/palpate record "$scene" --out "$out"
-echo
-echo "frames:  $out/frames/frame_*.png"
-echo "log:     $out/haptic.csv"
-echo "summary: $out/summary.json"
+echo "recording $scene into $out/"
+build/bin/palpate record "$scene" --out "$out"   # prints where the frames, log and summary are
