@@ -186,7 +186,6 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   if (driver >= 0) d.driver = std::vector<std::string>{"scripted", "shm", "plugin", "replay"}[static_cast<std::size_t>(driver)];
   r.string("link", &d.link);
   r.number("watchdog_ms", &d.watchdog_ms, 0.1, 10000.0);
-  r.number("ramp_ms", &d.ramp_ms, 0.0, 10000.0);
   r.number("max_speed_m_per_s", &d.max_speed_m_per_s, 0.01, 1000.0);
   r.number("max_force_N", &d.max_force_N, 0.0, 100.0);
   r.number("coupling_N_per_m", &d.coupling_N_per_m, 0.0, 1e5);

@@ -51,7 +51,6 @@ struct DeviceSpec {
   std::string driver = "scripted";          ///< device driver: scripted | shm | plugin | replay
   std::string link;                         ///< shm: link name; plugin: .so path; replay: haptic.csv or recording folder
   double watchdog_ms = 5.0;                 ///< shm: peer silent this long -> force zero, "disconnected"
-  double ramp_ms = 200.0;                   ///< shm: force ramp-in time at start and after a reconnect
   double max_speed_m_per_s = 10.0;          ///< shm: poses implying a faster handle are rejected
   double max_force_N = 3.3;                 ///< force clamp
   double coupling_N_per_m = 300.0;          ///< k_c of the proxy spring

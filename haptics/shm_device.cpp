@@ -16,8 +16,7 @@ ShmDevice::ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs&
     : seg_(std::move(seg)),
       params_(params),
       specs_(specs),
-      watchdog_(static_cast<int64_t>(params.watchdog_s * 1e9)),
-      ramp_(static_cast<int64_t>(params.ramp_s * 1e9)) {
+      watchdog_(static_cast<int64_t>(params.watchdog_s * 1e9)) {
   palpate_shim_segment* s = seg_.get();
   // continue the force counter of an earlier sim, so the device sees it move forward
   force_seq_ = __atomic_load_n(&s->force.force.seq, __ATOMIC_ACQUIRE);
@@ -35,7 +34,6 @@ ShmDevice::~ShmDevice() {
 Result<std::unique_ptr<ShmDevice>> ShmDevice::connect(const ShmParams& p, const DeviceSpecs& limits) {
   const std::string what = "shm '" + p.name + "'";
   if (!(p.watchdog_s > 0.0 && p.watchdog_s <= 10.0)) return make_error(what, ": watchdog ", std::to_string(p.watchdog_s), " s out of range (0, 10]");
-  if (!(p.ramp_s >= 0.0 && p.ramp_s <= 10.0)) return make_error(what, ": ramp ", std::to_string(p.ramp_s), " s out of range [0, 10]");
   if (!(p.max_speed_m_per_s > 0.0)) return make_error(what, ": max speed must be > 0");
   auto seg = ShmSegment::connect(p.name, p.connect_timeout_s);
   if (!seg) return seg.error();
@@ -121,7 +119,6 @@ bool ShmDevice::read(double t_s, DevicePose* out) noexcept {
     events_.push({tick, t_s, kind, static_cast<double>(watchdog_.silent_ns(now)) * 1e-6});
     connected_ = alive;
     ever_connected_ = ever_connected_ || alive;
-    ramp_.reset(0.0, now);  // zero at once on loss; ramp in from zero on return
   }
   if (!connected_) {
     ++counters_.disconnected_ticks;
@@ -141,8 +138,9 @@ bool ShmDevice::read(double t_s, DevicePose* out) noexcept {
 }
 
 void ShmDevice::write_force(const Vec3& force_N) noexcept {
-  const double gain = connected_ ? ramp_.update(1.0, now_ns_) : 0.0;
-  Vec3 f = gain * force_N;
+  // zero at once while the link is down; the ramp back in is the servo's (it restarts after ticks without a
+  // reading), so it shows in haptic.csv as what the device was sent
+  Vec3 f = connected_ ? force_N : Vec3::Zero();
   const double mag = f.norm();
   if (!std::isfinite(mag)) f.setZero();
   else if (mag > specs_.max_force_N) f *= specs_.max_force_N / mag;

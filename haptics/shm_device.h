@@ -1,7 +1,7 @@
 #pragma once
 /// ShmDevice: the `shm` driver — a device served by another process through the shared-memory shim
 /// (haptics/shim/palpate_shim.h). Everything read from the peer is checked; a watchdog on the peer's heartbeat
-/// zeroes the force at once when it goes silent and ramps it back in when it returns.
+/// zeroes the force at once when it goes silent (the servo ramps it back in when readings return).
 
 #include <memory>
 #include <string>
@@ -17,7 +17,6 @@ namespace palpate {
 struct ShmParams {
   std::string name;                   ///< link name ("/palpate-NAME")
   double watchdog_s = 0.005;          ///< peer silent this long -> disconnected
-  double ramp_s = 0.2;                ///< force ramp-in time at start and after a reconnect
   double max_speed_m_per_s = 10.0;    ///< faster pose changes are rejected as impossible
   double connect_timeout_s = 5.0;     ///< how long connect() waits for the device to publish the segment
   double servo_rate_hz = 1000.0;      ///< servo ticks per scene second (tick numbers of events)
@@ -50,7 +49,7 @@ class ShmDevice final : public Device {
   const DeviceSpecs& specs() const noexcept override { return specs_; }
   /// Latest checked pose; false while disconnected or when this tick's new pose was rejected.
   bool read(double t_s, DevicePose* out) noexcept override;
-  /// Sends force x ramp gain (zero while disconnected), clamped to max_force_N.
+  /// Sends the force (zero while disconnected), clamped to max_force_N.
   void write_force(const Vec3& force_N) noexcept override;
 
   /// True while the peer's heartbeat is alive.
@@ -61,7 +60,7 @@ class ShmDevice final : public Device {
   const ShmCounters& counters() const noexcept { return counters_; }
   /// The link settings.
   const ShmParams& params() const noexcept { return params_; }
-  /// Force (N) last written to the peer, after ramp and clamp.
+  /// Force (N) last written to the peer, after the link check and clamp.
   const Vec3& last_force_sent_N() const noexcept { return sent_N_; }
 
  private:
@@ -72,7 +71,6 @@ class ShmDevice final : public Device {
   ShmParams params_;
   DeviceSpecs specs_;
   PeerWatchdog watchdog_;
-  ForceRamp ramp_;
   DeviceEventLog events_;
   ShmCounters counters_;
   DevicePose good_;              // last accepted pose

@@ -137,7 +137,6 @@ TEST(ShmDevice, DisconnectsWhenTheDeviceStopsAndReconnectsWhenItResumes) {
   ShmParams p;
   p.name = name;
   p.watchdog_s = 0.05;
-  p.ramp_s = 0.0;
   auto d = ShmDevice::connect(p, DeviceSpecs{});
   ASSERT_TRUE(d) << d.error().message;
   ShmDevice& shm = *d.value();

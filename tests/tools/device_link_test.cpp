@@ -101,7 +101,7 @@ TEST(DeviceLink, RecordsAgainstTheDeviceProcessAndBothEndCleanly) {
 
 TEST(DeviceLink, SilentDeviceZeroesForceAtOnceAndRampsBackIn) {
   const std::string dir = fresh("stall"), link = test::link_name("stall");
-  const std::string scene = test::device_scene("dev_stall", 2.5, {{"watchdog_ms", 30}, {"ramp_ms", 300}});
+  const std::string scene = test::device_scene("dev_stall", 2.5, {{"watchdog_ms", 30}, {"ramp_s", 0.3}});
   Child dev = start_device(link, scene, dir, "a");
   ASSERT_TRUE(dev.wait_for_output("serving shm", kWait_s));
   Child rec = start_record(link, scene, dir, false);

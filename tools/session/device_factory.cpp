@@ -68,7 +68,6 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
     ShmParams p;
     p.name = target;
     p.watchdog_s = scene.device.watchdog_ms * 1e-3;
-    p.ramp_s = scene.device.ramp_ms * 1e-3;
     p.max_speed_m_per_s = scene.device.max_speed_m_per_s;
     p.servo_rate_hz = rate_hz;
     auto d = ShmDevice::connect(p, specs);
@@ -101,7 +100,6 @@ nlohmann::json device_report(const Device& device) {
          {"link", shm->params().name},
          {"connected_at_end", shm->connected()},
          {"watchdog_ms", shm->params().watchdog_s * 1e3},
-         {"ramp_ms", shm->params().ramp_s * 1e3},
          {"events", events},
          {"events_lost", shm->events().lost()},
          {"poses", c.poses},
