@@ -11,7 +11,7 @@
 namespace palpate {
 namespace {
 
-const std::string kBunnyPath = PALPATE_SHARED_DIR "/data/bunny.obj";
+const std::string kBunnyPath = PALPATE_SOURCE_DIR "/scenes/bunny.obj";
 
 TriMesh tetrahedron() {
   TriMesh m;

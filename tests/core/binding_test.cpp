@@ -10,7 +10,7 @@
 namespace palpate {
 namespace {
 
-const std::string kBunnyPath = PALPATE_SHARED_DIR "/data/bunny.obj";
+const std::string kBunnyPath = PALPATE_SOURCE_DIR "/scenes/bunny.obj";
 
 void expect_bound_inside(const GridHierarchy& grid, int level, const Vec3& p, const VertexBinding& b) {
   ASSERT_GE(b.cell, 0);

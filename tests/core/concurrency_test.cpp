@@ -1,6 +1,7 @@
 // SpscQueue and TripleBuffer across real threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <thread>
 
@@ -35,14 +36,16 @@ TEST(SpscQueue, TwoThreadsPassEveryItemInOrder) {
     for (int64_t i = 0; i < kN; ++i)
       while (!q.try_push(i)) std::this_thread::yield();
   });
-  int64_t expected = 0, v = 0;
+  // count mismatches and keep draining: an assertion here would abort the binary with the producer running
+  int64_t expected = 0, v = 0, out_of_order = 0;
   while (expected < kN) {
     if (q.try_pop(&v)) {
-      ASSERT_EQ(v, expected);
+      if (v != expected) ++out_of_order;
       ++expected;
     }
   }
   producer.join();
+  EXPECT_EQ(out_of_order, 0);
 }
 
 struct Snapshot {
@@ -62,14 +65,17 @@ TEST(TripleBuffer, ReaderSeesWholeSnapshotsInIncreasingOrder) {
       tb.publish();
     }
   });
-  int64_t last = 0;
+  // count torn and backward snapshots; the loop ends when the writer's last one arrives
+  int64_t last = 0, torn = 0, backward = 0;
   while (last < kN) {
     const Snapshot& s = tb.read();
-    for (int64_t x : s.payload) ASSERT_EQ(x, s.seq);
-    ASSERT_GE(s.seq, last);
-    last = s.seq;
+    for (int64_t x : s.payload) torn += (x != s.seq) ? 1 : 0;
+    if (s.seq < last) ++backward;
+    last = std::max(last, s.seq);
   }
   writer.join();
+  EXPECT_EQ(torn, 0);
+  EXPECT_EQ(backward, 0);
   EXPECT_TRUE(tb.has_data());
   EXPECT_EQ(tb.read().seq, kN);
 }

@@ -12,7 +12,7 @@
 namespace palpate {
 namespace {
 
-const std::string kBunnyPath = PALPATE_SHARED_DIR "/data/bunny.obj";
+const std::string kBunnyPath = PALPATE_SOURCE_DIR "/scenes/bunny.obj";
 const Aabb kUnitCube{Vec3::Constant(-0.5), Vec3::Constant(0.5)};
 
 // the bunny scaled into the unit cube centred at the origin

@@ -1,3 +1,4 @@
+#include "support/temp_root.h"
 #include "core/mesh_io.h"
 
 #include <gtest/gtest.h>
@@ -22,7 +23,7 @@ class MeshIoTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("palpate_mesh_io_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::path(test::temp_root()) / info->name();
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

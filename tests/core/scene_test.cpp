@@ -64,7 +64,7 @@ TEST(Scene, MissingPiecesAndBadJson) {
 TEST(Scene, FileErrorsNameTheFile) {
   EXPECT_NE(load_scene("/nonexistent/x.json").error().message.find("scene '/nonexistent/x.json': file not found"),
             std::string::npos);
-  const std::string empty = testing::TempDir() + "/empty_scene.json";
+  const std::string empty = test::temp_root() + "/empty_scene.json";
   std::ofstream(empty).close();
   EXPECT_NE(load_scene(empty).error().message.find("file is empty"), std::string::npos);
 }

@@ -61,6 +61,7 @@ TEST(ShimSeqlock, ReaderNeverSeesAHalfWrittenPose) {
   const std::string name = unique("seqlock");
   auto seg = ShmSegment::serve(name, specs());
   ASSERT_TRUE(seg) << seg.error().message;
+  ShmSegment::unlink(name);  // the mapping stays valid; nothing is left in /dev/shm whatever happens below
   palpate_shim_segment* s = seg.value().get();
   std::atomic<bool> stop{false};
   std::thread writer([&] {
@@ -76,22 +77,23 @@ TEST(ShimSeqlock, ReaderNeverSeesAHalfWrittenPose) {
       if (i % 8 == 0) std::this_thread::yield();  // hot, but leaves the reader gaps to succeed in
     }
   });
-  int64_t good = 0;
+  // count torn copies instead of asserting here: a failure must not abort the binary with the writer running
+  int64_t good = 0, torn = 0;
   const int64_t end_ns = monotonic_ns() + 3'000'000'000LL;
   while (good < 20000 && monotonic_ns() < end_ns) {
     palpate_shim_pose p{};
     if (!palpate_shim_read_pose(&s->pose, &p, 8) || p.seq == 0) continue;
     ++good;
     const auto i = static_cast<double>(p.seq);
-    ASSERT_EQ(static_cast<double>(p.time_ns), i);
-    for (double v : p.pos_m) ASSERT_EQ(v, i);
-    for (double v : p.quat_wxyz) ASSERT_EQ(v, i);
-    ASSERT_EQ(p.buttons, p.seq);
+    bool same = static_cast<double>(p.time_ns) == i && p.buttons == p.seq;
+    for (double v : p.pos_m) same = same && v == i;
+    for (double v : p.quat_wxyz) same = same && v == i;
+    if (!same) ++torn;
   }
   stop = true;
   writer.join();
   EXPECT_GT(good, 0);
-  ShmSegment::unlink(name);
+  EXPECT_EQ(torn, 0) << "of " << good << " reads";
 }
 
 TEST(ShimSegment, ServeIsOwnerOnlyAndReattachBumpsTheEpoch) {

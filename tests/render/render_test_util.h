@@ -12,16 +12,16 @@
 #include <vector>
 
 #include "core/tri_mesh.h"
+#include "support/temp_root.h"
 
 namespace palpate::test {
 
-/// A fresh directory under the system temp dir, removed with its contents on destruction.
+/// A fresh directory under the process's temp_root(), removed with its contents on destruction.
 class ScratchDir {
  public:
   explicit ScratchDir(const std::string& tag) {
     static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("palpate_render_" + tag + "_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
+    path_ = std::filesystem::path(temp_root()) / (tag + "_" + std::to_string(counter++));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/temp_root.h"
 #include "core/scene.h"
 #include "tools/session/recorder.h"
 
@@ -33,7 +34,7 @@ nlohmann::json record(const std::string& integrator) {
   text.replace(text.find("INTEGRATOR"), 10, integrator);
   Scene scene = parse_scene(text, "slide.json").value();
   RecordOptions opt;
-  opt.out_dir = (std::filesystem::path(testing::TempDir()) / ("palpate_slide_" + integrator)).string();
+  opt.out_dir = (std::filesystem::path(test::temp_root()) / ("palpate_slide_" + integrator)).string();
   opt.quiet = true;
   opt.render = false;
   auto r = record_scene(scene, opt);

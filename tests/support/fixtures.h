@@ -11,6 +11,7 @@
 #include "core/mesh_io.h"
 #include "core/scene.h"
 #include "core/tri_mesh.h"
+#include "support/temp_root.h"
 
 namespace palpate::test {
 
@@ -45,9 +46,9 @@ inline LatticeSpec spec_for(int level, double ks, double kh, double kb) {
   return s;
 }
 
-/// An empty folder under the test temp dir (removed first if a previous run left it).
+/// An empty folder under this test process's temp_root() (removed with it at exit).
 inline std::string fresh_dir(const std::string& name) {
-  const std::filesystem::path p = std::filesystem::path(testing::TempDir()) / ("palpate_" + name);
+  const std::filesystem::path p = std::filesystem::path(temp_root()) / name;
   std::filesystem::remove_all(p);
   return p.string();
 }

@@ -32,7 +32,7 @@ CliRun palpate(const std::string& args) {
   return r;
 }
 
-std::string tmp(const std::string& name) { return (fs::path(testing::TempDir()) / ("palpate_cli_" + name)).string(); }
+std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("palpate_cli_" + name)).string(); }
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 

@@ -23,7 +23,7 @@ struct CmdRun {
 CmdRun palpate(const std::vector<std::string>& args, const std::string& tag) {
   std::vector<std::string> a = {test::bin_dir() + "/palpate"};
   a.insert(a.end(), args.begin(), args.end());
-  const std::string out = (fs::path(testing::TempDir()) / ("palpate_drv_" + tag + ".out")).string();
+  const std::string out = (fs::path(test::temp_root()) / ("palpate_drv_" + tag + ".out")).string();
   Child c(a, out);
   CmdRun r;
   r.code = c.wait(120.0);
@@ -32,7 +32,7 @@ CmdRun palpate(const std::vector<std::string>& args, const std::string& tag) {
 }
 
 std::string out_dir(const std::string& tag) {
-  const fs::path p = fs::path(testing::TempDir()) / ("palpate_drv_" + tag);
+  const fs::path p = fs::path(test::temp_root()) / ("palpate_drv_" + tag);
   fs::remove_all(p);
   return p.string();
 }
@@ -58,7 +58,7 @@ TEST(ReplayDriver, LockstepReplayOfARecordingReproducesItsStateHash) {
 }
 
 TEST(ReplayDriver, MalformedLogNamesTheLine) {
-  const std::string csv = (fs::path(testing::TempDir()) / "palpate_bad_haptic.csv").string();
+  const std::string csv = (fs::path(test::temp_root()) / "palpate_bad_haptic.csv").string();
   std::ofstream(csv) << "tick,t_s,tool_x_m,tool_y_m,tool_z_m,buttons\n0,0.000,0,0,0.04,0\n1,0.001,0,zz,0.04,0\n";
   CmdRun r = palpate({"record", "scenes/cube_press.json", "--no-render", "-q", "--out", out_dir("bad"), "--device",
                    "replay:" + csv},

@@ -18,7 +18,7 @@ using test::Csv;
 constexpr double kWait_s = 30.0;  // generous bounds: the machine is shared and loaded
 
 std::string fresh(const std::string& name) {
-  const fs::path p = fs::path(testing::TempDir()) / ("palpate_dev_" + name);
+  const fs::path p = fs::path(test::temp_root()) / ("palpate_dev_" + name);
   fs::remove_all(p);
   fs::create_directories(p);
   return p.string();

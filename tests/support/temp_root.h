@@ -1,0 +1,12 @@
+#pragma once
+// The one temporary folder of a test process: every file a test writes goes under it, and it is removed
+// with its contents when the process exits, so a test run leaves nothing in the system temp folder.
+
+#include <string>
+
+namespace palpate::test {
+
+/// A folder made for this process under $TMPDIR (or /tmp) on first use, removed at exit. Thread: any.
+const std::string& temp_root();
+
+}  // namespace palpate::test
