@@ -23,6 +23,7 @@ struct MeshSpec {
   int box_subdivisions = 8;           ///< quads per box face edge
   double size_m = 0.1;                ///< largest side after normalisation
   char up_axis = 'z';                 ///< the file's up axis (x, y or z); rotated to world z on load
+  int subdivisions = 0;               ///< midpoint subdivisions applied on load (each: 4x the triangles, same shape)
 };
 
 /// The local mass-spring lattice (paper section 4.2) and its dynamics.

@@ -51,18 +51,23 @@ Status GlApi::load(GetProc get_proc, const char* backend, const char* loader_nam
   L(&DrawBuffer, "glDrawBuffer");
   L(&GetError, "glGetError");
   L(&GetString, "glGetString");
-  if (with_fbo) {
-    L(&GenFramebuffers, "glGenFramebuffers");
-    L(&DeleteFramebuffers, "glDeleteFramebuffers");
-    L(&BindFramebuffer, "glBindFramebuffer");
-    L(&GenRenderbuffers, "glGenRenderbuffers");
-    L(&DeleteRenderbuffers, "glDeleteRenderbuffers");
-    L(&BindRenderbuffer, "glBindRenderbuffer");
-    L(&RenderbufferStorage, "glRenderbufferStorage");
-    L(&FramebufferRenderbuffer, "glFramebufferRenderbuffer");
-    L(&CheckFramebufferStatus, "glCheckFramebufferStatus");
-  }
+  L(&GetIntegerv, "glGetIntegerv");
   if (missing != nullptr) {
+    return make_error(backend, ": ", loader_name, "('", missing, "') returned null");
+  }
+  // framebuffer objects: required by the EGL backend, optional elsewhere (the renderer's cached layer uses them)
+  L(&GenFramebuffers, "glGenFramebuffers");
+  L(&DeleteFramebuffers, "glDeleteFramebuffers");
+  L(&BindFramebuffer, "glBindFramebuffer");
+  L(&GenRenderbuffers, "glGenRenderbuffers");
+  L(&DeleteRenderbuffers, "glDeleteRenderbuffers");
+  L(&BindRenderbuffer, "glBindRenderbuffer");
+  L(&RenderbufferStorage, "glRenderbufferStorage");
+  L(&FramebufferRenderbuffer, "glFramebufferRenderbuffer");
+  L(&CheckFramebufferStatus, "glCheckFramebufferStatus");
+  L(&BlitFramebuffer, "glBlitFramebuffer");
+  has_fbo = missing == nullptr;
+  if (with_fbo && !has_fbo) {
     return make_error(backend, ": ", loader_name, "('", missing, "') returned null");
   }
   return Ok{};

@@ -50,6 +50,7 @@ struct GlApi {
   decltype(&::glDrawBuffer) DrawBuffer = nullptr;
   decltype(&::glGetError) GetError = nullptr;
   decltype(&::glGetString) GetString = nullptr;
+  decltype(&::glGetIntegerv) GetIntegerv = nullptr;
 
   // framebuffer objects (GL 3.0); loaded only when asked for
   PFNGLGENFRAMEBUFFERSPROC GenFramebuffers = nullptr;
@@ -61,8 +62,11 @@ struct GlApi {
   PFNGLRENDERBUFFERSTORAGEPROC RenderbufferStorage = nullptr;
   PFNGLFRAMEBUFFERRENDERBUFFERPROC FramebufferRenderbuffer = nullptr;
   PFNGLCHECKFRAMEBUFFERSTATUSPROC CheckFramebufferStatus = nullptr;
+  PFNGLBLITFRAMEBUFFERPROC BlitFramebuffer = nullptr;
+  bool has_fbo = false;  ///< every framebuffer-object entry point above is loaded
 
   /// Fills the table through get_proc; fails naming the backend, the loader and the first missing entry point.
+  /// with_fbo: the framebuffer-object entry points are required too (else they are loaded when present).
   Status load(GetProc get_proc, const char* backend, const char* loader_name, bool with_fbo);
 };
 

@@ -90,18 +90,45 @@ Eigen::Vector2d Renderer::project(const Vec3& p_m) const {
 void Renderer::draw(const FrameView& view, uint8_t* rgba) {
   ctx_->make_current();
   const GlApi& gl = ctx_->gl();
-  setup_frame(gl);
-  draw_mesh(gl, view);
+  // both paths draw into the renderer's own framebuffer when there is one, so their pixels compare exactly
+  GLint previous = 0;
+  const bool own_fbo = ensure_framebuffers(gl);
+  if (own_fbo) {
+    gl.GetIntegerv(GL_FRAMEBUFFER_BINDING, &previous);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, frame_.id());
+  }
+  last_layered_ = own_fbo && layered_ && view.moving_vertices != nullptr && draw_layered(gl, view);
+  if (!last_layered_) {
+    setup_frame(gl, /*clear=*/true);
+    draw_mesh(gl, view);
+  }
   draw_tool(gl, view);
   draw_proxy(gl, view);
   draw_blade(gl, view);
   ctx_->read_rgba(rgba);
+  if (own_fbo) gl.BindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous));
 }
 
-void Renderer::setup_frame(const GlApi& gl) const {
+bool Renderer::ensure_framebuffers(const GlApi& gl) {
+  if (!fbo_tried_) {
+    fbo_tried_ = true;
+    auto f = Framebuffer::create(gl, ctx_->width(), ctx_->height());
+    auto l = Framebuffer::create(gl, ctx_->width(), ctx_->height());
+    // without them frames go to the context's own buffer and every frame is drawn in full
+    if (f && l) {
+      frame_ = std::move(f).value();
+      layer_ = std::move(l).value();
+    }
+  }
+  return frame_.id() != 0;
+}
+
+void Renderer::setup_frame(const GlApi& gl, bool clear) const {
   gl.Viewport(0, 0, ctx_->width(), ctx_->height());
-  gl.ClearColor(kBackground[0], kBackground[1], kBackground[2], kBackground[3]);
-  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (clear) {
+    gl.ClearColor(kBackground[0], kBackground[1], kBackground[2], kBackground[3]);
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
   gl.Enable(GL_DEPTH_TEST);
   gl.DepthFunc(GL_LEQUAL);
   gl.ShadeModel(GL_SMOOTH);
@@ -128,14 +155,13 @@ void Renderer::setup_frame(const GlApi& gl) const {
   gl.LoadMatrixd(view_.data());
 }
 
-void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
-  if (view.vertices_m == nullptr || view.triangles == nullptr || view.triangles->empty()) return;
+bool Renderer::prepare_mesh(const FrameView& view) {
   const std::vector<Vec3>& vertices = *view.vertices_m;
   const auto& triangles = *view.triangles;
   // an index outside the vertex array would make GL read out of bounds
   const auto n_v = static_cast<int64_t>(vertices.size());
   for (const auto& t : triangles) {
-    if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= n_v || t[1] >= n_v || t[2] >= n_v) return;
+    if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= n_v || t[1] >= n_v || t[2] >= n_v) return false;
   }
   to_floats(vertices, &positions_f_);
   if (style_ != RenderStyle::kWireframe) {
@@ -146,33 +172,96 @@ void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
     }
     to_floats(*normals, &normals_f_);
   }
-  const auto n_indices = static_cast<GLsizei>(3 * triangles.size());
-  const void* indices = triangles.data();
+  if (style_ != RenderStyle::kSolid) update_edges(triangles);
+  return true;
+}
 
+void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
+  if (view.vertices_m == nullptr || view.triangles == nullptr || view.triangles->empty()) return;
+  if (!prepare_mesh(view)) return;
+  static_assert(sizeof(std::array<int32_t, 3>) == 3 * sizeof(uint32_t), "triangles are packed index triples");
+  const auto& triangles = *view.triangles;
+  draw_fill(gl, triangles.data()->data(), 3 * triangles.size(), GL_LEQUAL);
+  draw_lines(gl, edge_indices_);
+}
+
+bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
+  if (view.vertices_m == nullptr || view.triangles == nullptr || view.triangles->empty()) return false;
+  const std::vector<Vec3>& vertices = *view.vertices_m;
+  const auto& triangles = *view.triangles;
+  const bool fresh = layer_valid_ && view.layer_epoch == layer_epoch_ && vertices.size() == layer_vertices_ &&
+                     triangles.size() == layer_triangles_;
+  if (!fresh) {
+    layer_valid_ = false;
+    for (int32_t v : *view.moving_vertices)
+      if (v < 0 || static_cast<std::size_t>(v) >= vertices.size()) return false;
+    if (!prepare_mesh(view)) return false;
+    layers_.split(vertices.size(), triangles, edge_indices_, *view.moving_vertices);
+    // the static part, drawn as a full redraw would draw it: fill, then lines
+    gl.BindFramebuffer(GL_FRAMEBUFFER, layer_.id());
+    setup_frame(gl, /*clear=*/true);
+    draw_fill(gl, layers_.static_triangles().data(), layers_.static_triangles().size(), GL_LEQUAL);
+    draw_lines(gl, layers_.static_edges());
+    gl.BindFramebuffer(GL_FRAMEBUFFER, frame_.id());
+    layer_valid_ = true;
+    layer_epoch_ = view.layer_epoch;
+    layer_vertices_ = vertices.size();
+    layer_triangles_ = triangles.size();
+    ++layer_builds_;
+  } else {
+    // only the affected vertices can differ from what the buffers hold
+    const std::vector<Vec3>* normals = view.normals;
+    if (style_ != RenderStyle::kWireframe && (normals == nullptr || normals->size() != vertices.size())) {
+      compute_vertex_normals(vertices, triangles, &computed_normals_);
+      normals = &computed_normals_;
+    }
+    for (int32_t v : layers_.affected_vertices()) {
+      const auto i = static_cast<std::size_t>(3 * v);
+      for (int c = 0; c < 3; ++c) positions_f_[i + c] = static_cast<float>(vertices[v][c]);
+      if (style_ != RenderStyle::kWireframe)
+        for (int c = 0; c < 3; ++c) normals_f_[i + c] = static_cast<float>((*normals)[v][c]);
+    }
+  }
+  frame_.copy_from(layer_);
+  setup_frame(gl, /*clear=*/false);
+  // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills
+  // after cached lines changes no pixel; a moving and a static fill at exactly equal depth (an edge seen
+  // edge-on) go to the moving one here and to the later triangle in a full redraw
+  draw_fill(gl, layers_.dynamic_triangles().data(), layers_.dynamic_triangles().size(), GL_LEQUAL);
+  draw_lines(gl, layers_.dynamic_edges());
+  return true;
+}
+
+void Renderer::draw_fill(const GlApi& gl, const void* indices, std::size_t count, GLenum depth_func) const {
+  if (style_ == RenderStyle::kWireframe || count == 0) return;
+  gl.DepthFunc(depth_func);
   gl.EnableClientState(GL_VERTEX_ARRAY);
   gl.VertexPointer(3, GL_FLOAT, 0, positions_f_.data());
-  if (style_ != RenderStyle::kWireframe) {
-    gl.Enable(GL_LIGHTING);
-    gl.EnableClientState(GL_NORMAL_ARRAY);
-    gl.NormalPointer(GL_FLOAT, 0, normals_f_.data());
-    // push the fill back so the wireframe sits on the surface
-    if (style_ == RenderStyle::kBoth) {
-      gl.Enable(GL_POLYGON_OFFSET_FILL);
-      gl.PolygonOffset(1.0f, 1.0f);
-    }
-    set_color(gl, kMeshColor);
-    gl.DrawElements(GL_TRIANGLES, n_indices, GL_UNSIGNED_INT, indices);
-    gl.Disable(GL_POLYGON_OFFSET_FILL);
-    gl.DisableClientState(GL_NORMAL_ARRAY);
+  gl.Enable(GL_LIGHTING);
+  gl.EnableClientState(GL_NORMAL_ARRAY);
+  gl.NormalPointer(GL_FLOAT, 0, normals_f_.data());
+  // push the fill back so the wireframe sits on the surface
+  if (style_ == RenderStyle::kBoth) {
+    gl.Enable(GL_POLYGON_OFFSET_FILL);
+    gl.PolygonOffset(1.0f, 1.0f);
   }
+  set_color(gl, kMeshColor);
+  gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT, indices);
+  gl.Disable(GL_POLYGON_OFFSET_FILL);
+  gl.DisableClientState(GL_NORMAL_ARRAY);
+  gl.DisableClientState(GL_VERTEX_ARRAY);
+  gl.DepthFunc(GL_LEQUAL);
+}
+
+void Renderer::draw_lines(const GlApi& gl, const std::vector<uint32_t>& edges) const {
   // each edge once as a line: llvmpipe's polygon-mode lines cost about three times as much
-  if (style_ != RenderStyle::kSolid) {
-    update_edges(triangles);
-    gl.Disable(GL_LIGHTING);
-    gl.LineWidth(1.0f);
-    set_color(gl, kWireColor);
-    gl.DrawElements(GL_LINES, static_cast<GLsizei>(edge_indices_.size()), GL_UNSIGNED_INT, edge_indices_.data());
-  }
+  if (style_ == RenderStyle::kSolid || edges.empty()) return;
+  gl.EnableClientState(GL_VERTEX_ARRAY);
+  gl.VertexPointer(3, GL_FLOAT, 0, positions_f_.data());
+  gl.Disable(GL_LIGHTING);
+  gl.LineWidth(1.0f);
+  set_color(gl, kWireColor);
+  gl.DrawElements(GL_LINES, static_cast<GLsizei>(edges.size()), GL_UNSIGNED_INT, edges.data());
   gl.DisableClientState(GL_VERTEX_ARRAY);
 }
 

@@ -9,7 +9,9 @@
 
 #include "core/types.h"
 #include "render/camera.h"
+#include "render/framebuffer.h"
 #include "render/gl_context.h"
+#include "render/mesh_layers.h"
 
 namespace palpate {
 
@@ -29,10 +31,19 @@ struct FrameView {
   bool show_blade = false;                     ///< draw the blade blade_tip_m -> blade_end_m (cut mode)
   Vec3 blade_tip_m = Vec3::Zero();             ///< blade tip (the tool position), metres
   Vec3 blade_end_m = Vec3::Zero();             ///< blade end toward the handle, metres
+  /// Vertices that may move until layer_epoch changes (e.g. those bound to the lattice region); the rest of
+  /// the mesh is drawn once into a cached layer. Null: every vertex may move, the mesh is drawn in full.
+  const std::vector<int32_t>* moving_vertices = nullptr;
+  /// Changes whenever moving_vertices or the triangles change (region moved, mesh cut): the layer is redrawn.
+  uint64_t layer_epoch = 0;
 };
 
 /// Draws frames with legacy fixed-function GL; keeps a pointer to the context (which must outlive it) and
 /// grow-only scratch buffers; not copyable. Thread: the thread that owns the context.
+///
+/// Cost follows what moves: when a view names its moving vertices, the triangles and edges that cannot change
+/// are drawn once into a cached colour + depth layer; each frame copies the layer and draws only the rest, the
+/// tool and the overlays, with depth tests that give the pixels of a full redraw (see draw()).
 class Renderer {
  public:
   /// Prepares the tool sphere and the camera matrices for ctx's size.
@@ -42,6 +53,12 @@ class Renderer {
 
   /// Draws the frame and reads it into rgba (w*h*4, top-down); a mesh with an out-of-range index is skipped.
   void draw(const FrameView& view, uint8_t* rgba);
+  /// false: always redraw the whole mesh, ignoring FrameView::moving_vertices (a reference for the cached path).
+  void set_layered(bool on) { layered_ = on; }
+  /// Whether the last draw() used the cached layer.
+  bool last_draw_layered() const { return last_layered_; }
+  /// Times the cached layer was redrawn.
+  int64_t layer_builds() const { return layer_builds_; }
   /// Pixel coordinates (x right, y down, origin top-left) of a world point; NaN when behind the camera.
   Eigen::Vector2d project(const Vec3& p_m) const;
   /// Replaces the camera (e.g. an orbiting view).
@@ -50,8 +67,18 @@ class Renderer {
   const Camera& camera() const { return camera_; }
 
  private:
-  void setup_frame(const GlApi& gl) const;
+  void setup_frame(const GlApi& gl, bool clear) const;
+  // index check and positions/normals for GL; false when an index is out of range
+  bool prepare_mesh(const FrameView& view);
   void draw_mesh(const GlApi& gl, const FrameView& view);
+  // the fill of `count` triangle indices (depth test `depth_func`) and the lines of an edge list, from
+  // positions_f_ / normals_f_
+  void draw_fill(const GlApi& gl, const void* indices, std::size_t count, GLenum depth_func) const;
+  void draw_lines(const GlApi& gl, const std::vector<uint32_t>& edges) const;
+  // creates the frame and layer framebuffers once; false when the context has none
+  bool ensure_framebuffers(const GlApi& gl);
+  // layered path: redraws the layer when the epoch changed, else updates the affected vertices; false: skip mesh
+  bool draw_layered(const GlApi& gl, const FrameView& view);
   void draw_tool(const GlApi& gl, const FrameView& view) const;
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
   void draw_blade(const GlApi& gl, const FrameView& view) const;
@@ -72,6 +99,18 @@ class Renderer {
   std::size_t edges_triangles_ = 0;      // triangle count edge_indices_ was built from
   std::vector<float> sphere_positions_;  // unit sphere, also its normals (3 n_s)
   std::vector<uint32_t> sphere_indices_; // unit sphere triangles (3 n_st)
+
+  // cached layer
+  bool layered_ = true;                  // use moving_vertices when given
+  bool fbo_tried_ = false;               // framebuffers were attempted (they stay empty on failure)
+  Framebuffer frame_;                    // where frames are drawn and read (both paths, so they match)
+  Framebuffer layer_;                    // static part: colour + depth
+  MeshLayers layers_;                    // static / dynamic split for the layer's epoch
+  bool layer_valid_ = false;             // layer_ holds the static part of layer_epoch_
+  uint64_t layer_epoch_ = 0;             // epoch the layer was drawn for
+  std::size_t layer_vertices_ = 0, layer_triangles_ = 0;  // mesh size the layer was drawn for
+  bool last_layered_ = false;
+  int64_t layer_builds_ = 0;
 };
 
 }  // namespace palpate

@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   std::string scene_path, mode;
   palpate::RecordOptions opt;
   bool no_render = false;
+  bool full_redraw = false;
   rec->add_option("scene", scene_path, "Scene file (JSON), e.g. scenes/bunny_pull.json")->required();
   rec->add_option("--out,-o", opt.out_dir, "Output folder (default: out/<scene name>)");
   rec->add_option("--mode", mode, "lockstep (reproducible, default of scenes) or realtime (wall clock)")
@@ -66,6 +67,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0 / 60.0, 3600.0));
   rec->add_flag("--quiet,-q", opt.quiet, "No progress line");
   rec->add_flag("--no-render", no_render, "Simulate and log only: no GL, no frames");
+  rec->add_flag("--full-redraw", full_redraw,
+                "Draw the whole mesh every frame instead of a cached static layer plus what moves (same pixels)");
   rec->add_option("--device", opt.device, "Device: scripted | shm:NAME (palpate-device) | plugin:PATH.so | replay:PATH (haptic.csv or recording folder)");
   rec->add_option("--spin-us", opt.spin_us, "realtime: spin this many us before each servo deadline (0 = sleep only)")
       ->check(CLI::Range(0, 1000));
@@ -130,6 +133,7 @@ int main(int argc, char** argv) {
   }
   if (*rec) {
     opt.render = !no_render;
+    opt.full_redraw = full_redraw;
     return run_record(scene_path, opt, mode);
   }
   if (*info) return palpate::run_info(mesh_path, levels, json);

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/aabb.h"
+#include "core/mesh_io.h"
 #include "render_test_util.h"
 
 namespace palpate {
@@ -190,6 +192,67 @@ TEST_P(RendererTest, GivenNormalsAreUsedAndBadIndicesAreSkipped) {
   const auto skipped = render(RenderStyle::kSolid, view);
   const Eigen::Vector2d c = project(0.5 * (lo_ + hi_));
   EXPECT_TRUE(is_background(pixel(skipped, kW, int(c.x()), int(c.y()))));
+}
+
+// The cached static layer plus what moves gives the pixels of a full redraw, frame after frame, through a
+// change of the moving set, in every style; the layered renderer really uses its layer.
+TEST_P(RendererTest, CachedLayerGivesTheFullRedrawsPixels) {
+  TriMesh mesh = ::palpate::make_box_mesh(Vec3(0.1, 0.08, 0.06), 10);
+  const std::vector<Vec3> rest = mesh.vertices_m;
+  const Aabb box = Aabb::of(rest);
+  const Camera cam = Camera::framing(box.min_m, box.max_m, static_cast<double>(kW) / kH);
+  for (RenderStyle style : {RenderStyle::kBoth, RenderStyle::kSolid, RenderStyle::kWireframe}) {
+    Renderer layered(ctx_.get(), style, cam), full(ctx_.get(), style, cam);
+    full.set_layered(false);
+    std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size());
+    std::vector<int32_t> moving;
+    std::vector<Vec3> normals;
+    int64_t frames = 0, differing_frames = 0, layered_frames = 0;
+    for (int epoch = 0; epoch < 2; ++epoch) {
+      // the moving set: a corner of the box, then the opposite side
+      moving.clear();
+      for (std::size_t v = 0; v < rest.size(); ++v)
+        if ((epoch == 0 && rest[v].x() > 0.02 && rest[v].z() > 0.0) || (epoch == 1 && rest[v].x() < -0.02))
+          moving.push_back(static_cast<int32_t>(v));
+      ASSERT_GT(moving.size(), 10u);
+      for (int f = 0; f < 6; ++f) {
+        // pressed in and sheared, more each frame, so moving triangles pass in front of and behind static ones
+        for (int32_t v : moving) {
+          const Vec3& r = rest[v];
+          mesh.vertices_m[v] = r + (f + 1) * Vec3(-0.004 * std::cos(40 * r.y()), 0.003 * r.z() * 30, -0.002);
+        }
+        compute_vertex_normals(mesh.vertices_m, mesh.triangles, &normals);
+        FrameView view{};
+        view.vertices_m = &mesh.vertices_m;
+        view.triangles = &mesh.triangles;
+        view.normals = &normals;
+        view.tool_pos_m = mesh.vertices_m[moving.front()] + Vec3(0, 0, 0.004);
+        view.tool_radius_m = 0.006;
+        view.in_contact = true;
+        view.show_proxy = true;
+        view.proxy_pos_m = mesh.vertices_m[moving.front()];
+        view.moving_vertices = &moving;
+        view.layer_epoch = static_cast<uint64_t>(epoch);
+        layered.draw(view, a.data());
+        layered_frames += layered.last_draw_layered() ? 1 : 0;
+        full.draw(view, b.data());
+        EXPECT_FALSE(full.last_draw_layered());
+        ++frames;
+        differing_frames += a != b ? 1 : 0;
+        EXPECT_EQ(count_different(a, b), 0) << "style " << static_cast<int>(style) << " epoch " << epoch << " frame " << f;
+      }
+    }
+    EXPECT_EQ(differing_frames, 0);
+    EXPECT_EQ(layered_frames, frames);
+    EXPECT_EQ(layered.layer_builds(), 2);  // once per epoch
+    // a frame that moves nothing differs from one that moved: the comparison above is not of blank images
+    std::vector<uint8_t> at_rest(a.size());
+    FrameView rest_view{};
+    rest_view.vertices_m = &rest;
+    rest_view.triangles = &mesh.triangles;
+    full.draw(rest_view, at_rest.data());
+    EXPECT_GT(count_different(at_rest, a), 100);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RendererTest, ::testing::Values("osmesa", "egl"),

@@ -66,8 +66,10 @@ void FrameStage::build_lattice_at(const Vec3& p_m) {
   if (!lat) return;  // no solid cell near the contact: nothing to deform
   if (lattice_) {
     carry_state(*lattice_, &lat.value());
-    // vertices of dropped cells go back to rest; the others are deformed again by the new lattice
+    // vertices of dropped cells go back to rest; the others are deformed again by the new lattice. Normals
+    // that depended on the old region are final now unless they depend on the new one (redone after deform).
     for (int32_t v : deformer_.vertex_ids()) vertices_m_[v] = model_.rest.vertices_m[v];
+    if (!normals_.empty() && !cut_) update_vertex_normals(vertices_m_, triangles(), model_.adjacency, normal_ids_, &normals_);
     ++stats_.region_moves;
   }
   lattice_ = std::move(lat).value();
@@ -75,6 +77,9 @@ void FrameStage::build_lattice_at(const Vec3& p_m) {
   resting_ = false;
   step_opts_ = step_options(scene_.lattice);
   deformer_.attach(*lattice_, model_.bindings);
+  if (!cut_) normal_dependents(triangles(), model_.adjacency, deformer_.vertex_ids(), &mark_scratch_, &normal_ids_);
+  region_changed_ = true;
+  ++layer_epoch_;
   f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
   stats_.lattice_nodes = std::max(stats_.lattice_nodes, lattice_->num_nodes());
   stats_.lattice_springs = std::max(stats_.lattice_springs, lattice_->springs.size());
@@ -259,12 +264,18 @@ void FrameStage::render(int64_t index, bool block) {
   view.in_contact = latest_.contact != ContactState::kFree;
   view.show_proxy = view.in_contact && latest_.contact != ContactState::kCut;
   view.proxy_pos_m = latest_.proxy_pos_m;
+  // cut mode moves the whole object and changes its topology: drawn in full
+  if (!cut_) {
+    view.moving_vertices = &deformer_.vertex_ids();
+    view.layer_epoch = layer_epoch_;
+  }
   if (cut_) {
     view.show_blade = true;
     view.blade_tip_m = latest_.tool_pos_m;
     view.blade_end_m = latest_.tool_pos_m + scene_.blade_length_m * latest_.blade_axis;
   }
   renderer_->draw(view, buf);
+  stats_.frames_layered += renderer_->last_draw_layered() ? 1 : 0;
   writer_->submit(static_cast<int>(index), buf);
   ++stats_.frames_rendered;
   stats_.render_ms.push_back(ms_since(t0));
@@ -294,8 +305,11 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
     if (cut_) cut_->deform(*lattice_, &vertices_m_);
     else deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, &vertices_m_);
   }
-  // normals for the servo's inside test and for shading (all of them until only moved ones are tracked)
-  if (moved || normals_.empty()) compute_vertex_normals(vertices_m_, triangles(), &normals_);
+  // normals for the servo's inside test and for shading: only those of the region's vertices and their
+  // neighbours can change, except in cut mode (whole-object lattice, changing topology)
+  if (normals_.empty() || (cut_ && moved)) compute_vertex_normals(vertices_m_, triangles(), &normals_);
+  else if (moved || region_changed_) update_vertex_normals(vertices_m_, triangles(), model_.adjacency, normal_ids_, &normals_);
+  region_changed_ = false;
   publish_patch();
   stats_.sim_ms.push_back(ms_since(t0));
   if (cutting) stats_.cutting_ms.push_back(stats_.sim_ms.back());

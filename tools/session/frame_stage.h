@@ -9,6 +9,7 @@
 #include "core/scene.h"
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
+#include "core/vertex_triangles.h"
 #include "haptics/contact_compliance.h"
 #include "haptics/haptic_sample.h"
 #include "haptics/local_model.h"
@@ -28,6 +29,7 @@ namespace palpate {
 struct FrameStats {
   std::vector<double> sim_ms;       ///< per frame: drain + step + deform + publish
   std::vector<double> render_ms;    ///< per rendered frame
+  int64_t frames_layered = 0;       ///< rendered frames that drew only what moves over the cached static layer
   int64_t frames = 0;               ///< frames processed
   int64_t frames_rendered = 0;      ///< frames handed to the PNG writer
   int64_t frames_dropped = 0;       ///< realtime: frames not rendered because the writer was full
@@ -73,6 +75,8 @@ class FrameStage {
   const FrameStats& stats() const { return stats_; }
   /// Current deformed vertex positions.
   const std::vector<Vec3>& vertices_m() const { return vertices_m_; }
+  /// Current vertex normals (those the region can change are recomputed each frame, the rest kept).
+  const std::vector<Vec3>& normals() const { return normals_; }
   /// The lattice, once a contact has built it.
   const std::optional<Lattice>& lattice() const { return lattice_; }
   /// The triangles drawn and touched: the cut mesh in cut mode, else the model's.
@@ -117,6 +121,10 @@ class FrameStage {
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)
+  std::vector<int32_t> normal_ids_;  // vertices whose normal the region can change (touch/pull)
+  std::vector<uint8_t> mark_scratch_;// scratch for normal_dependents (n_v)
+  bool region_changed_ = false;      // the region was (re)built this frame: its normals are due
+  uint64_t layer_epoch_ = 0;         // bumped when the moving vertices change (the renderer's cached layer)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step

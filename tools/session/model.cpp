@@ -15,6 +15,7 @@ Result<Model> load_model(const Scene& scene) {
     if (!mesh) return mesh.error();
     m.rest = std::move(mesh).value();
   }
+  for (int i = 0; i < scene.mesh.subdivisions; ++i) m.rest = subdivide_midpoint(m.rest);
   // the file's up axis becomes world z (a right-handed rotation)
   for (Vec3& v : m.rest.vertices_m) {
     if (scene.mesh.up_axis == 'y') v = Vec3(v.x(), -v.z(), v.y());
@@ -28,6 +29,7 @@ Result<Model> load_model(const Scene& scene) {
   m.grid = std::move(grid).value();
   m.bindings = bind_vertices(m.grid, scene.lattice.level, m.rest.vertices_m);
   m.leaf_cell_m = m.grid.cell_size_m(m.grid.levels());
+  m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);
   return m;
 }
 

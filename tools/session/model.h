@@ -9,6 +9,7 @@
 #include "core/result.h"
 #include "core/scene.h"
 #include "core/tri_mesh.h"
+#include "core/vertex_triangles.h"
 
 namespace palpate {
 
@@ -18,6 +19,7 @@ struct Model {
   Normalization normalization;           ///< raw -> world mapping
   GridHierarchy grid;                    ///< hierarchy over the normalisation cube
   std::vector<VertexBinding> bindings;   ///< per vertex, at the lattice level
+  VertexTriangles adjacency;             ///< triangles at each vertex of `rest` (normals of moved vertices)
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
 };
 

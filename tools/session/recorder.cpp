@@ -131,6 +131,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     renderer = std::make_unique<Renderer>(gl.get(), style,
                                           Camera::framing(box.min_m, box.max_m,
                                                           static_cast<double>(scene.render.width) / scene.render.height));
+    renderer->set_layered(!opt.full_redraw);
     writer = std::make_unique<PngWriter>(frames_dir, scene.render.width, scene.render.height, 6);
   }
 
@@ -279,7 +280,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                 {"sim_ms_after_cut", ms_json(fst.after_cut_ms)}};
   }
   j["render"] = {{"ms", ms_json(fst.render_ms)}, {"backend", gl ? gl->backend_name() : "none"},
-                 {"width", scene.render.width}, {"height", scene.render.height}};
+                 {"width", scene.render.width}, {"height", scene.render.height},
+                 {"frames_layered", fst.frames_layered}, {"layer_builds", renderer ? renderer->layer_builds() : 0}};
   j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
               {"write_errors", writer ? writer->write_errors() : 0}};
   j["wall_s"] = wall_s;

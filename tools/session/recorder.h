@@ -21,6 +21,7 @@ struct RecordOptions {
   double duration_s = 0.0;       ///< > 0 overrides the scene's duration
   bool quiet = false;            ///< no progress line
   bool render = true;            ///< false: no GL, no frames (sim and haptics only)
+  bool full_redraw = false;      ///< draw the whole mesh every frame (no cached static layer; same pixels)
   std::string device;            ///< device override ("scripted", ...); empty = the scene's driver
   double servo_rate_hz = 1000.0; ///< realtime servo rate (lockstep always ticks 1000 per scene-second)
   int spin_us = kDefaultSpin_us; ///< realtime: spin this long before each servo deadline

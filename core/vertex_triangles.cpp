@@ -1,0 +1,55 @@
+#include "core/vertex_triangles.h"
+
+#include <algorithm>
+
+namespace palpate {
+
+VertexTriangles VertexTriangles::build(std::size_t n_vertices, const std::vector<std::array<int32_t, 3>>& triangles) {
+  VertexTriangles a;
+  a.offsets.assign(n_vertices + 1, 0);
+  for (const auto& t : triangles)
+    for (int32_t v : t) ++a.offsets[static_cast<std::size_t>(v) + 1];
+  for (std::size_t i = 0; i < n_vertices; ++i) a.offsets[i + 1] += a.offsets[i];
+  a.triangles.resize(3 * triangles.size());
+  // fill rows in triangle order, so each row is ascending
+  std::vector<int32_t> next(a.offsets.begin(), a.offsets.end() - 1);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int32_t v : triangles[t]) a.triangles[static_cast<std::size_t>(next[v]++)] = static_cast<int32_t>(t);
+  return a;
+}
+
+void update_vertex_normals(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
+                           const VertexTriangles& adjacency, const std::vector<int32_t>& vertex_ids,
+                           std::vector<Vec3>* normals) {
+  for (int32_t v : vertex_ids) {
+    // the same face normal expression and summation order as compute_vertex_normals
+    Vec3 sum = Vec3::Zero();
+    for (int32_t k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
+      const auto& t = triangles[static_cast<std::size_t>(adjacency.triangles[k])];
+      sum += (vertices_m[t[1]] - vertices_m[t[0]]).cross(vertices_m[t[2]] - vertices_m[t[0]]);
+    }
+    const double len = sum.norm();
+    if (len > 0.0) sum /= len;
+    (*normals)[v] = sum;
+  }
+}
+
+void normal_dependents(const std::vector<std::array<int32_t, 3>>& triangles, const VertexTriangles& adjacency,
+                       const std::vector<int32_t>& moving, std::vector<uint8_t>* mark, std::vector<int32_t>* out) {
+  out->clear();
+  if (mark->size() < adjacency.num_vertices()) mark->resize(adjacency.num_vertices(), 0);
+  for (int32_t v : moving) {
+    for (int32_t k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
+      for (int32_t u : triangles[static_cast<std::size_t>(adjacency.triangles[k])]) {
+        if ((*mark)[u] == 0) {
+          (*mark)[u] = 1;
+          out->push_back(u);
+        }
+      }
+    }
+  }
+  for (int32_t u : *out) (*mark)[u] = 0;
+  std::sort(out->begin(), out->end());
+}
+
+}  // namespace palpate
