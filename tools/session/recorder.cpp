@@ -110,8 +110,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   const bool lockstep = mode == RunMode::kLockstep;
 
   // inputs first: a bad mesh leaves no output folder behind
+  const auto load0 = std::chrono::steady_clock::now();
   auto model_r = load_model(scene);
   if (!model_r) return model_r.error();
+  const double startup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - load0).count();
   const Model& model = model_r.value();
   std::string frames_dir;
   if (auto st = prepare_output(opt.out_dir, &frames_dir); !st) return st.error();
@@ -225,6 +227,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["mode"] = lockstep ? "lockstep" : "realtime";
   j["interaction"] = mode_name(scene.mode);
   j["duration_s"] = scene.duration_s;
+  j["model"] = {{"vertices", model.rest.vertices_m.size()}, {"triangles", model.rest.triangles.size()},
+                {"startup_s", startup_s}};
   j["frames_written"] = writer ? writer->frames_written() : 0;
   j["frames_dropped"] = fst.frames_dropped;
   j["servo_ticks"] = sc.ticks;
