@@ -1,5 +1,6 @@
 // The implicit solvers' linear algebra against independent references: the conjugate gradient Newton solve
-// against a dense LDL^T of the same system and the closed-form backward Euler recurrence of a damped oscillator.
+// against a dense LDL^T of the same system, the closed-form backward Euler recurrence of a damped oscillator,
+// the cached stability bound's invalidation, and no heap allocation in a warmed-up step.
 
 #include <gtest/gtest.h>
 
@@ -8,7 +9,9 @@
 #include "sim/forces.h"
 #include "sim/implicit_euler.h"
 #include "sim/integrator.h"
+#include "sim/stability.h"
 #include "sim_test_util.h"
+#include "support/alloc_counter.h"
 
 namespace palpate {
 namespace {
@@ -115,6 +118,42 @@ TEST(ImplicitEuler, DampedOscillatorFollowsTheBackwardEulerRecurrence) {
     ASSERT_EQ(lat.x_m[1].y(), 0.0);
   }
   EXPECT_LT(std::abs(x), 0.4 * a);  // and it did decay
+}
+
+TEST(StabilityCache, BoundFollowsStiffnessOnTouchAndOnlyThen) {
+  Lattice lat = make_block(3, 3, pull_spec());
+  IntegratorWorkspace ws;
+  const StabilityBound b1 = cached_stability_bound(lat, &ws);
+  EXPECT_DOUBLE_EQ(b1.max_stable_dt_s, stability_bound(lat, 0.8).max_stable_dt_s);
+  const StepOptions o = opts(IntegratorKind::kSymplecticEuler);
+  const int sub1 = substeps_for(lat, o, 1.0 / 60.0, &ws);
+  for (Spring& s : lat.springs) s.k_N_per_m *= 4.0;
+  // not touched: the cache is what it was (the contract: changes to k, m or topology call touch())
+  EXPECT_DOUBLE_EQ(cached_stability_bound(lat, &ws).omega_max_rad_per_s, b1.omega_max_rad_per_s);
+  lat.touch();
+  const StabilityBound b2 = cached_stability_bound(lat, &ws);
+  EXPECT_NEAR(b2.omega_max_rad_per_s, 2.0 * b1.omega_max_rad_per_s, 1e-9 * b1.omega_max_rad_per_s);
+  EXPECT_DOUBLE_EQ(b2.max_stable_dt_s, stability_bound(lat, 0.8).max_stable_dt_s);
+  EXPECT_GT(substeps_for(lat, o, 1.0 / 60.0, &ws), sub1);
+  EXPECT_EQ(substeps_for(lat, o, 1.0 / 60.0, &ws), substeps_for(lat, o, 1.0 / 60.0));
+}
+
+TEST(StepAllocations, WarmedUpStepsDoNotAllocate) {
+  for (IntegratorKind kind : {IntegratorKind::kSymplecticEuler, IntegratorKind::kImplicitEuler,
+                              IntegratorKind::kLocalGlobal}) {
+    Lattice lat = disturbed_block();
+    std::vector<Vec3> f_ext(lat.num_nodes(), Vec3(0.0, 0.0, 0.01));
+    IntegratorWorkspace ws;
+    const StepOptions o = opts(kind);
+    for (int f = 0; f < 3; ++f) step_lattice(&lat, o, 1.0 / 60.0, f_ext, &ws);  // warm-up: caches and buffers
+    int64_t allocs = 0;
+    {
+      test::AllocationGuard guard;
+      for (int f = 0; f < 20; ++f) step_lattice(&lat, o, 1.0 / 60.0, f_ext, &ws);
+      allocs = guard.count();
+    }
+    EXPECT_EQ(allocs, 0) << integrator_name(kind);
+  }
 }
 
 }  // namespace
