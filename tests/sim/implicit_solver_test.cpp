@@ -9,6 +9,7 @@
 #include "sim/forces.h"
 #include "sim/implicit_euler.h"
 #include "sim/integrator.h"
+#include "sim/local_global.h"
 #include "sim/stability.h"
 #include "sim_test_util.h"
 #include "support/alloc_counter.h"
@@ -118,6 +119,36 @@ TEST(ImplicitEuler, DampedOscillatorFollowsTheBackwardEulerRecurrence) {
     ASSERT_EQ(lat.x_m[1].y(), 0.0);
   }
   EXPECT_LT(std::abs(x), 0.4 * a);  // and it did decay
+}
+
+TEST(LocalGlobal, CutRefactorsInTheAnalysedPatternToTheSameStep) {
+  Lattice lat = disturbed_block();
+  LocalGlobalSolver kept;
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  // a cut: springs removed, the lattice touched; the kept solver refactors without a new analysis
+  lat.springs.erase(lat.springs.begin() + 10, lat.springs.begin() + 40);
+  lat.touch();
+  Lattice fresh_lat = lat;
+  LocalGlobalSolver fresh;
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  ASSERT_EQ(fresh.step(&fresh_lat, 1.0 / 60.0, {}, 5), 5);
+  EXPECT_EQ(kept.analyses(), 1);
+  EXPECT_EQ(kept.factorizations(), 2);
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    ASSERT_LT((lat.x_m[i] - fresh_lat.x_m[i]).norm(), 1e-12 * lat.cell_m) << "node " << i;
+  // a new step size refactors in the same pattern too
+  ASSERT_EQ(kept.step(&lat, 1.0 / 120.0, {}, 1), 1);
+  EXPECT_EQ(kept.analyses(), 1);
+  EXPECT_EQ(kept.factorizations(), 3);
+  // a new free-node set (a node released) is a new pattern: analysed again
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (lat.fixed[i]) {
+      lat.fixed[i] = 0;
+      break;
+    }
+  lat.touch();
+  ASSERT_EQ(kept.step(&lat, 1.0 / 120.0, {}, 1), 1);
+  EXPECT_EQ(kept.analyses(), 2);
 }
 
 TEST(StabilityCache, BoundFollowsStiffnessOnTouchAndOnlyThen) {
