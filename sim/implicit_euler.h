@@ -17,6 +17,10 @@ namespace palpate {
 /// Thread: the one stepping thread.
 class ImplicitEulerSolver {
  public:
+  ImplicitEulerSolver() = default;
+  ImplicitEulerSolver(const ImplicitEulerSolver&) = delete;
+  ImplicitEulerSolver& operator=(const ImplicitEulerSolver&) = delete;
+
   /// Relative residual |J d + g| / |g| at which the conjugate gradient solve of a Newton system stops.
   static constexpr double kCgTolerance = 1e-6;
 
