@@ -75,12 +75,16 @@ double kinetic_energy_J(const Lattice& lat) {
 }
 
 double max_strain(const Lattice& lat) {
-  double m = 0.0;
+  // the extreme squared length ratios (l / l0)^2, found without a square root or a division per spring (this runs
+  // after every step); non-finite lengths fail both tests and are skipped, as std::max skipped them
+  double hi = 1.0, lo = 1.0;
   for (const Spring& s : lat.springs) {
     if (s.rest_m <= 0.0) continue;
-    m = std::max(m, std::abs((lat.x_m[s.b] - lat.x_m[s.a]).norm() - s.rest_m) / s.rest_m);
+    const double l2 = (lat.x_m[s.b] - lat.x_m[s.a]).squaredNorm(), l02 = s.rest_m * s.rest_m;
+    if (l2 > hi * l02) hi = l2 / l02;
+    else if (l2 < lo * l02) lo = l2 / l02;
   }
-  return m;
+  return std::max(std::sqrt(hi) - 1.0, 1.0 - std::sqrt(lo));
 }
 
 }  // namespace palpate

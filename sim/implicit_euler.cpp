@@ -8,124 +8,146 @@
 namespace palpate {
 namespace {
 
-// Value index of entry (row, col) of a compressed column matrix whose pattern holds it.
-int32_t value_index(const Eigen::SparseMatrix<double>& m, int row, int col) {
-  const int* inner = m.innerIndexPtr();
-  const int* begin = inner + m.outerIndexPtr()[col];
-  const int* end = inner + m.outerIndexPtr()[col + 1];
-  return static_cast<int32_t>(std::lower_bound(begin, end, row) - inner);
-}
+// Most conjugate gradient iterations per Newton solve: J's condition number is bounded independently of the
+// lattice size, so a converging solve needs tens; the cap only stops a pathological one.
+constexpr int kMaxCgIterations = 1000;
 
-// Adds s * B to the 3x3 block whose columns start at value indices cols[0..2].
-void add_block(double* values, const int32_t* cols, const Mat3& b, double s) {
-  for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) values[cols[c] + r] += s * b(r, c);
+double dot(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i].dot(b[i]);
+  return s;
 }
 
 }  // namespace
 
 void ImplicitEulerSolver::prepare(const Lattice& lat) {
   const std::size_t n = lat.num_nodes();
-  dof_.assign(n, -1);
-  ndof_ = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!lat.fixed[i]) {
-      dof_[i] = ndof_;
-      ndof_ += 3;
-    }
-  // block pattern: node diagonals and the couplings of springs between two free nodes
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(9 * (n + 2 * lat.springs.size()));
-  auto block = [&](int r0, int c0) {
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) t.emplace_back(r0 + r, c0 + c, 1.0);
-  };
-  for (std::size_t i = 0; i < n; ++i)
-    if (dof_[i] >= 0) block(dof_[i], dof_[i]);
-  for (const Spring& s : lat.springs)
-    if (dof_[s.a] >= 0 && dof_[s.b] >= 0) {
-      block(dof_[s.a], dof_[s.b]);
-      block(dof_[s.b], dof_[s.a]);
-    }
-  j_.resize(ndof_, ndof_);
-  j_.setFromTriplets(t.begin(), t.end());
-  j_.makeCompressed();
-  // where each block's columns start, so assembly writes values directly
-  auto starts = [&](int r0, int c0, int32_t* out) {
-    for (int c = 0; c < 3; ++c) out[c] = value_index(j_, r0, c0 + c);
-  };
-  diag_.assign(n, {-1, -1, -1});
-  for (std::size_t i = 0; i < n; ++i)
-    if (dof_[i] >= 0) starts(dof_[i], dof_[i], diag_[i].data());
-  blocks_.assign(lat.springs.size(), {});
-  for (std::size_t k = 0; k < lat.springs.size(); ++k) {
-    const Spring& s = lat.springs[k];
-    auto& b = blocks_[k];
-    b.fill(-1);
-    if (dof_[s.a] >= 0) starts(dof_[s.a], dof_[s.a], &b[0]);
-    if (dof_[s.b] >= 0) starts(dof_[s.b], dof_[s.b], &b[3]);
-    if (dof_[s.a] >= 0 && dof_[s.b] >= 0) {
-      starts(dof_[s.a], dof_[s.b], &b[6]);
-      starts(dof_[s.b], dof_[s.a], &b[9]);
-    }
-  }
-  ldlt_.analyzePattern(j_);
-  g_.resize(ndof_);
-  delta_.resize(ndof_);
+  spring_block_.resize(lat.springs.size());
+  node_block_.resize(n);
+  node_block_inv_.resize(n);
+  for (auto* v : {&rhs_, &r_, &z_, &p_, &jp_}) v->assign(n, Vec3::Zero());
+  delta_.assign(n, Vec3::Zero());
+  last_dv_m_per_s_.assign(n, Vec3::Zero());  // no previous step to start from
+  x0_m_.resize(n);
+  v0_m_per_s_.resize(n);
+  x_m_.resize(n);
+  v_m_per_s_.resize(n);
+  f_N_.resize(n);
   revision_ = lat.revision;
+  num_springs_ = lat.springs.size();
 }
 
 void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::vector<Vec3>& x_m) {
-  double* v = j_.valuePtr();
-  std::fill(v, v + j_.nonZeros(), 0.0);
-  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
-    if (dof_[i] >= 0) add_block(v, diag_[i].data(), Mat3::Identity(), lat.mass_kg[i]);
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) node_block_[i] = lat.mass_kg[i] * Mat3::Identity();
   const Mat3 damping = h_s * lat.damping_Ns_per_m * Mat3::Identity();
   for (std::size_t k = 0; k < lat.springs.size(); ++k) {
     const Spring& s = lat.springs[k];
     const Mat3 b = damping + h_s * h_s * spring_stiffness_block(s, x_m[s.b] - x_m[s.a], true);
-    const auto& blk = blocks_[k];
-    if (blk[0] >= 0) add_block(v, &blk[0], b, 1.0);
-    if (blk[3] >= 0) add_block(v, &blk[3], b, 1.0);
-    if (blk[6] >= 0) {
-      add_block(v, &blk[6], b, -1.0);
-      add_block(v, &blk[9], b, -1.0);
-    }
+    spring_block_[k] = b;
+    node_block_[s.a] += b;
+    node_block_[s.b] += b;
   }
+  // block-Jacobi preconditioner: each free node's 3x3 diagonal block inverted (symmetric positive definite)
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    node_block_inv_[i] = lat.fixed[i] ? Mat3::Zero() : Mat3(node_block_[i].inverse());
+}
+
+void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& p, std::vector<Vec3>* out) const {
+  // J p = M p + sum_s B_s (p_a - p_b) on a and its negative on b; p is zero at fixed nodes, so rows of fixed nodes
+  // are dropped at the end and columns need no test
+  std::vector<Vec3>& y = *out;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) y[i] = lat.mass_kg[i] * p[i];
+  for (std::size_t k = 0; k < lat.springs.size(); ++k) {
+    const Spring& s = lat.springs[k];
+    const Vec3 d = spring_block_[k] * (p[s.a] - p[s.b]);
+    y[s.a] += d;
+    y[s.b] -= d;
+  }
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (lat.fixed[i]) y[i].setZero();
+}
+
+bool ImplicitEulerSolver::solve(const Lattice& lat) {
+  const std::size_t n = lat.num_nodes();
+  const double b_norm = std::sqrt(dot(rhs_, rhs_));
+  last_cg_iterations_ = 0;
+  last_cg_residual_ = 0.0;
+  if (!std::isfinite(b_norm)) return false;
+  if (b_norm == 0.0) {
+    std::fill(delta_.begin(), delta_.end(), Vec3::Zero());
+    return true;
+  }
+  // start from the guess in delta_; from zero when that guess is worse than none
+  multiply(lat, delta_, &jp_);
+  for (std::size_t i = 0; i < n; ++i) r_[i] = rhs_[i] - jp_[i];
+  double r_norm = std::sqrt(dot(r_, r_));
+  if (!(r_norm < b_norm)) {
+    std::fill(delta_.begin(), delta_.end(), Vec3::Zero());
+    r_ = rhs_;
+    r_norm = b_norm;
+  }
+  for (std::size_t i = 0; i < n; ++i) p_[i] = z_[i] = node_block_inv_[i] * r_[i];
+  double rz = dot(r_, z_);
+  const double target = kCgTolerance * b_norm;
+  int it = 0;
+  while (r_norm > target && it < kMaxCgIterations) {
+    multiply(lat, p_, &jp_);
+    const double curvature = dot(p_, jp_);
+    if (!(curvature > 0.0)) return false;  // J is positive definite: this is a breakdown (or NaN)
+    const double alpha = rz / curvature;
+    for (std::size_t i = 0; i < n; ++i) {
+      delta_[i] += alpha * p_[i];
+      r_[i] -= alpha * jp_[i];
+      z_[i] = node_block_inv_[i] * r_[i];
+    }
+    ++it;
+    r_norm = std::sqrt(dot(r_, r_));
+    const double rz_next = dot(r_, z_);
+    const double beta = rz_next / rz;
+    rz = rz_next;
+    for (std::size_t i = 0; i < n; ++i) p_[i] = z_[i] + beta * p_[i];
+  }
+  last_cg_iterations_ = it;
+  last_cg_residual_ = r_norm / b_norm;
+  return std::isfinite(r_norm);
 }
 
 int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations) {
-  if (lat->revision != revision_ || dof_.size() != lat->num_nodes()) prepare(*lat);
+  if (lat->revision != revision_ || node_block_.size() != lat->num_nodes() || num_springs_ != lat->springs.size())
+    prepare(*lat);
   const std::size_t n = lat->num_nodes();
-  x0_m_ = lat->x_m;
-  v0_m_per_s_ = lat->v_m_per_s;
-  v_m_per_s_ = v0_m_per_s_;
-  x_m_.resize(n);
+  std::copy(lat->x_m.begin(), lat->x_m.end(), x0_m_.begin());
+  std::copy(lat->v_m_per_s.begin(), lat->v_m_per_s.end(), v0_m_per_s_.begin());
+  std::copy(v0_m_per_s_.begin(), v0_m_per_s_.end(), v_m_per_s_.begin());
   const double tol_m_per_s = 1e-9 * lat->cell_m / h_s;
   int it = 0;
   while (it < std::max(1, max_iterations)) {
-    // residual g(v) = M (v - v0) - h f(x0 + h v, v)
+    // residual g(v) = M (v - v0) - h f(x0 + h v, v); the Newton system is J delta = -g
     for (std::size_t i = 0; i < n; ++i) x_m_[i] = lat->fixed[i] ? x0_m_[i] : Vec3(x0_m_[i] + h_s * v_m_per_s_[i]);
     compute_forces(*lat, x_m_, v_m_per_s_, f_ext_N, &f_N_);
     for (std::size_t i = 0; i < n; ++i)
-      if (dof_[i] >= 0)
-        g_.segment<3>(dof_[i]) = lat->mass_kg[i] * (v_m_per_s_[i] - v0_m_per_s_[i]) - h_s * f_N_[i];
+      rhs_[i] = lat->fixed[i] ? Vec3::Zero() : Vec3(h_s * f_N_[i] - lat->mass_kg[i] * (v_m_per_s_[i] - v0_m_per_s_[i]));
     assemble(*lat, h_s, x_m_);
-    ldlt_.factorize(j_);
-    if (ldlt_.info() != Eigen::Success) return -1;
-    delta_ = ldlt_.solve(-g_);
+    // warm start: the first solve from the previous step's velocity change (accelerations change little between
+    // steps), later Newton corrections from zero
+    if (it == 0) std::copy(last_dv_m_per_s_.begin(), last_dv_m_per_s_.end(), delta_.begin());
+    else std::fill(delta_.begin(), delta_.end(), Vec3::Zero());
+    if (!solve(*lat)) {
+      std::fill(last_dv_m_per_s_.begin(), last_dv_m_per_s_.end(), Vec3::Zero());  // no warm start from a broken solve
+      return -1;
+    }
     ++it;
     double worst = 0.0;
     for (std::size_t i = 0; i < n; ++i)
-      if (dof_[i] >= 0) {
-        const Vec3 d = delta_.segment<3>(dof_[i]);
-        v_m_per_s_[i] += d;
-        worst = std::max(worst, d.cwiseAbs().maxCoeff());
+      if (!lat->fixed[i]) {
+        v_m_per_s_[i] += delta_[i];
+        worst = std::max(worst, delta_[i].cwiseAbs().maxCoeff());
       }
     if (!(worst > tol_m_per_s)) break;  // converged (or non-finite: the caller's check catches it)
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (lat->fixed[i]) continue;
+    last_dv_m_per_s_[i] = v_m_per_s_[i] - v0_m_per_s_[i];
     lat->v_m_per_s[i] = v_m_per_s_[i];
     lat->x_m[i] = x0_m_[i] + h_s * v_m_per_s_[i];
   }

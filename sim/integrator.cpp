@@ -78,21 +78,46 @@ StepOptions step_options(const LatticeSpec& spec) {
   return o;
 }
 
-int substeps_for(const Lattice& lat, const StepOptions& opts, double dt_s) {
-  if (opts.substeps > 0) return opts.substeps;
-  const bool automatic = opts.kind == IntegratorKind::kSymplecticEuler || opts.kind == IntegratorKind::kRk4;
-  if (!automatic) return 1;
+namespace {
+
+// Whether the scheme's substeps come from the stability bound (the others take 1 unless told).
+bool automatic_substeps(const StepOptions& opts) {
+  return opts.substeps <= 0 && (opts.kind == IntegratorKind::kSymplecticEuler || opts.kind == IntegratorKind::kRk4);
+}
+
+// Automatic substeps for dt_s given the symplectic Euler bound (safety 0.8).
+int substeps_from_bound(const StabilityBound& bound, const StepOptions& opts, double dt_s) {
   // RK4's stability interval on the imaginary axis (2.83 / w) contains symplectic Euler's (2 / w): one bound serves
-  const double h_max = stability_bound(lat, 0.8).max_stable_dt_s;
+  const double h_max = bound.max_stable_dt_s;
   int steps = 1;
   if (std::isfinite(h_max) && h_max > 0.0) steps = static_cast<int>(std::min(std::ceil(dt_s / h_max), 1e9));
   return std::clamp(steps, 1, std::max(1, opts.max_substeps));
 }
 
+}  // namespace
+
+const StabilityBound& cached_stability_bound(const Lattice& lat, IntegratorWorkspace* ws) {
+  if (ws->bound_revision != lat.revision || lat.revision == 0) {
+    ws->bound = stability_bound(lat, 0.8);
+    ws->bound_revision = lat.revision;
+  }
+  return ws->bound;
+}
+
+int substeps_for(const Lattice& lat, const StepOptions& opts, double dt_s) {
+  if (!automatic_substeps(opts)) return std::max(1, opts.substeps);
+  return substeps_from_bound(stability_bound(lat, 0.8), opts, dt_s);
+}
+
+int substeps_for(const Lattice& lat, const StepOptions& opts, double dt_s, IntegratorWorkspace* ws) {
+  if (!automatic_substeps(opts)) return std::max(1, opts.substeps);
+  return substeps_from_bound(cached_stability_bound(lat, ws), opts, dt_s);
+}
+
 StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, const std::vector<Vec3>& f_ext_N,
                         IntegratorWorkspace* ws) {
   StepReport rep;
-  const int steps = substeps_for(*lat, opts, dt_s);
+  const int steps = substeps_for(*lat, opts, dt_s, ws);
   const double h = dt_s / steps;
   for (int s = 0; s < steps; ++s) {
     int iters = 0;
@@ -111,9 +136,9 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
         break;
     }
     if (iters < 0) {
-      // a failed factorisation: take the substep with a stable explicit scheme rather than stall
+      // a failed solve: take the substep with a stable explicit scheme rather than stall
       rep.solver_ok = false;
-      const double h_safe = stability_bound(*lat, 0.8).max_stable_dt_s;
+      const double h_safe = cached_stability_bound(*lat, ws).max_stable_dt_s;
       const int sub = std::isfinite(h_safe) && h_safe > 0.0
                           ? std::clamp(static_cast<int>(std::ceil(h / h_safe)), 1, std::max(1, opts.max_substeps))
                           : 1;

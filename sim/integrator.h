@@ -1,6 +1,6 @@
 #pragma once
 /// Time integration of the lattice, one entry point for every scheme: the paper's explicit Euler (eq. 8),
-/// symplectic Euler and RK4 with automatic substeps, implicit Euler (Newton, sparse LDL^T) and a
+/// symplectic Euler and RK4 with automatic substeps, implicit Euler (Newton, matrix-free conjugate gradients) and a
 /// Liu-2013-style local/global solver with a prefactored system matrix.
 
 #include <memory>
@@ -33,7 +33,7 @@ struct StepReport {
   int iterations = 0;       ///< solver iterations over all substeps (Newton or local/global; 0 for explicit schemes)
   bool finite = true;       ///< false when the state went non-finite (the caller resets it)
   bool diverged = false;    ///< non-finite, or a spring stretched past kDivergedStrain (the caller resets it)
-  bool solver_ok = true;    ///< false when a sparse factorisation failed (the step then fell back to symplectic Euler)
+  bool solver_ok = true;    ///< false when a linear solve or factorisation failed (the step then fell back to symplectic Euler)
   double max_strain = 0.0;  ///< largest |l - l0| / l0 after the step
 };
 
@@ -54,6 +54,8 @@ struct IntegratorWorkspace {
   std::vector<Vec3> stage_x, stage_v;           ///< RK4 stage state (n)
   std::unique_ptr<ImplicitEulerSolver> implicit;     ///< created on first use
   std::unique_ptr<LocalGlobalSolver> local_global;   ///< created on first use
+  uint64_t bound_revision = 0;                  ///< Lattice::revision the cached bound belongs to (0 = none)
+  StabilityBound bound;                         ///< stability_bound(lat, 0.8), recomputed only when the revision changes
 };
 
 /// Advances the lattice by dt_s with opts. f_ext_N (n, or empty) is held constant over the step.
@@ -67,5 +69,11 @@ StepReport step_lattice(Lattice* lat, IntegratorKind kind, double dt_s, int max_
 
 /// Substeps the scheme takes for dt_s under opts (automatic ones from stability_bound with safety 0.8).
 int substeps_for(const Lattice& lat, const StepOptions& opts, double dt_s);
+
+/// The same, with the bound cached in ws on the lattice's revision (no allocation and no sweep once cached).
+int substeps_for(const Lattice& lat, const StepOptions& opts, double dt_s, IntegratorWorkspace* ws);
+
+/// stability_bound(lat, 0.8) cached in ws on the lattice's revision: mass, stiffness and topology changes touch() it.
+const StabilityBound& cached_stability_bound(const Lattice& lat, IntegratorWorkspace* ws);
 
 }  // namespace palpate

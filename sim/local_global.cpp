@@ -1,31 +1,86 @@
 #include "sim/local_global.h"
 
+#include <algorithm>
+
 namespace palpate {
 
-bool LocalGlobalSolver::prepare(const Lattice& lat, double h_s) {
-  const std::size_t n = lat.num_nodes();
-  idx_.assign(n, -1);
-  int nf = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!lat.fixed[i]) idx_[i] = nf++;
-  // A = M / h^2 + (c / h) L_1 + sum_s k_s L_s over the free nodes (graph Laplacians of the springs)
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(n + 4 * lat.springs.size());
-  for (std::size_t i = 0; i < n; ++i)
-    if (idx_[i] >= 0) t.emplace_back(idx_[i], idx_[i], lat.mass_kg[i] / (h_s * h_s));
+namespace {
+
+// Value index of entry (row, col) of a compressed column matrix, or -1 when its pattern does not hold it.
+int32_t value_index(const Eigen::SparseMatrix<double>& m, int row, int col) {
+  const int* inner = m.innerIndexPtr();
+  const int* begin = inner + m.outerIndexPtr()[col];
+  const int* end = inner + m.outerIndexPtr()[col + 1];
+  const int* it = std::lower_bound(begin, end, row);
+  return it != end && *it == row ? static_cast<int32_t>(it - inner) : -1;
+}
+
+}  // namespace
+
+bool LocalGlobalSolver::fill_values(const Lattice& lat, double h_s) {
+  // A = M / h^2 + (c / h) L_1 + sum_s k_s L_s written into the analysed pattern; false when an entry is not in it
+  double* v = a_.valuePtr();
+  std::fill(v, v + a_.nonZeros(), 0.0);
+  auto add = [&](int r, int c, double x) {
+    const int32_t k = value_index(a_, r, c);
+    if (k < 0) return false;
+    v[k] += x;
+    return true;
+  };
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (idx_[i] >= 0 && !add(idx_[i], idx_[i], lat.mass_kg[i] / (h_s * h_s))) return false;
   for (const Spring& s : lat.springs) {
     const double w = s.k_N_per_m + lat.damping_Ns_per_m / h_s;
     const int a = idx_[s.a], b = idx_[s.b];
-    if (a >= 0) t.emplace_back(a, a, w);
-    if (b >= 0) t.emplace_back(b, b, w);
-    if (a >= 0 && b >= 0) {
-      t.emplace_back(a, b, -w);
-      t.emplace_back(b, a, -w);
+    if (a >= 0 && !add(a, a, w)) return false;
+    if (b >= 0 && !add(b, b, w)) return false;
+    if (a >= 0 && b >= 0 && !(add(a, b, -w) && add(b, a, -w))) return false;
+  }
+  return true;
+}
+
+bool LocalGlobalSolver::prepare(const Lattice& lat, double h_s) {
+  const std::size_t n = lat.num_nodes();
+  // free-node numbering, noting whether it is the one the pattern was built for
+  bool same_nodes = analysed_ && idx_.size() == n;
+  idx_.resize(n);
+  int nf = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int32_t id = lat.fixed[i] ? -1 : nf++;
+    same_nodes = same_nodes && idx_[i] == id;
+    idx_[i] = id;
+  }
+  // numeric refactorisation in the analysed pattern (same nodes, no new spring: a new step size or a cut), else
+  // assemble a new pattern and analyse it unless it equals the old one (a region of the same shape)
+  if (!same_nodes || !fill_values(lat, h_s)) {
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(n + 4 * lat.springs.size());
+    for (std::size_t i = 0; i < n; ++i)
+      if (idx_[i] >= 0) t.emplace_back(idx_[i], idx_[i], lat.mass_kg[i] / (h_s * h_s));
+    for (const Spring& s : lat.springs) {
+      const double w = s.k_N_per_m + lat.damping_Ns_per_m / h_s;
+      const int a = idx_[s.a], b = idx_[s.b];
+      if (a >= 0) t.emplace_back(a, a, w);
+      if (b >= 0) t.emplace_back(b, b, w);
+      if (a >= 0 && b >= 0) {
+        t.emplace_back(a, b, -w);
+        t.emplace_back(b, a, -w);
+      }
+    }
+    SpMat m(nf, nf);
+    m.setFromTriplets(t.begin(), t.end());
+    m.makeCompressed();
+    const bool same_pattern = analysed_ && m.rows() == a_.rows() && m.nonZeros() == a_.nonZeros() &&
+                              std::equal(m.outerIndexPtr(), m.outerIndexPtr() + nf + 1, a_.outerIndexPtr()) &&
+                              std::equal(m.innerIndexPtr(), m.innerIndexPtr() + m.nonZeros(), a_.innerIndexPtr());
+    a_ = std::move(m);
+    if (!same_pattern) {
+      llt_.analyzePattern(a_);
+      ++analyses_;
+      analysed_ = true;
     }
   }
-  SpMat m(nf, nf);
-  m.setFromTriplets(t.begin(), t.end());
-  llt_.compute(m);
+  llt_.factorize(a_);
   ++factorizations_;
   revision_ = lat.revision;
   h_s_ = h_s;

@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 100000))->capture_default_str();
   bsim->add_option("--duration", so.duration_s, "Scene seconds to replay (overrides the scene)")
       ->check(CLI::Range(1.0 / 60.0, 3600.0));
+  bsim->add_option("--box", so.box_cells, "Box lattices of N cells per axis (powers of two) instead of the replay, "
+                   "e.g. 4,8,16 = 125, 729, 4913 nodes")->delimiter(',')->check(CLI::Range(1, 128));
   bsim->add_flag("--quiet,-q", so.quiet, "No progress lines");
 
   try {
@@ -140,7 +142,7 @@ int main(int argc, char** argv) {
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
   if (*bsim) {
-    auto table = palpate::run_bench_sim(bsim_scene, so);
+    auto table = so.box_cells.empty() ? palpate::run_bench_sim(bsim_scene, so) : palpate::run_bench_sim_box(bsim_scene, so);
     if (!table) {
       std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
       return 1;

@@ -111,6 +111,23 @@ TEST(Lattice, SymplecticSubstepsFollowTheStabilityBound) {
   EXPECT_EQ(r.substeps, static_cast<int>(std::ceil((1.0 / 60.0) / b.max_stable_dt_s)));
 }
 
+TEST(Lattice, MaxStrainIsTheLargestStretchOrCompression) {
+  LatticeSpec spec = spec_for(3, 40, 20, 10);
+  Lattice lat = full_block(spec);
+  // the direct |l - l0| / l0 over every spring, for a stretched and then a compressed extreme
+  auto direct = [](const Lattice& l) {
+    double m = 0.0;
+    for (const Spring& s : l.springs) m = std::max(m, std::abs((l.x_m[s.b] - l.x_m[s.a]).norm() - s.rest_m) / s.rest_m);
+    return m;
+  };
+  EXPECT_NEAR(max_strain(lat), 0.0, 1e-12);
+  lat.x_m[5] += Vec3(0.3, 0.1, 0.0) * lat.cell_m;
+  EXPECT_NEAR(max_strain(lat), direct(lat), 1e-12);
+  lat.x_m[9] += Vec3(0.0, 0.0, 0.8) * lat.cell_m;  // nearly collapses a spring: compression is the extreme
+  EXPECT_GT(direct(lat), 0.5);
+  EXPECT_NEAR(max_strain(lat), direct(lat), 1e-12);
+}
+
 TEST(Lattice, ZeroLengthSpringGivesNoNaN) {
   Lattice lat = full_block(spec_for(3, 40, 20, 10));
   // collapse every node onto one point

@@ -1,0 +1,191 @@
+// The implicit solvers' linear algebra against independent references: the conjugate gradient Newton solve
+// against a dense LDL^T of the same system, the closed-form backward Euler recurrence of a damped oscillator,
+// the cached stability bound's invalidation, and no heap allocation in a warmed-up step.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "sim/forces.h"
+#include "sim/implicit_euler.h"
+#include "sim/integrator.h"
+#include "sim/local_global.h"
+#include "sim/stability.h"
+#include "sim_test_util.h"
+#include "support/alloc_counter.h"
+
+namespace palpate {
+namespace {
+
+using test::make_block;
+using test::opts;
+
+LatticeSpec pull_spec() {
+  LatticeSpec s;  // bunny_pull's k, m, c
+  s.node_mass_kg = 0.002;
+  s.structural_N_per_m = 12.0;
+  s.shear_N_per_m = 6.0;
+  s.bend_N_per_m = 3.0;
+  s.damping_Ns_per_m = 0.03;
+  s.fix_floor = true;
+  return s;
+}
+
+// A 3^3-cell block, floor fixed, nodes moved off rest by up to 0.3 cell and given random velocities.
+Lattice disturbed_block() {
+  Lattice lat = make_block(3, 3, pull_spec());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (!lat.fixed[i]) {
+      lat.x_m[i] += 0.3 * lat.cell_m * Vec3(u(rng), u(rng), u(rng));
+      lat.v_m_per_s[i] = 0.05 * Vec3(u(rng), u(rng), u(rng));
+    }
+  return lat;
+}
+
+// v after one Newton step of backward Euler, solved densely: (M + h D + h^2 K(x0 + h v0)) dv = h f(x0 + h v0, v0).
+std::vector<Vec3> dense_newton_velocity(const Lattice& lat, double h, const std::vector<Vec3>& f_ext) {
+  const std::size_t n = lat.num_nodes();
+  std::vector<int> dof(n, -1);
+  int nd = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!lat.fixed[i]) dof[i] = (nd += 3) - 3;
+  std::vector<Vec3> x(n), f;
+  for (std::size_t i = 0; i < n; ++i) x[i] = lat.fixed[i] ? lat.x_m[i] : Vec3(lat.x_m[i] + h * lat.v_m_per_s[i]);
+  compute_forces(lat, x, lat.v_m_per_s, f_ext, &f);
+  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(nd, nd);
+  Eigen::VectorXd b(nd);
+  for (std::size_t i = 0; i < n; ++i)
+    if (dof[i] >= 0) {
+      j.block<3, 3>(dof[i], dof[i]) += lat.mass_kg[i] * Mat3::Identity();
+      b.segment<3>(dof[i]) = h * f[i];
+    }
+  for (const Spring& s : lat.springs) {
+    const Mat3 blk = h * lat.damping_Ns_per_m * Mat3::Identity() + h * h * spring_stiffness_block(s, x[s.b] - x[s.a], true);
+    const int a = dof[s.a], c = dof[s.b];
+    if (a >= 0) j.block<3, 3>(a, a) += blk;
+    if (c >= 0) j.block<3, 3>(c, c) += blk;
+    if (a >= 0 && c >= 0) {
+      j.block<3, 3>(a, c) -= blk;
+      j.block<3, 3>(c, a) -= blk;
+    }
+  }
+  const Eigen::VectorXd dv = j.ldlt().solve(b);
+  std::vector<Vec3> v = lat.v_m_per_s;
+  for (std::size_t i = 0; i < n; ++i)
+    if (dof[i] >= 0) v[i] += dv.segment<3>(dof[i]);
+  return v;
+}
+
+TEST(ImplicitEuler, ConjugateGradientMatchesDenseLdltOfTheSameNewtonSystem) {
+  Lattice lat = disturbed_block();
+  std::vector<Vec3> f_ext(lat.num_nodes(), Vec3::Zero());
+  f_ext[lat.num_nodes() - 1] = Vec3(0.0, 0.0, 0.2);
+  const double h = 1.0 / 60.0;
+  ImplicitEulerSolver solver;
+  // two steps: the second starts from the first's update (warm start) and must be as accurate
+  for (int step = 0; step < 2; ++step) {
+    const std::vector<Vec3> v_ref = dense_newton_velocity(lat, h, f_ext);
+    const std::vector<Vec3> v0 = lat.v_m_per_s;
+    ASSERT_EQ(solver.step(&lat, h, f_ext, 1), 1);
+    EXPECT_GT(solver.last_cg_iterations(), 1);  // a real iteration, not a one-block system
+    EXPECT_LE(solver.last_cg_residual(), ImplicitEulerSolver::kCgTolerance);
+    double err2 = 0.0, dv2 = 0.0;
+    for (std::size_t i = 0; i < lat.num_nodes(); ++i) {
+      err2 += (lat.v_m_per_s[i] - v_ref[i]).squaredNorm();
+      dv2 += (v_ref[i] - v0[i]).squaredNorm();
+    }
+    // a relative residual of 1e-6 bounds the relative error by cond(J) * 1e-6; J's condition number is < 100 here
+    EXPECT_LT(std::sqrt(err2), 1e-4 * std::sqrt(dv2)) << "step " << step;
+    EXPECT_GT(dv2, 0.0);
+  }
+}
+
+TEST(ImplicitEuler, DampedOscillatorFollowsTheBackwardEulerRecurrence) {
+  // one free node on a spring along x: backward Euler is linear here, so one Newton step is exact:
+  // v' = (m v - h k (x - x_r)) / (m + h c + h^2 k), x' = x + h v'
+  const double k = 100.0, m = 0.01, c = 0.05, a = 0.01, h = 1.0 / 60.0;
+  Lattice lat = test::make_chain(1, a, k, m, c);
+  lat.x_m[1].x() += 0.4 * a;
+  double x = 0.4 * a, v = 0.0;
+  IntegratorWorkspace ws;
+  for (int f = 0; f < 120; ++f) {
+    step_lattice(&lat, opts(IntegratorKind::kImplicitEuler), h, {}, &ws);
+    v = (m * v - h * k * x) / (m + h * c + h * h * k);
+    x += h * v;
+    ASSERT_NEAR(lat.x_m[1].x() - a, x, 1e-12 * a) << "frame " << f;
+    ASSERT_NEAR(lat.v_m_per_s[1].x(), v, 1e-12) << "frame " << f;
+    ASSERT_EQ(lat.x_m[1].y(), 0.0);
+  }
+  EXPECT_LT(std::abs(x), 0.4 * a);  // and it did decay
+}
+
+TEST(LocalGlobal, CutRefactorsInTheAnalysedPatternToTheSameStep) {
+  Lattice lat = disturbed_block();
+  LocalGlobalSolver kept;
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  // a cut: springs removed, the lattice touched; the kept solver refactors without a new analysis
+  lat.springs.erase(lat.springs.begin() + 10, lat.springs.begin() + 40);
+  lat.touch();
+  Lattice fresh_lat = lat;
+  LocalGlobalSolver fresh;
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  ASSERT_EQ(fresh.step(&fresh_lat, 1.0 / 60.0, {}, 5), 5);
+  EXPECT_EQ(kept.analyses(), 1);
+  EXPECT_EQ(kept.factorizations(), 2);
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    ASSERT_LT((lat.x_m[i] - fresh_lat.x_m[i]).norm(), 1e-12 * lat.cell_m) << "node " << i;
+  // a new step size refactors in the same pattern too
+  ASSERT_EQ(kept.step(&lat, 1.0 / 120.0, {}, 1), 1);
+  EXPECT_EQ(kept.analyses(), 1);
+  EXPECT_EQ(kept.factorizations(), 3);
+  // a new free-node set (a node released) is a new pattern: analysed again
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (lat.fixed[i]) {
+      lat.fixed[i] = 0;
+      break;
+    }
+  lat.touch();
+  ASSERT_EQ(kept.step(&lat, 1.0 / 120.0, {}, 1), 1);
+  EXPECT_EQ(kept.analyses(), 2);
+}
+
+TEST(StabilityCache, BoundFollowsStiffnessOnTouchAndOnlyThen) {
+  Lattice lat = make_block(3, 3, pull_spec());
+  IntegratorWorkspace ws;
+  const StabilityBound b1 = cached_stability_bound(lat, &ws);
+  EXPECT_DOUBLE_EQ(b1.max_stable_dt_s, stability_bound(lat, 0.8).max_stable_dt_s);
+  const StepOptions o = opts(IntegratorKind::kSymplecticEuler);
+  const int sub1 = substeps_for(lat, o, 1.0 / 60.0, &ws);
+  for (Spring& s : lat.springs) s.k_N_per_m *= 4.0;
+  // not touched: the cache is what it was (the contract: changes to k, m or topology call touch())
+  EXPECT_DOUBLE_EQ(cached_stability_bound(lat, &ws).omega_max_rad_per_s, b1.omega_max_rad_per_s);
+  lat.touch();
+  const StabilityBound b2 = cached_stability_bound(lat, &ws);
+  EXPECT_NEAR(b2.omega_max_rad_per_s, 2.0 * b1.omega_max_rad_per_s, 1e-9 * b1.omega_max_rad_per_s);
+  EXPECT_DOUBLE_EQ(b2.max_stable_dt_s, stability_bound(lat, 0.8).max_stable_dt_s);
+  EXPECT_GT(substeps_for(lat, o, 1.0 / 60.0, &ws), sub1);
+  EXPECT_EQ(substeps_for(lat, o, 1.0 / 60.0, &ws), substeps_for(lat, o, 1.0 / 60.0));
+}
+
+TEST(StepAllocations, WarmedUpStepsDoNotAllocate) {
+  for (IntegratorKind kind : {IntegratorKind::kSymplecticEuler, IntegratorKind::kImplicitEuler,
+                              IntegratorKind::kLocalGlobal}) {
+    Lattice lat = disturbed_block();
+    std::vector<Vec3> f_ext(lat.num_nodes(), Vec3(0.0, 0.0, 0.01));
+    IntegratorWorkspace ws;
+    const StepOptions o = opts(kind);
+    for (int f = 0; f < 3; ++f) step_lattice(&lat, o, 1.0 / 60.0, f_ext, &ws);  // warm-up: caches and buffers
+    int64_t allocs = 0;
+    {
+      test::AllocationGuard guard;
+      for (int f = 0; f < 20; ++f) step_lattice(&lat, o, 1.0 / 60.0, f_ext, &ws);
+      allocs = guard.count();
+    }
+    EXPECT_EQ(allocs, 0) << integrator_name(kind);
+  }
+}
+
+}  // namespace
+}  // namespace palpate
