@@ -10,7 +10,7 @@
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
 #include "core/vertex_triangles.h"
-#include "haptics/contact_compliance.h"
+#include "sim/contact_compliance.h"
 #include "haptics/haptic_sample.h"
 #include "haptics/local_model.h"
 #include "render/gl_context.h"

@@ -1,9 +1,15 @@
-#include "haptics/contact_compliance.h"
+#include "sim/contact_compliance.h"
+
+#include <algorithm>
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
 namespace palpate {
+
+namespace {
+constexpr double kSingularPivot = 1e-10;  // relative pivot below which K is taken as singular
+}  // namespace
 
 struct ContactCompliance::Impl {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
@@ -52,6 +58,16 @@ bool ContactCompliance::compute(const Lattice& lat, const PointWeights& w, bool 
     kmat.setFromTriplets(trip.begin(), trip.end());
     m.ldlt.compute(kmat);
     m.ok = m.ldlt.info() == Eigen::Success;
+    if (!m.ok) return false;
+    // a pivot at round-off level of the largest means a free motion (nothing fixed, a piece cut free): the
+    // system is singular even when the factorisation "succeeds"
+    const Eigen::VectorXd d = m.ldlt.vectorD();
+    double d_max = 0.0, d_min = 0.0;
+    for (Eigen::Index i = 0; i < d.size(); ++i) {
+      d_max = i == 0 ? d[i] : std::max(d_max, d[i]);
+      d_min = i == 0 ? d[i] : std::min(d_min, d[i]);
+    }
+    m.ok = d_max > 0.0 && d_min > kSingularPivot * d_max;
     if (!m.ok) return false;
   }
   // W: the point force's share on each free dof (3 columns, one per force direction)
