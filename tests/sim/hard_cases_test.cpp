@@ -195,10 +195,15 @@ TEST(ExplicitEulerDamping, DivergenceIsDetectedAtRunTime) {
   Lattice lat = test::make_block(3, 3, spec);
   test::kick(&lat, 1e-5);
   IntegratorWorkspace ws;
-  bool diverged = false;
-  for (int frame = 0; frame < 600 && !diverged; ++frame)
-    diverged = step_lattice(&lat, opts(IntegratorKind::kExplicitEuler), 1.0 / 60.0, {}, &ws).diverged;
-  EXPECT_TRUE(diverged);
+  StepReport r;
+  int frame = 0;
+  for (; frame < 600 && !r.diverged; ++frame) r = step_lattice(&lat, opts(IntegratorKind::kExplicitEuler), 1.0 / 60.0, {}, &ws);
+  ASSERT_TRUE(r.diverged);
+  // caught by the strain check while the state is still finite (the caller can still reset a finite state and
+  // say how far it went), not only once values overflow
+  EXPECT_TRUE(r.finite) << "frame " << frame;
+  EXPECT_GT(r.max_strain, kDivergedStrain);
+  EXPECT_TRUE(test::all_finite(lat));
 }
 
 // The local/global matrix is factored once per lattice revision and step size, and with enough iterations the
