@@ -281,6 +281,19 @@ TEST(GridHierarchy, TrianglesNearMatchesBruteForce) {
   }
   EXPECT_GT(with_vertex_inside, 0);
   EXPECT_LT(near.size(), mesh.num_triangles());
+  // and the other way: every triangle returned comes from a leaf the box touches, so its bounding box meets the
+  // box grown by one leaf cell
+  const double leaf = grid.cell_size_m(grid.levels());
+  int64_t far_away = 0;
+  for (int32_t t : near) {
+    Vec3 tlo = mesh.vertices_m[mesh.triangles[t][0]], thi = tlo;
+    for (int32_t v : mesh.triangles[t]) {
+      tlo = tlo.cwiseMin(mesh.vertices_m[v]);
+      thi = thi.cwiseMax(mesh.vertices_m[v]);
+    }
+    far_away += ((thi.array() < lo.array() - leaf).any() || (tlo.array() > hi.array() + leaf).any()) ? 1 : 0;
+  }
+  EXPECT_EQ(far_away, 0);
   grid.triangles_near(Vec3::Constant(2), Vec3::Constant(3), &near);
   EXPECT_TRUE(near.empty());
   grid.triangles_near(hi, lo, &near);

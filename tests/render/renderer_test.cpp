@@ -178,12 +178,20 @@ TEST_P(RendererTest, SameFrameTwiceIsIdentical) {
 }
 
 TEST_P(RendererTest, GivenNormalsAreUsedAndBadIndicesAreSkipped) {
-  // normals handed in equal to the computed ones give the same image
+  // normals handed in equal to the computed ones give the same image; flipped ones light the box from
+  // behind (one-sided light: darker), so the given array is what the renderer shades with
   std::vector<Vec3> normals;
   compute_vertex_normals(box_.vertices_m, box_.triangles, &normals);
   FrameView view = view_;
   view.normals = &normals;
-  EXPECT_EQ(render(RenderStyle::kSolid, view), render(RenderStyle::kSolid, view_));
+  const auto computed = render(RenderStyle::kSolid, view_);
+  EXPECT_EQ(render(RenderStyle::kSolid, view), computed);
+  for (Vec3& n : normals) n = -n;
+  const auto flipped = render(RenderStyle::kSolid, view);
+  const Eigen::Vector2d mid = project(0.5 * (lo_ + hi_));
+  const auto lit = pixel(computed, kW, int(mid.x()), int(mid.y()));
+  const auto dark = pixel(flipped, kW, int(mid.x()), int(mid.y()));
+  EXPECT_LT(dark[0] + dark[1] + dark[2] + 30, lit[0] + lit[1] + lit[2]);
 
   TriMesh bad = box_;
   bad.triangles[3][1] = 8;  // one past the last vertex

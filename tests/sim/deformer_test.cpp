@@ -77,6 +77,21 @@ TEST(Deformer, VerticesOutsideTheRegionStayPut) {
   d.attach(lat, bindings);
   EXPECT_LT(d.num_bound_vertices(), box.mesh.num_vertices());
   for (int32_t v : d.vertex_ids()) EXPECT_GE(lat.slot_of_cell[bindings[v].cell], 0);
+  // deform it: every free node moved; the region's vertices move, every other vertex keeps its rest position
+  Lattice moved = lat;
+  for (std::size_t i = 0; i < moved.num_nodes(); ++i)
+    if (!moved.fixed[i]) moved.x_m[i] += Vec3(0.002, -0.001, 0.003);
+  std::vector<Vec3> out = box.mesh.vertices_m;
+  d.deform(moved, bindings, box.mesh.vertices_m, &out);
+  std::vector<uint8_t> bound(out.size(), 0);
+  for (int32_t v : d.vertex_ids()) bound[v] = 1;
+  int64_t region_moved = 0, outside_moved = 0;
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    const bool changed = out[v] != box.mesh.vertices_m[v];
+    (bound[v] ? region_moved : outside_moved) += changed ? 1 : 0;
+  }
+  EXPECT_GT(region_moved, 0);
+  EXPECT_EQ(outside_moved, 0);
 }
 
 }  // namespace
