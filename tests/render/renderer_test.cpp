@@ -175,6 +175,10 @@ TEST_P(RendererTest, SameFrameTwiceIsIdentical) {
   renderer.draw(view, a.data());
   renderer.draw(view, b.data());
   EXPECT_EQ(a, b);
+  // of a drawn frame, not a blank one: the box covers its centre and the background shows at a corner
+  const Eigen::Vector2d c = project(0.5 * (lo_ + hi_));
+  EXPECT_FALSE(is_background(pixel(a, kW, int(c.x()), int(c.y()))));
+  EXPECT_TRUE(is_background(pixel(a, kW, 0, 0)));
 }
 
 TEST_P(RendererTest, GivenNormalsAreUsedAndBadIndicesAreSkipped) {

@@ -74,13 +74,24 @@ TEST(Record, TwoLockstepRunsGiveTheSameStateHash) {
   RecordOptions opt;
   opt.duration_s = 0.6;
   opt.quiet = true;
-  opt.out_dir = fresh_dir("det_a");
+  const std::string dir_a = fresh_dir("det_a"), dir_b = fresh_dir("det_b");
+  opt.out_dir = dir_a;
   auto a = record_scene(scene, opt);
-  opt.out_dir = fresh_dir("det_b");
+  opt.out_dir = dir_b;
   auto b = record_scene(scene, opt);
   ASSERT_TRUE(a && b);
   EXPECT_EQ(a.value().state_hash.size(), 16u);
   EXPECT_EQ(a.value().state_hash, b.value().state_hash);
+  // the frames too, pixel for pixel, and they show the press: the last frame differs from the first
+  auto frame = [](const std::string& dir, const char* name) {
+    auto png = read_png((fs::path(dir) / "frames" / name).string());
+    EXPECT_TRUE(png) << dir << "/" << name;
+    return png ? png.value().rgba : std::vector<uint8_t>{};
+  };
+  const auto last_a = frame(dir_a, "frame_00035.png");
+  ASSERT_FALSE(last_a.empty());
+  EXPECT_EQ(last_a, frame(dir_b, "frame_00035.png"));
+  EXPECT_NE(last_a, frame(dir_a, "frame_00000.png"));
   // and the hash sees the state: a different scene duration ends elsewhere
   opt.duration_s = 0.4;
   opt.out_dir = fresh_dir("det_c");
