@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -63,6 +64,49 @@ TEST(Servo, ForceIsClampedToTheDeviceMaximum) {
   r.tick();
   EXPECT_NEAR(r.dev.force_N.norm(), r.dev.specs_.max_force_N, 1e-9);
   EXPECT_GT(r.dev.force_N.z(), 0.0);
+}
+
+TEST(Servo, PullForceIsClampedToALowerDeviceMaximumToo) {
+  ServoRig r(InteractionMode::kPull);
+  r.dev.specs_.max_force_N = 1.0;
+  r.dev.pos_m = Vec3(0.01, 0.02, 0.001);
+  r.tick();
+  r.dev.buttons = 1;
+  r.tick();
+  ASSERT_EQ(r.servo->last_sample().contact, ContactState::kGrab);
+  r.dev.pos_m = Vec3(0.01, 0.02, 0.03);  // 300 N/m * 3 cm = 9 N, along -z
+  r.tick();
+  EXPECT_NEAR(r.dev.force_N.norm(), 1.0, 1e-12);
+  EXPECT_NEAR(r.dev.force_N.z(), -1.0, 1e-12);
+  EXPECT_EQ(r.servo->last_sample().force_N, r.dev.force_N);  // the log shows what the device was sent
+}
+
+TEST(Servo, ForceRampsBackInAfterTheDeviceWentSilent) {
+  // pressed 2 mm into the floor (0.6 N); the link goes silent for 10 ticks, then comes back: zero force while
+  // silent, then a linear ramp over ramp_s from the first good reading, not a step back to 0.6 N
+  ServoRig r(InteractionMode::kTouch);
+  ServoParams p = r.p;
+  p.ramp_s = 0.05;
+  r.servo = std::make_unique<Servo>(p, &r.dev, &r.q, r.tb.get());
+  r.dev.pos_m = Vec3(0.01, 0.0, 0.01);
+  r.tick();
+  r.dev.pos_m = Vec3(0.01, 0.0, -0.002);
+  for (int i = 0; i < 100; ++i) r.tick();
+  ASSERT_NEAR(r.dev.force_N.z(), 0.6, 1e-9);  // the start ramp is over
+  r.dev.online = false;
+  for (int i = 0; i < 10; ++i) {
+    r.tick();
+    EXPECT_EQ(r.dev.force_N, Vec3::Zero()) << "silent tick " << i;
+  }
+  EXPECT_EQ(r.servo->counters().no_readings, 10);
+  r.dev.online = true;
+  const int64_t back = r.t;
+  for (int i = 0; i <= 60; ++i) {
+    r.tick();
+    const double expect = 0.6 * std::min(1.0, static_cast<double>(r.t - 1 - back) * 1e-3 / p.ramp_s);
+    EXPECT_NEAR(r.dev.force_N.z(), expect, 1e-9) << "tick " << i << " after the link came back";
+  }
+  EXPECT_EQ(r.servo->counters().ramps, 2);  // the start and the return
 }
 
 TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {

@@ -12,6 +12,7 @@ class FixedDevice final : public Device {
  public:
   const DeviceSpecs& specs() const noexcept override { return specs_; }
   bool read(double, DevicePose* out) noexcept override {
+    if (!online) return false;
     out->pos_m = pos_m;
     out->buttons = buttons;
     return true;
@@ -21,6 +22,7 @@ class FixedDevice final : public Device {
   Vec3 pos_m = Vec3::Zero();
   uint32_t buttons = 0;
   Vec3 force_N = Vec3::Zero();
+  bool online = true;  ///< false: read() has no reading (a silent link)
 };
 
 /// Adds a quad (a, b, c, d counter-clockwise seen from its outside) as two triangles with flat normals.
