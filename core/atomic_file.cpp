@@ -1,0 +1,113 @@
+#include "core/atomic_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <utility>
+
+namespace palpate {
+
+Status check_output_target(const std::string& path, const std::string& what) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT) return Ok{};
+    return make_error(what, " '", path, "': ", std::strerror(errno));
+  }
+  if (S_ISLNK(st.st_mode)) return make_error(what, " '", path, "': is a symbolic link, not written through");
+  if (!S_ISREG(st.st_mode))
+    return make_error(what, " '", path, "': is not a regular file (a device, FIFO, socket or folder), not replaced");
+  return Ok{};
+}
+
+AtomicFile::~AtomicFile() { discard(); }
+
+AtomicFile::AtomicFile(AtomicFile&& o) noexcept
+    : path_(std::move(o.path_)), what_(std::move(o.what_)), suffix_(std::move(o.suffix_)), f_(std::exchange(o.f_, nullptr)),
+      error_(std::move(o.error_)) {}
+
+AtomicFile& AtomicFile::operator=(AtomicFile&& o) noexcept {
+  if (this != &o) {
+    discard();
+    path_ = std::move(o.path_);
+    what_ = std::move(o.what_);
+    suffix_ = std::move(o.suffix_);
+    f_ = std::exchange(o.f_, nullptr);
+    error_ = std::move(o.error_);
+  }
+  return *this;
+}
+
+Result<AtomicFile> AtomicFile::open(const std::string& path, const std::string& what, const std::string& suffix) {
+  if (path.empty()) return make_error(what, ": empty output path");
+  if (auto st = check_output_target(path, what); !st) return st.error();
+  AtomicFile a;
+  a.path_ = path;
+  a.what_ = what;
+  a.suffix_ = suffix;
+  const std::string tmp = a.temp_path();
+  // a temporary left by an earlier run (or a link planted there) is removed, never followed
+  struct stat st {};
+  if (::lstat(tmp.c_str(), &st) == 0 && (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode))) ::unlink(tmp.c_str());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) return make_error(what, " '", path, "': cannot create '", tmp, "': ", std::strerror(errno));
+  a.f_ = ::fdopen(fd, "wb");
+  if (!a.f_) {
+    const int e = errno;
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    return make_error(what, " '", path, "': ", std::strerror(e));
+  }
+  return a;
+}
+
+void AtomicFile::write(std::string_view bytes) {
+  if (!good() || bytes.empty()) return;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f_) != bytes.size()) fail(std::strerror(errno));
+}
+
+void AtomicFile::fail(const std::string& cause) {
+  if (error_.empty()) error_ = cause.empty() ? "write failed" : cause;
+}
+
+Status AtomicFile::commit(bool keep_partial) {
+  if (!f_) return make_error(what_, " '", path_, "': ", error_.empty() ? "not open" : error_);
+  // the data reaches the disk (and ENOSPC shows up) at flush, fsync and close
+  if (std::fflush(f_) != 0) fail(std::strerror(errno));
+  if (std::ferror(f_)) fail("write failed");
+  if (error_.empty() && ::fsync(fileno(f_)) != 0) fail(std::strerror(errno));
+  if (std::fclose(f_) != 0) fail(std::strerror(errno));
+  f_ = nullptr;
+  const std::string tmp = temp_path();
+  if (error_.empty()) {
+    if (auto st = check_output_target(path_, what_); !st) {
+      ::unlink(tmp.c_str());
+      return st;
+    }
+    if (std::rename(tmp.c_str(), path_.c_str()) == 0) return Ok{};
+    fail(std::string("rename from '") + tmp + "': " + std::strerror(errno));
+  } else if (keep_partial) {
+    return make_error(what_, " '", path_, "': ", error_, " (partial data kept in ", tmp, ")");
+  }
+  ::unlink(tmp.c_str());
+  return make_error(what_, " '", path_, "': ", error_);
+}
+
+void AtomicFile::discard() {
+  if (!f_) return;
+  std::fclose(f_);
+  f_ = nullptr;
+  ::unlink(temp_path().c_str());
+}
+
+Status write_file_atomic(const std::string& path, std::string_view bytes, const std::string& what) {
+  auto f = AtomicFile::open(path, what);
+  if (!f) return f.error();
+  f.value().write(bytes);
+  return f.value().commit();
+}
+
+}  // namespace palpate

@@ -1,0 +1,36 @@
+#pragma once
+/// Limits on what a scene, a file or a command line may ask for, checked before anything is allocated or
+/// written, so a hostile or mistaken input is refused with the limit named instead of taking the machine.
+
+#include <cstdint>
+
+namespace palpate {
+
+/// Largest scene file read, bytes (16 MiB).
+inline constexpr int64_t kMaxSceneFileBytes = int64_t{16} << 20;
+/// Largest replay log (haptic.csv) read, bytes (256 MiB, about 20 minutes at 1 kHz).
+inline constexpr int64_t kMaxReplayFileBytes = int64_t{256} << 20;
+/// Largest mesh file read, bytes (512 MiB).
+inline constexpr int64_t kMaxMeshFileBytes = int64_t{512} << 20;
+/// Most trajectory keyframes in a scene.
+inline constexpr int kMaxKeyframes = 100000;
+/// Most lattice nodes a scene's lattice may reach (estimated from the grid before it is built).
+inline constexpr int64_t kMaxLatticeNodes = 65536;
+/// Most lattice springs a scene's lattice may reach (estimated likewise).
+inline constexpr int64_t kMaxLatticeSprings = 1048576;
+/// Deepest grid level (128^3 = 2,097,152 cells at the finest level).
+inline constexpr int kMaxGridLevels = 8;
+/// Most pixels of a rendered frame (width x height; 4096 x 4096).
+inline constexpr int64_t kMaxImagePixels = int64_t{4096} * 4096;
+/// Most substeps per frame (fixed or automatic cap).
+inline constexpr int kMaxSubsteps = 100000;
+/// Most Newton or local/global iterations per step.
+inline constexpr int kMaxIterations = 1000;
+
+/// The limits above as a few lines of text, for --help.
+inline constexpr const char* kLimitsHelp =
+    "Limits: scene file 16 MiB, mesh file 512 MiB, replay log 256 MiB; 100000 keyframes; grid.levels 8 "
+    "(2097152 cells); lattice 65536 nodes and 1048576 springs (estimated from the scene and its grid before "
+    "anything is built); frames 4096 x 4096 pixels; 100000 substeps; 1000 iterations.";
+
+}  // namespace palpate
