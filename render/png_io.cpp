@@ -1,5 +1,7 @@
 #include "render/png_io.h"
 
+#include "core/atomic_file.h"
+
 #include <png.h>
 #include <zlib.h>
 
@@ -84,32 +86,18 @@ Status write_png(const std::string& path, int width, int height, const uint8_t* 
                       " outside 1..", std::to_string(kMaxSizePx));
   }
   if (rgba == nullptr) return make_error("png '", path, "': no pixel data");
-  const std::string tmp_path = path + ".tmp";
+  // temp file beside the final name (never through a link, never over a device), renamed when complete
+  auto out = AtomicFile::open(path, "png");
+  if (!out) return out.error();
+  AtomicFile& file = out.value();
   PngWriteState state;
-  state.file = std::fopen(tmp_path.c_str(), "wb");
-  if (state.file == nullptr) return make_error("png '", path, "': ", std::strerror(errno));
-
-  bool ok = encode_png(&state, width, height, rgba);
-  // the data reaches the disk (and ENOSPC shows up) at flush and close
-  if (ok && std::fflush(state.file) != 0) {
-    ok = false;
-    state.saved_errno = errno;
-  }
-  if (std::fclose(state.file) != 0 && ok) {
-    ok = false;
-    state.saved_errno = errno;
-  }
-  if (ok && std::rename(tmp_path.c_str(), path.c_str()) != 0) {
-    const int rename_errno = errno;
-    std::remove(tmp_path.c_str());
-    return make_error("png '", path, "': rename from .tmp: ", std::strerror(rename_errno));
-  }
-  if (!ok) {
-    std::remove(tmp_path.c_str());
+  state.file = file.stream();
+  if (!encode_png(&state, width, height, rgba)) {
+    file.discard();
     if (state.saved_errno != 0) return make_error("png '", path, "': ", std::strerror(state.saved_errno));
     return make_error("png '", path, "': libpng: ", state.message);
   }
-  return Ok{};
+  return file.commit();
 }
 
 Result<Image> read_png(const std::string& path) {

@@ -10,8 +10,9 @@
 namespace palpate {
 
 /// Writes an RGBA8 PNG (rows top-down, width*height*4 bytes) with fast settings (compression level 1, SUB
-/// filter, Z_RLE strategy) to path + ".tmp", then renames it to path. Errors name the path and the cause
-/// (e.g. "png 'x/frame_00001.png': No space left on device"); no file is left behind on failure.
+/// filter, Z_RLE strategy) through an AtomicFile (path + ".tmp", renamed to path; a link or a non-regular file at
+/// path is refused). Errors name the path and the cause (e.g. "png 'x/frame_00001.png': No space left on
+/// device"); no file is left behind on failure.
 /// Thread: any; allocates.
 Status write_png(const std::string& path, int width, int height, const uint8_t* rgba);
 

@@ -3,11 +3,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.h"
 #include "core/scene.h"
 #include "haptics/servo.h"
 #include "tools/session/device_factory.h"
@@ -83,6 +83,11 @@ const char* model_name(ForceModel m) {
 }  // namespace
 
 int run_bench_force(const BenchForceOptions& o) {
+  if (!o.json_path.empty())
+    if (auto st = check_output_target(o.json_path, "bench json"); !st) {
+      std::fprintf(stderr, "palpate: bench force: %s\n", st.error().message.c_str());
+      return 1;
+    }
   nlohmann::json out;
   out["reference"] = "lattice stepped at 1000 Hz, surface published every servo tick";
   out["scenes"] = nlohmann::json::array();
@@ -120,10 +125,8 @@ int run_bench_force(const BenchForceOptions& o) {
     out["scenes"].push_back(js);
   }
   if (!o.json_path.empty()) {
-    std::ofstream f(o.json_path);
-    f << out.dump(2) << "\n";
-    if (!f) {
-      std::fprintf(stderr, "palpate: bench force: cannot write '%s'\n", o.json_path.c_str());
+    if (auto st = write_file_atomic(o.json_path, out.dump(2) + "\n", "bench json"); !st) {
+      std::fprintf(stderr, "palpate: bench force: %s\n", st.error().message.c_str());
       return 1;
     }
   }

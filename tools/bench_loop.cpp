@@ -4,12 +4,12 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.h"
 #include "core/clock.h"
 #include "core/scene.h"
 #include "haptics/servo_runner.h"
@@ -132,6 +132,13 @@ void print_row(const LoopRun& r) {
 }  // namespace
 
 int run_bench_loop(const BenchLoopOptions& o) {
+  // outputs are checked before the runs: never a device or a link replaced after minutes of measuring
+  for (const auto& [path, what] : {std::pair{o.json_path, "bench json"}, std::pair{o.plot_path, "plot"}})
+    if (!path.empty())
+      if (auto st = check_output_target(path, what); !st) {
+        std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
+        return 1;
+      }
   auto scene = load_scene(o.scene);
   if (!scene) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
@@ -191,12 +198,8 @@ int run_bench_loop(const BenchLoopOptions& o) {
     j["runs"] = nlohmann::json::array();
     for (const auto& r : runs) j["runs"].push_back(to_json(r));
     if (o.sweep) j["highest_rate_without_overruns_hz"] = best_rate;
-    std::ofstream f(o.json_path + ".tmp");
-    f << j.dump(2) << "\n";
-    f.close();
-    std::error_code ec;
-    if (!f || (fs::rename(o.json_path + ".tmp", o.json_path, ec), ec)) {
-      std::fprintf(stderr, "palpate: bench loop: cannot write '%s'\n", o.json_path.c_str());
+    if (auto st = write_file_atomic(o.json_path, j.dump(2) + "\n", "bench json"); !st) {
+      std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
       return 1;
     }
   }

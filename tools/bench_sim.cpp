@@ -5,13 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.h"
 #include "core/scene.h"
 #include "core/stats.h"
 #include "haptics/servo.h"
@@ -172,22 +172,14 @@ std::vector<std::size_t> pareto(const std::vector<Row>& rows, int level) {
   return front;
 }
 
-Status write_text_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f.flush()) return make_error("bench json '", path, "': write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return make_error("bench json '", path, "': ", ec.message());
-  return Ok{};
-}
-
 }  // namespace
 
 Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& opt) {
+  // outputs are checked before the sweep: never a device or a link replaced after minutes of measuring
+  if (!opt.json_path.empty())
+    if (auto st = check_output_target(opt.json_path, "bench json"); !st) return st.error();
+  if (!opt.plot_path.empty())
+    if (auto st = check_output_target(opt.plot_path, "plot"); !st) return st.error();
   auto scene_r = load_scene(scene_path);
   if (!scene_r) return scene_r.error();
   Scene base = scene_r.value();
@@ -315,7 +307,7 @@ Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimO
                            {"energy_drift", r.err.energy_drift}, {"max_strain", r.max_strain}, {"stable", r.stable},
                            {"pareto", std::find(front.begin(), front.end(), i) != front.end()}});
     }
-    if (auto st = write_text_atomic(opt.json_path, j.dump(2) + "\n"); !st) return st.error();
+    if (auto st = write_file_atomic(opt.json_path, j.dump(2) + "\n", "bench json"); !st) return st.error();
   }
   if (!opt.plot_path.empty()) {
     PlotSpec p;

@@ -4,27 +4,51 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <string>
 
+#include "support/file_size_limit.h"
 #include "support/fixtures.h"
 
 namespace palpate {
 namespace {
 
-TEST(HapticLog, FullDiskIsAnErrorNamingTheLog) {
-  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+TEST(HapticLog, FailedWriteIsAnErrorNamingTheLog) {
+  // a file size limit makes the writes fail (EFBIG) as a full disk does (ENOSPC)
   const std::string dir = test::fresh_dir("log_full");
   std::filesystem::create_directories(dir);
   const std::string path = dir + "/haptic.csv";
-  std::filesystem::create_symlink("/dev/full", path + ".partial");
-  HapticLog log;
-  ASSERT_TRUE(log.open(path));
-  HapticSample s;
-  for (int i = 0; i < 2000; ++i) log.append(s);  // more than a stdio buffer
-  const Status st = log.close();
+  Status st = Ok{};
+  {
+    test::FileSizeLimit limit(8192);
+    HapticLog log;
+    ASSERT_TRUE(log.open(path));
+    HapticSample s;
+    for (int i = 0; i < 2000; ++i) log.append(s);  // more than a stdio buffer
+    st = log.close();
+  }
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.error().message.find("log '" + path + "'"), std::string::npos) << st.error().message;
-  EXPECT_NE(st.error().message.find("No space left on device"), std::string::npos) << st.error().message;
+  EXPECT_NE(st.error().message.find("File too large"), std::string::npos) << st.error().message;
   EXPECT_FALSE(std::filesystem::exists(path));  // not renamed: the final name only ever holds a whole log
+}
+
+TEST(HapticLog, APlantedLinkAtThePartialNameIsNotFollowed) {
+  const std::string dir = test::fresh_dir("log_link");
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/haptic.csv";
+  {
+    std::ofstream(dir + "/victim") << "keep";
+  }
+  std::filesystem::create_symlink(dir + "/victim", path + ".partial");
+  HapticLog log;
+  ASSERT_TRUE(log.open(path));
+  log.append(HapticSample{});
+  ASSERT_TRUE(log.close());
+  std::ifstream f(dir + "/victim");
+  std::string text;
+  std::getline(f, text);
+  EXPECT_EQ(text, "keep");
 }
 
 TEST(HapticLog, WritesOneRowPerSampleAndRenamesWhenClosed) {

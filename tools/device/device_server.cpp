@@ -1,5 +1,7 @@
 #include "tools/device/device_server.h"
 
+#include "core/atomic_file.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -46,10 +48,13 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
   palpate_shim_segment* seg = seg_r.value().get();
 
   std::FILE* log = nullptr;
+  AtomicFile log_file;
   std::vector<char> log_buf(1 << 20);
   if (!o.log_path.empty()) {
-    log = std::fopen((o.log_path + ".partial").c_str(), "w");
-    if (!log) return make_error("log '", o.log_path, "': ", std::strerror(errno));
+    auto f = AtomicFile::open(o.log_path, "log", ".partial");
+    if (!f) return f.error();
+    log_file = std::move(f).value();
+    log = log_file.stream();
     std::setvbuf(log, log_buf.data(), _IOFBF, log_buf.size());
     std::fputs("tick,t_s,pos_x_m,pos_y_m,pos_z_m,buttons,cmd_x_N,cmd_y_N,cmd_z_N,force_x_N,force_y_N,force_z_N,gain,sim_alive\n", log);
   }
@@ -163,12 +168,7 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
   __atomic_store_n(&seg->header.device_state, uint64_t{PALPATE_SHIM_DEVICE_STOPPED}, __ATOMIC_RELEASE);
   if (!sim_alive) ShmSegment::unlink(o.name);
   if (log) {
-    const bool ok = std::fflush(log) == 0;
-    const bool closed = std::fclose(log) == 0;
-    if (!ok || !closed) return make_error("log '", o.log_path, "': write failed (rows kept in ", o.log_path, ".partial)");
-    std::error_code ec;
-    std::filesystem::rename(o.log_path + ".partial", o.log_path, ec);
-    if (ec) return make_error("log '", o.log_path, "': ", ec.message());
+    if (auto st = log_file.commit(/*keep_partial=*/true); !st) return st.error();
   }
   return rep;
 }

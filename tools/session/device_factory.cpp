@@ -4,8 +4,8 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
+#include "core/atomic_file.h"
 #include "haptics/plugin_device.h"
 #include "haptics/replay_device.h"
 #include "haptics/scripted_device.h"
@@ -123,28 +123,22 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
   const auto* shm = dynamic_cast<const ShmDevice*>(&device);
   if (!shm) return Ok{};
   const std::string path = (std::filesystem::path(out_dir) / "device_events.csv").string();
-  const std::string tmp = path + ".partial";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << "tick,t_s,event,silent_ms\n";
-    for (int i = 0; i < shm->events().count(); ++i) {
-      const DeviceEvent& e = shm->events().at(i);
-      char line[128];
-      std::snprintf(line, sizeof line, "%lld,%.6f,%s,%.3f\n", static_cast<long long>(e.tick), e.t_s,
-                    device_event_name(e.kind), e.silent_ms);
-      f << line;
-      if (!quiet && e.kind != DeviceEventKind::kConnected)
-        std::fprintf(stderr, "palpate: device '%s': %s at tick %lld (t = %.3f s, peer silent %.1f ms)\n",
-                     shm->params().name.c_str(), device_event_name(e.kind), static_cast<long long>(e.tick), e.t_s,
-                     e.silent_ms);
-    }
-    f.flush();
-    if (!f) return make_error("events '", path, "': write failed");
+  auto out = AtomicFile::open(path, "events", ".partial");
+  if (!out) return out.error();
+  AtomicFile& f = out.value();
+  f.write("tick,t_s,event,silent_ms\n");
+  for (int i = 0; i < shm->events().count(); ++i) {
+    const DeviceEvent& e = shm->events().at(i);
+    char line[128];
+    std::snprintf(line, sizeof line, "%lld,%.6f,%s,%.3f\n", static_cast<long long>(e.tick), e.t_s,
+                  device_event_name(e.kind), e.silent_ms);
+    f.write(line);
+    if (!quiet && e.kind != DeviceEventKind::kConnected)
+      std::fprintf(stderr, "palpate: device '%s': %s at tick %lld (t = %.3f s, peer silent %.1f ms)\n",
+                   shm->params().name.c_str(), device_event_name(e.kind), static_cast<long long>(e.tick), e.t_s,
+                   e.silent_ms);
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return make_error("events '", path, "': ", ec.message());
-  return Ok{};
+  return f.commit();
 }
 
 ServoParams servo_params_for(const Scene& scene, double rate_hz) {

@@ -1,9 +1,9 @@
 #pragma once
 /// HapticLog: haptic.csv, one row per servo tick, written as "<path>.partial" and renamed on close.
 
-#include <cstdio>
 #include <string>
 
+#include "core/atomic_file.h"
 #include "core/result.h"
 #include "haptics/haptic_sample.h"
 
@@ -13,11 +13,11 @@ namespace palpate {
 class HapticLog {
  public:
   HapticLog() = default;
-  ~HapticLog();
   HapticLog(const HapticLog&) = delete;
   HapticLog& operator=(const HapticLog&) = delete;
 
-  /// Opens "<path>.partial" and writes the header. Errors name the path.
+  /// Opens "<path>.partial" (an AtomicFile: never through a link, never over a device) and writes the header.
+  /// Errors name the path.
   Status open(const std::string& path);
   /// Appends one row; the first write error is kept and later rows are skipped.
   void append(const HapticSample& s);
@@ -27,10 +27,8 @@ class HapticLog {
   int64_t rows() const { return rows_; }
 
  private:
-  std::string path_;
-  std::FILE* f_ = nullptr;
+  AtomicFile file_;
   int64_t rows_ = 0;
-  std::string error_;
 };
 
 }  // namespace palpate

@@ -1,17 +1,21 @@
 #include "tools/session/recorder.h"
 
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.h"
 #include "core/clock.h"
 #include "core/stats.h"
 #include "haptics/latency_histogram.h"
@@ -34,33 +38,15 @@ Status prepare_output(const std::string& out, std::string* frames_dir) {
   *frames_dir = (fs::path(out) / "frames").string();
   fs::create_directories(*frames_dir, ec);
   if (ec) return make_error("output '", out, "': cannot create folder: ", ec.message());
-  const fs::path probe = fs::path(out) / ".palpate_write_probe";
-  {
-    std::ofstream f(probe);
-    if (!f) return make_error("output '", out, "': cannot write files there");
-  }
-  fs::remove(probe, ec);
+  // the probe is created, never opened through a link planted under its name
+  const std::string probe = (fs::path(out) / ".palpate_write_probe").string();
+  ::unlink(probe.c_str());
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+  if (fd < 0) return make_error("output '", out, "': cannot write files there: ", std::strerror(errno));
+  ::close(fd);
+  ::unlink(probe.c_str());
   for (const auto& e : fs::directory_iterator(*frames_dir, ec))
     if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) fs::remove(e.path(), ec);
-  return Ok{};
-}
-
-// Writes text to path via a temporary name.
-Status write_file_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    f.flush();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      return make_error("summary '", path, "': write failed");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) return make_error("summary '", path, "': ", ec.message());
   return Ok{};
 }
 
@@ -303,7 +289,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   res.frame_latency = frame_latency;
   res.frames_late = frames_late;
   res.frames_dropped = fst.frames_dropped;
-  if (auto st = write_file_atomic(res.summary_path, res.summary_json); !st) return st.error();
+  if (auto st = write_file_atomic(res.summary_path, res.summary_json, "summary"); !st) return st.error();
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());
   if (!log_status) return log_status.error();

@@ -1,0 +1,77 @@
+// Hostile input through the palpate command: limits named, devices never replaced, nothing written for a
+// refused input, divergence never silent.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "support/fixtures.h"
+
+namespace palpate {
+namespace {
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out;  // stdout + stderr
+};
+
+CliRun palpate(const std::string& args) {
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/palpate " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int st = pclose(p);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string tmp(const std::string& name) { return (fs::path(testing::TempDir()) / ("palpate_hostile_" + name)).string(); }
+
+std::string write(const std::string& name, const std::string& text) {
+  const std::string path = tmp(name);
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+// A box scene pressed from above, with extra top-level text (must start with a comma) and lattice keys.
+std::string box_scene(const std::string& name, const std::string& lattice, const std::string& extra = "") {
+  return write(name + ".json",
+               R"({"mesh": {"box_m": [0.06, 0.06, 0.06], "size_m": 0.06}, "lattice": {)" + lattice +
+                   R"(}, "trajectory": [{"t_s": 0, "pos_m": [0.004, 0.004, 0.045]}, {"t_s": 0.3, "pos_m": [0.004, 0.004, 0.012]}], "duration_s": 0.5)" +
+                   extra + "}");
+}
+
+void expect_error(const CliRun& r, const std::string& needle) {
+  EXPECT_TRUE(r.code == 1 || r.code == 2) << "exit " << r.code << ": " << r.out;
+  EXPECT_NE(r.out.find(needle), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line expected: " << r.out;
+}
+
+bool is_char_device(const char* path) {
+  struct stat s {};
+  return ::stat(path, &s) == 0 && S_ISCHR(s.st_mode);
+}
+
+TEST(Hostile, BenchOutputsNeverReplaceADevice) {
+  const std::string s = box_scene("bench_dev", "");
+  expect_error(palpate("bench sim " + s + " -q --json /dev/null"), "bench json '/dev/null': is not a regular file");
+  expect_error(palpate("bench sim " + s + " -q --plot /dev/null"), "plot '/dev/null': is not a regular file");
+  expect_error(palpate("bench loop --scene " + s + " --seconds 0.1 --json /dev/null"),
+               "bench json '/dev/null': is not a regular file");
+  expect_error(palpate("bench force " + s + " --json /dev/full"), "bench json '/dev/full': is not a regular file");
+  EXPECT_TRUE(is_char_device("/dev/null"));
+  EXPECT_TRUE(is_char_device("/dev/full"));
+}
+
+}  // namespace
+}  // namespace palpate
