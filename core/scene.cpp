@@ -1,12 +1,17 @@
 #include "core/scene.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+
+#include "core/input_file.h"
+#include "core/limits.h"
 
 namespace palpate {
 namespace {
@@ -153,7 +158,7 @@ void read_mesh(ObjectReader& top, Scene* s, std::string* err) {
 void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
   ObjectReader r(top.object("lattice"), "lattice.", err);
   LatticeSpec& l = s->lattice;
-  r.integer("level", &l.level, 1, 8);
+  r.integer("level", &l.level, 1, kMaxGridLevels);
   r.integer("radius_cells", &l.radius_cells, 1, 128);
   r.number("node_mass_kg", &l.node_mass_kg, 1e-7, 100.0);
   const Json& k = r.object("stiffness_N_per_m");
@@ -170,9 +175,9 @@ void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
   const int integ =
       r.choice("integrator", {"explicit_euler", "symplectic_euler", "implicit_euler", "local_global", "rk4"});
   if (integ >= 0) l.integrator = static_cast<IntegratorKind>(integ);
-  r.integer("max_substeps", &l.max_substeps, 1, 100000);
-  r.integer("substeps", &l.substeps, 0, 100000);
-  r.integer("iterations", &l.iterations, 0, 1000);
+  r.integer("max_substeps", &l.max_substeps, 1, kMaxSubsteps);
+  r.integer("substeps", &l.substeps, 0, kMaxSubsteps);
+  r.integer("iterations", &l.iterations, 0, kMaxIterations);
   r.number("strain_limit", &l.strain_limit, 0.0, 10.0);
   r.number("rest_kinetic_J", &l.rest_kinetic_J, 0.0, 1.0);
   r.number("rest_force_N", &l.rest_force_N, 0.0, 1.0);
@@ -210,6 +215,9 @@ void read_trajectory(ObjectReader& top, Scene* s, std::string* err) {
   const Json* t = top.take("trajectory");
   if (!t) return;
   if (!t->is_array() || t->empty()) return top.fail("trajectory", "must be a non-empty array of keyframes");
+  if (t->size() > static_cast<std::size_t>(kMaxKeyframes))
+    return top.fail("trajectory", std::to_string(t->size()) + " keyframes, more than the limit of " +
+                                      std::to_string(kMaxKeyframes));
   for (std::size_t i = 0; i < t->size() && err->empty(); ++i) {
     const std::string p = "trajectory[" + std::to_string(i) + "].";
     ObjectReader r((*t)[i], p, err);
@@ -220,9 +228,11 @@ void read_trajectory(ObjectReader& top, Scene* s, std::string* err) {
     r.vec3("pos_m", &k.pos_m, -100.0, 100.0);
     r.boolean("button", &k.button);
     if (const Json* q = r.take("orientation_wxyz")) {
+      // every element must be a number: a string or null is an error, not a zero
       Eigen::Vector4d wxyz = Eigen::Vector4d::Zero();
-      for (int c = 0; c < 4 && q->is_array() && q->size() == 4; ++c)
-        if ((*q)[c].is_number()) wxyz[c] = (*q)[c].get<double>();
+      const bool four_numbers = q->is_array() && q->size() == 4 &&
+                                std::all_of(q->begin(), q->end(), [](const Json& e) { return e.is_number(); });
+      for (int c = 0; c < 4 && four_numbers; ++c) wxyz[c] = (*q)[c].get<double>();
       if (!(wxyz.allFinite() && wxyz.norm() > 1e-9))
         r.fail(p + "orientation_wxyz", "must be an array of 4 finite numbers, not all zero (w, x, y, z)");
       else k.orientation = Quat(wxyz[0], wxyz[1], wxyz[2], wxyz[3]).normalized();
@@ -245,6 +255,76 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   const int b = r.choice("backend", backends);
   if (b >= 0) s->render.backend = backends[b];
   r.finish();
+  const int64_t pixels = int64_t{s->render.width} * s->render.height;
+  if (err->empty() && pixels > kMaxImagePixels)
+    r.fail("render", std::to_string(s->render.width) + " x " + std::to_string(s->render.height) + " = " +
+                         std::to_string(pixels) + " pixels, more than the limit of " + std::to_string(kMaxImagePixels));
+}
+
+constexpr std::size_t kMaxNameLength = 64;
+
+// The name itself when it is a safe file name (A-Z a-z 0-9 . _ -, not starting with '.', at most
+// kMaxNameLength); otherwise a cleaned copy: other characters become '_', a leading '.' gets "scene" before it.
+std::string safe_name(const std::string& name) {
+  std::string out;
+  for (char c : name.substr(0, kMaxNameLength))
+    out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-') ? c : '_';
+  if (out.empty() || out.front() == '.') out = "scene" + out;
+  return out.substr(0, kMaxNameLength);
+}
+
+// A string safe to print on one line: control and non-ASCII bytes as \xNN, cut at 80 characters.
+std::string printable(const std::string& s) {
+  std::string out;
+  for (unsigned char c : s.substr(0, 80)) {
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  return s.size() > 80 ? out + "..." : out;
+}
+
+// Parses JSON and notes in *duplicate the first key that appears twice in one object (nlohmann keeps the last
+// silently): "duplicate key 'lattice.level'". Throws nlohmann's exceptions for invalid JSON.
+Json parse_strict(const std::string& text, std::string* duplicate) {
+  struct Level {
+    std::set<std::string> keys;
+    std::string path;  // key path of this object or array
+    bool object = false;
+  };
+  std::vector<Level> stack;
+  std::string last_key;
+  auto cb = [&](int /*depth*/, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+      case Json::parse_event_t::array_start: {
+        std::string p = stack.empty() ? "" : stack.back().path;
+        if (!stack.empty() && stack.back().object) p += (p.empty() ? "" : ".") + last_key;
+        else if (!stack.empty()) p += "[]";
+        stack.push_back({{}, p, event == Json::parse_event_t::object_start});
+        break;
+      }
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        if (!stack.empty()) stack.pop_back();
+        break;
+      case Json::parse_event_t::key:
+        last_key = parsed.is_string() ? parsed.get<std::string>() : std::string();
+        if (!stack.empty() && !stack.back().keys.insert(last_key).second && duplicate->empty()) {
+          const std::string& p = stack.back().path;
+          *duplicate = "duplicate key '" + printable(p.empty() ? last_key : p + "." + last_key) + "'";
+        }
+        break;
+      case Json::parse_event_t::value:
+        break;
+    }
+    return true;
+  };
+  return Json::parse(text, cb);
 }
 
 }  // namespace
@@ -252,21 +332,28 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
 Result<Scene> parse_scene(const std::string& json_text, const std::string& path) {
   const std::string who = "scene '" + path + "': ";
   Json j;
+  std::string duplicate;
   try {
-    j = Json::parse(json_text);
-  } catch (const Json::parse_error& e) {
+    j = parse_strict(json_text, &duplicate);
+  } catch (const Json::exception& e) {
+    // parse_error, and out_of_range for a number no double holds (1e400)
     return make_error(who, "invalid JSON: ", e.what());
   }
+  if (!duplicate.empty()) return make_error(who, duplicate);
   Scene s;
   s.path = path;
   std::string err;
   ObjectReader top(j, "", &err);
   top.string("name", &s.name);
+  // the name becomes a folder under out/: a plain file name, never a path
+  if (err.empty() && !s.name.empty() && safe_name(s.name) != s.name)
+    top.fail("name", std::string("'").append(printable(s.name)).append("' must be 1..").append(
+                         std::to_string(kMaxNameLength)).append(" characters of A-Z a-z 0-9 . _ - and not start with '.'"));
   read_mesh(top, &s, &err);
   const Json& grid = top.object("grid");
   if (!grid.is_null()) {
     ObjectReader g(grid, "grid.", &err);
-    g.integer("levels", &s.grid_levels, 1, 8);
+    g.integer("levels", &s.grid_levels, 1, kMaxGridLevels);
     g.finish();
   }
   read_lattice(top, &s, &err);
@@ -290,7 +377,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   if (err.empty() && s.lattice.level > s.grid_levels)
     err = "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);
   if (!err.empty()) return make_error(who, err);
-  if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();
+  if (s.name.empty()) s.name = safe_name(std::filesystem::path(path).stem().string());
   // a relative mesh path is relative to the scene file's folder
   if (!s.mesh.file.empty() && std::filesystem::path(s.mesh.file).is_relative())
     s.mesh.file = (std::filesystem::path(path).parent_path() / s.mesh.file).lexically_normal().string();
@@ -298,15 +385,10 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
 }
 
 Result<Scene> load_scene(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return make_error("scene '", path, "': file not found");
-  if (std::filesystem::is_directory(path, ec)) return make_error("scene '", path, "': is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return make_error("scene '", path, "': cannot open for reading");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  if (buf.str().empty()) return make_error("scene '", path, "': file is empty");
-  return parse_scene(buf.str(), path);
+  // only a regular file of bounded size is read: not a device, a FIFO or a 500 MB array
+  auto text = read_input_file(path, "scene", kMaxSceneFileBytes);
+  if (!text) return text.error();
+  return parse_scene(text.value(), path);
 }
 
 const char* integrator_name(IntegratorKind kind) {

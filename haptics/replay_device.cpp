@@ -1,5 +1,8 @@
 #include "haptics/replay_device.h"
 
+#include "core/input_file.h"
+#include "core/limits.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -81,11 +84,10 @@ Result<std::vector<ReplayRow>> load_haptic_csv(const std::string& path_in) {
   std::string path = path_in;
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) path = (std::filesystem::path(path) / "haptic.csv").string();
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return make_error("replay '", path, "': cannot open");
-  std::ostringstream s;
-  s << f.rdbuf();
-  return parse_haptic_csv(s.str(), path);
+  // only a regular file of bounded size: not /dev/zero, a FIFO or a log larger than any recording
+  auto text = read_input_file(path, "replay", kMaxReplayFileBytes);
+  if (!text) return text.error();
+  return parse_haptic_csv(text.value(), path);
 }
 
 ReplayDevice::ReplayDevice(const DeviceSpecs& specs, std::vector<ReplayRow> rows) : specs_(specs), rows_(std::move(rows)) {}

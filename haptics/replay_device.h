@@ -24,7 +24,8 @@ struct ReplayRow {
 /// Parses haptic.csv text (columns found by header name: t_s, tool_x_m, tool_y_m, tool_z_m, buttons, and
 /// optionally rejected); errors name the file, the line and the column.
 Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text, const std::string& path);
-/// Reads a haptic.csv file, or <folder>/haptic.csv when `path` is a recording folder.
+/// Reads a haptic.csv file, or <folder>/haptic.csv when `path` is a recording folder; only a regular file of at
+/// most kMaxReplayFileBytes (errors as read_input_file()).
 Result<std::vector<ReplayRow>> load_haptic_csv(const std::string& path);
 
 /// The replay driver. Copyable. Thread: servo (read/write_force).

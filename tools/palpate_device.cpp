@@ -13,6 +13,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "tools/cli_checks.h"
+
 #include "core/scene.h"
 #include "haptics/replay_device.h"
 #include "tools/device/device_server.h"
@@ -39,12 +41,12 @@ int main(int argc, char** argv) {
   app.add_option("--scene,-s", scene_path, "Scene whose trajectory, hand and device limits are used");
   app.add_option("--recording,-r", recording, "Follow the tool path of a recording (haptic.csv or its folder)");
   app.add_option("--duration", o.duration_s, "Stop after this many seconds (default: run until SIGINT/SIGTERM)")
-      ->check(CLI::Range(0.0, 1e6));
-  app.add_option("--rate", o.rate_hz, "Device clock in Hz")->check(CLI::Range(100.0, 20000.0))->capture_default_str();
+      ->check(palpate::finite_range(0.0, 1e6));
+  app.add_option("--rate", o.rate_hz, "Device clock in Hz")->check(palpate::finite_range(100.0, 20000.0))->capture_default_str();
   app.add_option("--sim-watchdog-ms", o.sim_watchdog_ms, "Sim silent this long -> release the force")
-      ->check(CLI::Range(0.5, 10000.0))->capture_default_str();
+      ->check(palpate::finite_range(0.5, 10000.0))->capture_default_str();
   app.add_option("--release-ms", o.release_ms, "Force ramp to zero (and back in) time")
-      ->check(CLI::Range(0.0, 10000.0))->capture_default_str();
+      ->check(palpate::finite_range(0.0, 10000.0))->capture_default_str();
   app.add_option("--log", o.log_path, "Write one CSV row per device tick (pose, force commanded and applied)");
   app.add_option("--inject", inject, "Test faults: bad poses to publish, e.g. nan@0.3,outside@0.5,jump@0.7");
   app.add_flag("--quiet,-q", o.quiet, "No event lines");

@@ -6,6 +6,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/limits.h"
+#include "tools/cli_checks.h"
+
 #include "core/scene.h"
 #include "sim/stability.h"
 #include "tools/bench_force.h"
@@ -53,8 +56,10 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
 int main(int argc, char** argv) {
   CLI::App app{"palpate: feel and deform 3D models through a haptic device; headless recordings and loop-rate figures"};
   app.require_subcommand(1);
+  app.footer(palpate::kLimitsHelp);
 
   auto* rec = app.add_subcommand("record", "Record a scene: frames/*.png, haptic.csv, summary.json");
+  rec->footer(palpate::kLimitsHelp);
   std::string scene_path, mode;
   palpate::RecordOptions opt;
   bool no_render = false;
@@ -64,7 +69,7 @@ int main(int argc, char** argv) {
   rec->add_option("--mode", mode, "lockstep (reproducible, default of scenes) or realtime (wall clock)")
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   rec->add_option("--duration", opt.duration_s, "Scene seconds to record (overrides the scene)")
-      ->check(CLI::Range(1.0 / 60.0, 3600.0));
+      ->check(palpate::finite_range(1.0 / 60.0, 3600.0));
   rec->add_flag("--quiet,-q", opt.quiet, "No progress line");
   rec->add_flag("--no-render", no_render, "Simulate and log only: no GL, no frames");
   rec->add_flag("--full-redraw", full_redraw,
@@ -74,7 +79,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000));
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
       ->check(CLI::Range(0, 99));
-  rec->add_option("--servo-rate", opt.servo_rate_hz, "realtime: servo rate in Hz")->check(CLI::Range(100.0, 20000.0));
+  rec->add_option("--servo-rate", opt.servo_rate_hz, "realtime: servo rate in Hz")->check(palpate::finite_range(100.0, 20000.0));
 
   auto* info = app.add_subcommand("info", "Mesh counts, box and grid hierarchy per level");
   std::string mesh_path;
@@ -90,8 +95,8 @@ int main(int argc, char** argv) {
   auto* bloop = bench->add_subcommand("loop", "Servo loop timing alone or beside the sim / record pipeline");
   palpate::BenchLoopOptions lo;
   bloop->add_option("--scene", lo.scene, "Scene whose device, model and pipeline are used")->capture_default_str();
-  bloop->add_option("--rate", lo.rate_hz, "Servo rate in Hz")->check(CLI::Range(100.0, 50000.0))->capture_default_str();
-  bloop->add_option("--seconds", lo.seconds, "Seconds per run")->check(CLI::Range(0.1, 3600.0))->capture_default_str();
+  bloop->add_option("--rate", lo.rate_hz, "Servo rate in Hz")->check(palpate::finite_range(100.0, 50000.0))->capture_default_str();
+  bloop->add_option("--seconds", lo.seconds, "Seconds per run")->check(palpate::finite_range(0.1, 3600.0))->capture_default_str();
   bloop->add_option("--load", lo.load, "none | sim | record")->check(CLI::IsMember({"none", "sim", "record"}))
       ->capture_default_str();
   bloop->add_option("--spin-us", lo.spin_us, "Spin this many us before each deadline (default: the recorder's)")
@@ -114,15 +119,16 @@ int main(int argc, char** argv) {
   bsim->add_option("--json", so.json_path, "Write the rows as JSON");
   bsim->add_option("--plot", so.plot_path, "Plot node error against ms per frame (log axes, Pareto front) as PNG");
   bsim->add_option("--integrators", so.integrators, "Integrators to sweep (default: all)")->delimiter(',');
-  bsim->add_option("--levels", so.levels, "Lattice levels to sweep (default: the scene's)")->delimiter(',');
+  bsim->add_option("--levels", so.levels, "Lattice levels to sweep (default: the scene's)")->delimiter(',')
+      ->check(CLI::Range(1, palpate::kMaxGridLevels));
   bsim->add_option("--substeps", so.substeps, "Substeps per frame to sweep, 0 = automatic")->delimiter(',')
-      ->capture_default_str();
+      ->check(CLI::Range(0, palpate::kMaxSubsteps))->capture_default_str();
   bsim->add_option("--iterations", so.iterations, "Newton / local-global iterations to sweep, 0 = default")
-      ->delimiter(',')->capture_default_str();
+      ->delimiter(',')->check(CLI::Range(0, palpate::kMaxIterations))->capture_default_str();
   bsim->add_option("--ref-substeps", so.reference_substeps, "RK4 substeps per frame of the reference")
-      ->check(CLI::Range(2, 100000))->capture_default_str();
+      ->check(CLI::Range(2, palpate::kMaxSubsteps))->capture_default_str();
   bsim->add_option("--duration", so.duration_s, "Scene seconds to replay (overrides the scene)")
-      ->check(CLI::Range(1.0 / 60.0, 3600.0));
+      ->check(palpate::finite_range(1.0 / 60.0, 3600.0));
   bsim->add_option("--box", so.box_cells, "Box lattices of N cells per axis (powers of two) instead of the replay, "
                    "e.g. 4,8,16 = 125, 729, 4913 nodes")->delimiter(',')->check(CLI::Range(1, 128));
   bsim->add_flag("--quiet,-q", so.quiet, "No progress lines");

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <filesystem>
 #include <fstream>
 
 #include "support/fixtures.h"
@@ -67,6 +70,72 @@ TEST(Scene, FileErrorsNameTheFile) {
   const std::string empty = test::temp_root() + "/empty_scene.json";
   std::ofstream(empty).close();
   EXPECT_NE(load_scene(empty).error().message.find("file is empty"), std::string::npos);
+}
+
+// hostile input: every one refused with a message naming the culprit, never an abort or a silent zero
+
+TEST(SceneHostile, NumberTooLargeForADoubleIsAnErrorNamingTheFile) {
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "duration_s": 1e400, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "scene 's.json': invalid JSON");
+}
+
+TEST(SceneHostile, DuplicateKeysAreRefused) {
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "lattice": {"level": 2, "level": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "duplicate key 'lattice.level'");
+  expect_error(R"({"name": "a", "name": "b", "mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "duplicate key 'name'");
+}
+
+TEST(SceneHostile, StringInsideOrientationIsAnError) {
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0], "orientation_wxyz": [1, "x", 0, 0]}]})",
+               "trajectory[0].orientation_wxyz: must be an array of 4 finite numbers");
+}
+
+TEST(SceneHostile, NameMustBeAPlainFileName) {
+  for (const char* name : {"/abs/path", "..", "a/../../b", ".hidden", "a b"})
+    expect_error(std::string(R"({"name": ")") + name +
+                     R"(", "mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+                 "name: '");
+  auto r = parse_scene(kMinimal, "dir/..json");
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r.value().name.find('/'), std::string::npos);
+  EXPECT_NE(r.value().name.front(), '.');
+}
+
+TEST(SceneHostile, TooManyKeyframesNameTheLimit) {
+  std::string keys;
+  for (int i = 0; i <= 100000; ++i) keys += (i ? "," : "") + std::string(R"({"t_s": )") + std::to_string(i) + R"(, "pos_m": [0,0,0]})";
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [)" + keys + "]}",
+               "trajectory: 100001 keyframes, more than the limit of 100000");
+}
+
+TEST(SceneHostile, ImageSizeIsLimited) {
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"width": 8192, "height": 8192}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "render: 8192 x 8192 = 67108864 pixels, more than the limit of 16777216");
+}
+
+TEST(SceneHostile, DevicesAndFifosAreRefusedWithoutReading) {
+  EXPECT_NE(load_scene("/dev/zero").error().message.find("scene '/dev/zero': is not a regular file"), std::string::npos);
+  const std::string fifo = test::fresh_dir("scene_fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto r = load_scene(fifo);  // must not block waiting for a writer
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("is not a regular file"), std::string::npos) << r.error().message;
+  std::filesystem::remove(fifo);
+}
+
+TEST(SceneHostile, HugeFileIsRefusedBeforeReading) {
+  const std::string big = test::fresh_dir("scene_big.json");
+  {
+    std::ofstream f(big, std::ios::binary);
+    f << "[";
+  }
+  std::filesystem::resize_file(big, (int64_t{16} << 20) + 1);  // sparse: no disk used
+  auto r = load_scene(big);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("16777217 bytes, more than the limit of 16777216"), std::string::npos)
+      << r.error().message;
+  std::filesystem::remove(big);
 }
 
 }  // namespace

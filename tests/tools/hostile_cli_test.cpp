@@ -62,6 +62,29 @@ bool is_char_device(const char* path) {
   return ::stat(path, &s) == 0 && S_ISCHR(s.st_mode);
 }
 
+TEST(Hostile, HelpNamesTheLimits) {
+  for (const char* cmd : {"--help", "record --help"}) {
+    const CliRun r = palpate(cmd);
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("65536 nodes"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("scene file 16 MiB"), std::string::npos) << r.out;
+  }
+}
+
+TEST(Hostile, NumberTooLargeForADoubleIsAnErrorNotAnAbort) {
+  const std::string s = box_scene("overflow", R"("node_mass_kg": 1e400)");
+  expect_error(palpate("record " + s + " -q --out " + tmp("out_overflow")), "scene '" + s + "': invalid JSON");
+  expect_error(palpate("bench sim " + s), "scene '" + s + "': invalid JSON");
+}
+
+TEST(Hostile, NonFiniteAndOutOfRangeArgumentsAreUsageErrors) {
+  const std::string s = box_scene("args", "");
+  EXPECT_EQ(palpate("record " + s + " -q --duration nan").code, 2);
+  EXPECT_EQ(palpate("bench sim " + s + " --substeps -5").code, 2);
+  EXPECT_EQ(palpate("bench sim " + s + " --iterations 100000000").code, 2);
+  EXPECT_EQ(palpate("bench loop --seconds nan").code, 2);
+}
+
 TEST(Hostile, BenchOutputsNeverReplaceADevice) {
   const std::string s = box_scene("bench_dev", "");
   expect_error(palpate("bench sim " + s + " -q --json /dev/null"), "bench json '/dev/null': is not a regular file");
@@ -71,6 +94,17 @@ TEST(Hostile, BenchOutputsNeverReplaceADevice) {
   expect_error(palpate("bench force " + s + " --json /dev/full"), "bench json '/dev/full': is not a regular file");
   EXPECT_TRUE(is_char_device("/dev/null"));
   EXPECT_TRUE(is_char_device("/dev/full"));
+}
+
+TEST(Hostile, SceneThatIsNotARegularFileIsRefused) {
+  expect_error(palpate("record /dev/zero -q --out " + tmp("out_zero")), "scene '/dev/zero': is not a regular file");
+  EXPECT_FALSE(fs::exists(tmp("out_zero")));
+}
+
+TEST(Hostile, SceneNameCannotSteerTheOutput) {
+  const std::string s = write("named.json", R"({"name": "../../escape", "mesh": {"box_m": [0.06, 0.06, 0.06]},
+      "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
+  expect_error(palpate("record " + s + " -q"), "name: '../../escape' must be");
 }
 
 }  // namespace
