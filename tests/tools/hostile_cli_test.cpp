@@ -71,6 +71,16 @@ TEST(Hostile, HelpNamesTheLimits) {
   }
 }
 
+TEST(Hostile, HugeLatticeIsRefusedBeforeAnyOutput) {
+  const std::string out = tmp("out_huge");
+  fs::remove_all(out);
+  const std::string s = write("huge.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06]}, "grid": {"levels": 8},
+      "lattice": {"level": 8, "radius_cells": 128}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
+  expect_error(palpate("record " + s + " -q --out " + out),
+               "lattice.level 8 with radius_cells 128 may reach 2146689 nodes, more than the limit of 65536");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Hostile, NumberTooLargeForADoubleIsAnErrorNotAnAbort) {
   const std::string s = box_scene("overflow", R"("node_mass_kg": 1e400)");
   expect_error(palpate("record " + s + " -q --out " + tmp("out_overflow")), "scene '" + s + "': invalid JSON");

@@ -1,6 +1,7 @@
 #include "tools/session/model.h"
 
 #include "core/mesh_io.h"
+#include "sim/lattice_estimate.h"
 
 namespace palpate {
 
@@ -27,6 +28,8 @@ Result<Model> load_model(const Scene& scene) {
   auto grid = GridHierarchy::build(m.rest, m.normalization.cube, scene.grid_levels);
   if (!grid) return make_error("mesh '", name, "': ", grid.error().message);
   m.grid = std::move(grid).value();
+  // the lattice the scene can reach, bounded before any lattice or output exists
+  if (auto st = check_lattice_limits(m.grid, scene); !st) return make_error("scene '", scene.path, "': ", st.error().message);
   m.bindings = bind_vertices(m.grid, scene.lattice.level, m.rest.vertices_m);
   m.leaf_cell_m = m.grid.cell_size_m(m.grid.levels());
   m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);

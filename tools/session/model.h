@@ -23,7 +23,8 @@ struct Model {
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
 };
 
-/// Loads the scene's mesh (or generates its box) and builds grid and bindings. Errors name the mesh file.
+/// Loads the scene's mesh (or generates its box) and builds grid and bindings. Errors name the mesh file, or the
+/// scene when its lattice could pass kMaxLatticeNodes / kMaxLatticeSprings (sim/lattice_estimate.h).
 Result<Model> load_model(const Scene& scene);
 
 }  // namespace palpate
