@@ -111,6 +111,19 @@ TEST(Hostile, SceneThatIsNotARegularFileIsRefused) {
   EXPECT_FALSE(fs::exists(tmp("out_zero")));
 }
 
+TEST(Hostile, DeviceErrorsLeaveNoOutputBehind) {
+  const std::string s = box_scene("devices", "");
+  const std::string bad_csv = write("bad.csv", "tick,t_s\n1,x\n");
+  for (const std::string& dev : {std::string("shm:"), std::string("plugin:/nonexistent/p.so"), std::string("bogus"),
+                                 std::string("replay:/dev/zero"), "replay:" + bad_csv}) {
+    const std::string out = tmp("out_device");
+    fs::remove_all(out);
+    const CliRun r = palpate("record " + s + " -q --no-render --out " + out + " --device " + dev);
+    EXPECT_EQ(r.code, 1) << dev << ": " << r.out;
+    EXPECT_FALSE(fs::exists(out)) << dev << " left " << out << " behind";
+  }
+}
+
 TEST(Hostile, SceneNameCannotSteerTheOutput) {
   const std::string s = write("named.json", R"({"name": "../../escape", "mesh": {"box_m": [0.06, 0.06, 0.06]},
       "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");

@@ -101,6 +101,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (!model_r) return model_r.error();
   const double startup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - load0).count();
   const Model& model = model_r.value();
+  // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
+  // unknown driver leaves no frames/ or haptic.csv.partial behind
+  auto device_r = make_device(scene, opt.device, kServoRate_hz);
+  if (!device_r) return device_r.error();
   std::string frames_dir;
   if (auto st = prepare_output(opt.out_dir, &frames_dir); !st) return st.error();
 
@@ -127,9 +131,6 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   const std::string csv_path = (fs::path(opt.out_dir) / "haptic.csv").string();
   if (auto st = log.open(csv_path); !st) return st.error();
 
-  // the servo side
-  auto device_r = make_device(scene, opt.device, kServoRate_hz);
-  if (!device_r) return device_r.error();
   Device& device = *device_r.value();
   const ServoParams sp = servo_params_for(scene, kServoRate_hz);
   SpscQueue<HapticSample> samples(8192);
