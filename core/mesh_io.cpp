@@ -1,5 +1,8 @@
 #include "core/mesh_io.h"
 
+#include "core/input_file.h"
+#include "core/limits.h"
+
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
@@ -69,12 +72,13 @@ void install_error_capture() {
   });
 }
 
-// the first logged error saying a reader dropped or repaired faces, else empty (material errors are harmless)
+// the first logged error saying a reader dropped or repaired faces (or their vertex indices), else empty (material errors are harmless)
 std::string face_repair_error() {
   for (const std::string& e : t_assimp_errors) {
     std::string lower = e;
     for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (lower.find("face") != std::string::npos) return e;
+    // "OFF: Vertex index is out of range": the reader clamped a face's index to the last vertex
+    if (lower.find("face") != std::string::npos || lower.find("vertex index") != std::string::npos) return e;
   }
   return {};
 }
@@ -110,7 +114,17 @@ class SceneMerger {
         in_range = in_range && face.mIndices[c] < mesh.mNumVertices;
         if (in_range) tri[c] = ids[face.mIndices[c]];
       }
-      if (in_range) out_->triangles.push_back(tri);
+      if (in_range) {
+        out_->triangles.push_back(tri);
+      } else if (error_.empty()) {
+        // a face pointing past the vertex list is a damaged file, not a face to drop
+        for (int c = 0; c < 3; ++c)
+          if (face.mIndices[c] >= mesh.mNumVertices) {
+            error_ = "face " + std::to_string(f) + " vertex index " + std::to_string(face.mIndices[c]) +
+                     " is beyond the vertex list (size " + std::to_string(mesh.mNumVertices) + ")";
+            break;
+          }
+      }
     }
   }
 
@@ -125,6 +139,11 @@ class SceneMerger {
 
   TriMesh* out_;
   std::unordered_map<PositionKey, int32_t, PositionKeyHash> index_;
+  std::string error_;
+
+ public:
+  /// The first face that pointed past its mesh's vertex list, else empty.
+  const std::string& error() const { return error_; }
 };
 
 // drops triangles with repeated vertices or zero area, then vertices no triangle uses
@@ -157,13 +176,18 @@ double ply_property_bytes(const std::string& type, bool ascii) {
   return 1;
 }
 
+// Bytes of an OFF or PLY header read to check its counts; a longer header is refused.
+constexpr std::size_t kHeaderScanBytes = 65536;
+
 // Element counts from an OFF or PLY header that the file's bytes cannot hold, else empty. assimp reserves
 // memory for declared counts before reading them (assimp-testmodels' invalid/OutOfMemory.off costs 16 GB).
 std::string implausible_counts(const std::string& path, double size_bytes) {
   std::ifstream file(path, std::ios::binary);
-  std::string head(4096, '\0');
+  std::string head(kHeaderScanBytes, '\0');
   file.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(file.gcount()));
+  // CR-only and CRLF line ends read as LF, so the header's lines are seen whatever the file's line ends
+  std::replace(head.begin(), head.end(), '\r', '\n');
   std::istringstream in(head);
   std::string word;
   in >> word;
@@ -171,7 +195,12 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
     // OFF: vertex and face counts follow the keyword and any '#' comments; at least "0 0 0\n" per vertex
     double nv = 0, nf = 0;
     while (in >> std::ws && in.peek() == '#') std::getline(in, word);
-    if (!(in >> nv >> nf)) return {};
+    // counts that are not where the first kHeaderScanBytes can show them are not trusted (assimp would
+    // reserve whatever they say)
+    if (!(in >> nv >> nf)) {
+      if (head.size() < kHeaderScanBytes) return {};  // assimp reports the malformed header itself
+      return "OFF header: no vertex and face counts in the first " + std::to_string(kHeaderScanBytes) + " bytes";
+    }
     if (6 * nv + 2 * nf <= size_bytes) return {};
     std::ostringstream msg;
     msg << std::fixed << std::setprecision(0) << "header declares " << nv << " vertices and " << nf
@@ -180,7 +209,10 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
   }
   if (word != "ply") return {};
   const std::size_t end = head.find("end_header");
-  if (end == std::string::npos) return {};
+  if (end == std::string::npos) {
+    if (head.size() < kHeaderScanBytes) return {};  // assimp reports the missing end_header itself
+    return "PLY header: no end_header in the first " + std::to_string(kHeaderScanBytes) + " bytes";
+  }
   const bool ascii = head.find("format ascii") < end;
   double need_bytes = 0, per_element = 0, count = 0;
   std::ostringstream elements;
@@ -209,13 +241,10 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
 
 Result<TriMesh> load_mesh(const std::string& path) {
   const std::string who = "mesh '" + path + "': ";
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(status)) return make_error(who, "file not found");
-  if (!std::filesystem::is_regular_file(status)) return make_error(who, "not a regular file");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return make_error(who, "cannot read size (", ec.message(), ")");
-  if (size == 0) return make_error(who, "file is empty");
+  // a regular file of bounded size only: never a device or a FIFO
+  auto size_r = check_input_file(path, "mesh", kMaxMeshFileBytes);
+  if (!size_r) return size_r.error();
+  const int64_t size = size_r.value();
   const std::string implausible = implausible_counts(path, static_cast<double>(size));
   if (!implausible.empty()) return make_error(who, implausible);
 
@@ -237,6 +266,7 @@ Result<TriMesh> load_mesh(const std::string& path) {
     if (!repaired.empty()) return make_error(who, "malformed faces (assimp: ", repaired, ")");
     SceneMerger merger(&mesh);
     if (scene->mRootNode != nullptr) merger.add_node(*scene, *scene->mRootNode, aiMatrix4x4());
+    if (!merger.error().empty()) return make_error(who, merger.error());
   } catch (const std::exception& e) {
     return make_error(who, "assimp failed: ", e.what());
   }

@@ -12,8 +12,11 @@ namespace palpate {
 /// Loads OBJ, PLY, STL, OFF (anything assimp reads) into one TriMesh: all meshes merged with their node
 /// transforms applied, triangulated, vertices at identical positions welded, degenerate triangles and unused
 /// vertices dropped. Errors start with "mesh '<path>': " and end with "file not found", "not a regular file",
-/// "file is empty", assimp's own message, "malformed faces (assimp: <message>)" when the reader skipped or
-/// repaired faces, or "no triangles". Thread: any; the first call attaches an error stream to assimp's
+/// "file is empty", "<n> bytes, more than the limit of <kMaxMeshFileBytes>", "header declares ..., more than the
+/// <n>-byte file can hold" (OFF/PLY counts, read from the first 64 KiB, any line ends), assimp's own message,
+/// "malformed faces (assimp: <message>)" when the reader skipped or repaired faces or their vertex indices,
+/// "face 3 vertex index 9 is beyond the vertex list (size 4)", or "no triangles". Thread: any; the first call
+/// attaches an error stream to assimp's
 /// global DefaultLogger (creating one if none exists).
 Result<TriMesh> load_mesh(const std::string& path);
 

@@ -214,6 +214,50 @@ TEST_F(MeshIoTest, PlyHeaderCountsBeyondFileSize) {
   }
 }
 
+TEST_F(MeshIoTest, PlyHeaderPaddedPastFourKilobytesIsStillChecked) {
+  // comments push the counts past the first 4096 bytes the check used to read
+  std::string header = "ply\nformat ascii 1.0\n";
+  for (int i = 0; i < 200; ++i) header += "comment padding padding padding padding padding padding\n";
+  const std::string path = write("padded.ply", header +
+                                                   "element vertex 2000000000\nproperty float x\nproperty float y\n"
+                                                   "property float z\nelement face 1\nproperty list uchar int "
+                                                   "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expect_error(load_mesh(path), path, "header declares vertex 2000000000, face 1, more than the");
+}
+
+TEST_F(MeshIoTest, PlyHeaderWithoutEndInTheScannedBytesIsRefused) {
+  std::string header = "ply\nformat ascii 1.0\nelement vertex 2000000000\n";
+  while (header.size() < 70000) header += "comment padding padding padding padding padding padding\n";
+  const std::string path = write("endless.ply", header + "end_header\n0 0 0\n");
+  expect_error(load_mesh(path), path, "PLY header: no end_header in the first 65536 bytes");
+}
+
+TEST_F(MeshIoTest, PlyHeaderWithCarriageReturnLineEndsIsChecked) {
+  const std::string path = write("cr.ply",
+                                 "ply\rformat ascii 1.0\relement vertex 2000000000\rproperty float x\rproperty float "
+                                 "y\rproperty float z\relement face 1\rproperty list uchar int vertex_indices\r"
+                                 "end_header\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r");
+  expect_error(load_mesh(path), path, "header declares vertex 2000000000, face 1, more than the");
+}
+
+TEST_F(MeshIoTest, OffCommentsWithCarriageReturnsAreChecked) {
+  const std::string path = write("cr.off", "OFF\r# comment\r353535235358 6 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r");
+  expect_error(load_mesh(path), path, "header declares 353535235358 vertices and 6 faces, more than the");
+}
+
+TEST_F(MeshIoTest, OffFaceIndexBeyondTheVertexListIsAnError) {
+  const std::string path = write("bad_index.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
+  const auto r = load_mesh(path);
+  ASSERT_FALSE(r.ok()) << "an out-of-range face was dropped silently";
+  EXPECT_NE(r.error().message.find("mesh '" + path + "': malformed faces (assimp: OFF: Vertex index is out of range)"),
+            std::string::npos)
+      << r.error().message;
+}
+
+TEST_F(MeshIoTest, DeviceFileIsRefusedBeforeReading) {
+  expect_error(load_mesh("/dev/zero"), "/dev/zero", "not a regular file");
+}
+
 TEST_F(MeshIoTest, ObjWithEmptyFaceLineIsRejected) {
   const std::string path = write("empty_face.obj", std::string(kTetraObj) + "f\n");
   expect_error(load_mesh(path), path, "malformed faces (assimp: Obj: Ignoring empty face)");
