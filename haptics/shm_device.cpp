@@ -122,15 +122,25 @@ bool ShmDevice::read(double t_s, DevicePose* out) noexcept {
   }
   if (!connected_) {
     ++counters_.disconnected_ticks;
+    new_pose_ns_ = 0;
     return false;
   }
 
+  // a torn record is no reading: the last good pose is not fresh, and holding force on it would be felt
   palpate_shim_pose p{};
   if (!palpate_shim_read_pose(&s->pose, &p, 4)) {
     ++counters_.torn_reads;
-  } else if (p.seq != last_seq_) {
+    return false;
+  }
+  if (new_pose_ns_ == 0) new_pose_ns_ = now;  // the first look after (re)connecting starts the staleness clock
+  if (p.seq != last_seq_) {
     last_seq_ = p.seq;
+    new_pose_ns_ = now;
     if (!accept(p, now)) return false;
+  } else if (now - new_pose_ns_ > watchdog_.timeout_ns()) {
+    // a live heartbeat with a frozen pose: stale, counted as no reading until a new pose arrives
+    ++counters_.stale_ticks;
+    return false;
   }
   if (!have_good_) return false;
   *out = good_;

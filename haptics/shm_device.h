@@ -28,7 +28,8 @@ struct ShmCounters {
   int64_t rejected_nonfinite = 0;///< poses with NaN/Inf
   int64_t rejected_outside = 0; ///< poses outside the workspace
   int64_t rejected_speed = 0;   ///< poses implying an impossible velocity
-  int64_t torn_reads = 0;       ///< ticks the pose record was being rewritten throughout the read
+  int64_t torn_reads = 0;       ///< ticks the pose record was being rewritten throughout the read (no reading)
+  int64_t stale_ticks = 0;      ///< ticks without a new pose for longer than the watchdog (no reading)
   int64_t disconnected_ticks = 0;///< ticks spent disconnected
   int64_t forces_sent = 0;      ///< force commands written
 };
@@ -47,7 +48,9 @@ class ShmDevice final : public Device {
   ShmDevice& operator=(const ShmDevice&) = delete;
 
   const DeviceSpecs& specs() const noexcept override { return specs_; }
-  /// Latest checked pose; false while disconnected or when this tick's new pose was rejected.
+  /// Latest checked pose; false while disconnected, when this tick's new pose was rejected, when the record read
+  /// torn, or when no new pose came for longer than the watchdog (a frozen hand is a missing reading, so the
+  /// servo zeroes the force and ramps it back in).
   bool read(double t_s, DevicePose* out) noexcept override;
   /// Sends the force (zero while disconnected), clamped to max_force_N.
   void write_force(const Vec3& force_N) noexcept override;
@@ -79,6 +82,7 @@ class ShmDevice final : public Device {
   bool have_good_ = false;
   int64_t good_ns_ = 0;          // when it was accepted (our clock)
   uint64_t last_seq_ = 0;        // seq of the last pose looked at
+  int64_t new_pose_ns_ = 0;      // when a pose with a new seq was last read (our clock); 0 = none yet
   int64_t last_pose_time_ns_ = 0;
   uint64_t epoch_ = 0;
   bool connected_ = false;

@@ -1,6 +1,7 @@
 #include "haptics/shm_segment.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -9,6 +10,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <utility>
 
 #include "core/clock.h"
@@ -62,6 +64,22 @@ Status ShmSegment::check_name(const std::string& name) {
   return Ok{};
 }
 
+// True while `pid` is a live process (not gone, not a zombie waiting to be reaped).
+static bool process_alive(pid_t pid) {
+  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
+  std::FILE* f = std::fopen(("/proc/" + std::to_string(pid) + "/stat").c_str(), "r");
+  if (!f) return true;  // no /proc: kill() said it exists
+  char buf[512] = {};
+  const std::size_t n = std::fread(buf, 1, sizeof buf - 1, f);
+  std::fclose(f);
+  // "pid (comm) S ...": the state follows the last ')'
+  const std::string stat(buf, n);
+  const std::size_t close = stat.rfind(')');
+  if (close == std::string::npos || close + 2 >= stat.size()) return true;
+  const char state = stat[close + 2];
+  return state != 'Z' && state != 'X';
+}
+
 bool ShmSegment::unlink(const std::string& name) { return shm_unlink(path_of(name).c_str()) == 0; }
 
 Result<ShmSegment> ShmSegment::serve(const std::string& name, const palpate_shim_specs& specs) {
@@ -94,6 +112,14 @@ Result<ShmSegment> ShmSegment::serve(const std::string& name, const palpate_shim
   const bool compatible = !fresh && __atomic_load_n(&seg->header.magic, __ATOMIC_ACQUIRE) == PALPATE_SHIM_MAGIC &&
                           seg->header.version == PALPATE_SHIM_VERSION && seg->header.segment_size == kSize;
   if (compatible) {
+    // a single writer: a device process that still lives (even stopped by a signal) keeps its link
+    const auto pid = static_cast<pid_t>(__atomic_load_n(&seg->header.device_pid, __ATOMIC_ACQUIRE));
+    const bool stopped = __atomic_load_n(&seg->header.device_state, __ATOMIC_ACQUIRE) == PALPATE_SHIM_DEVICE_STOPPED;
+    if (pid > 0 && pid != getpid() && !stopped && process_alive(pid)) {
+      munmap(p, kSize);
+      return make_error(what, ": already served by device process ", std::to_string(pid),
+                        " (stop it first, or choose another --name)");
+    }
     // re-attach after an earlier device process: keep the counters monotonic, mend a record it died inside
     palpate_shim_lock_repair(&seg->pose.lock);
     __atomic_store_n(&seg->header.device_state, uint64_t{PALPATE_SHIM_DEVICE_STARTING}, __ATOMIC_RELEASE);

@@ -21,6 +21,8 @@ class ShmSegment {
 
   /// Device side: creates "/palpate-NAME" (mode 0600), or re-attaches to a compatible one an earlier device
   /// process of this user left (repairs a half-written pose, bumps the epoch); publishes specs, then magic.
+  /// Refuses a segment whose device process still lives and has not stopped ("already served by device process
+  /// 1234"): a seqlock has a single writer.
   static Result<ShmSegment> serve(const std::string& name, const palpate_shim_specs& specs);
   /// Sim side: opens "/palpate-NAME", waiting up to timeout_s for it to exist and be published; refuses a
   /// segment of another user, one others may access, or one whose size, magic or version differ from this build's.

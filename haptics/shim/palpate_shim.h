@@ -125,7 +125,9 @@ static inline void palpate_shim_lock_repair(uint64_t* lock) {
 
 /* Publishes a pose. Device side only; never blocks. */
 static inline void palpate_shim_write_pose(palpate_shim_pose_slot* s, const palpate_shim_pose* p) {
-  const uint64_t l = __atomic_load_n(&s->lock, __ATOMIC_RELAXED);
+  /* the only writer finds the lock even; an odd one was left by a write that never finished (or a stray
+     write): start from the next even value, or every later record would read as torn */
+  const uint64_t l = (__atomic_load_n(&s->lock, __ATOMIC_RELAXED) + 1u) & ~UINT64_C(1);
   __atomic_store_n(&s->lock, l + 1u, __ATOMIC_RELAXED);
   __atomic_thread_fence(__ATOMIC_RELEASE);
   PALPATE_SHIM_ST(s->pose.seq, p->seq);
@@ -154,7 +156,8 @@ static inline int palpate_shim_read_pose(const palpate_shim_pose_slot* s, palpat
 
 /* Publishes a force command. Sim side only; never blocks. */
 static inline void palpate_shim_write_force(palpate_shim_force_slot* s, const palpate_shim_force* f) {
-  const uint64_t l = __atomic_load_n(&s->lock, __ATOMIC_RELAXED);
+  /* as for the pose: an odd lock left by an unfinished write is mended, not carried on */
+  const uint64_t l = (__atomic_load_n(&s->lock, __ATOMIC_RELAXED) + 1u) & ~UINT64_C(1);
   __atomic_store_n(&s->lock, l + 1u, __ATOMIC_RELAXED);
   __atomic_thread_fence(__ATOMIC_RELEASE);
   PALPATE_SHIM_ST(s->force.seq, f->seq);

@@ -1,7 +1,11 @@
 // The shim in one process: seqlock records stay consistent under a concurrent writer, the watchdog and ramp
 // behave as specified, and the drivers' servo-thread calls never allocate.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <memory>
 
 #include <atomic>
 #include <cstdlib>
@@ -169,6 +173,122 @@ TEST(ShmDevice, DisconnectsWhenTheDeviceStopsAndReconnectsWhenItResumes) {
   EXPECT_GE(shm.events().at(1).silent_ms, 50.0);
   EXPECT_EQ(shm.events().at(2).kind, DeviceEventKind::kReconnected);
   EXPECT_GT(shm.events().at(2).tick, shm.events().at(1).tick);
+  ShmSegment::unlink(name);
+}
+
+// A device side whose heartbeat lives while its pose record is stuck: torn (lock left odd) or frozen (no new seq).
+struct HeartbeatOnly {
+  explicit HeartbeatOnly(palpate_shim_segment* seg) : seg_(seg), thread_([this] {
+    while (!stop) {
+      palpate_shim_beat(&seg_->device_hb, monotonic_ns());
+      sleep_until_ns(monotonic_ns() + 200'000);
+    }
+  }) {}
+  ~HeartbeatOnly() {
+    stop = true;
+    thread_.join();
+  }
+  palpate_shim_segment* seg_;
+  std::atomic<bool> stop{false};
+  std::thread thread_;
+};
+
+// Reads for `s` seconds at about 1 kHz; returns how many reads gave a pose.
+int read_for(ShmDevice* shm, double s, int64_t* tick) {
+  int got = 0;
+  DevicePose pose;
+  const int64_t end = monotonic_ns() + static_cast<int64_t>(s * 1e9);
+  while (monotonic_ns() < end) {
+    got += shm->read(static_cast<double>((*tick)++) * 1e-3, &pose) ? 1 : 0;
+    shm->write_force(Vec3(0, 0, 1));
+    sleep_until_ns(monotonic_ns() + 1'000'000);
+  }
+  return got;
+}
+
+TEST(ShmDevice, TornPoseIsAMissingReadingNotTheLastGoodPose) {
+  const std::string name = unique("torn");
+  auto seg = ShmSegment::serve(name, specs());
+  ASSERT_TRUE(seg);
+  palpate_shim_segment* sg = seg.value().get();
+  ShmParams p;
+  p.name = name;
+  p.watchdog_s = 0.05;
+  std::unique_ptr<ShmDevice> shm;
+  int64_t tick = 0;
+  {
+    FakeDevice dev(sg);
+    auto d = ShmDevice::connect(p, DeviceSpecs{});
+    ASSERT_TRUE(d) << d.error().message;
+    shm = std::move(d).value();
+    EXPECT_GT(read_for(shm.get(), 0.03, &tick), 0);
+  }
+  HeartbeatOnly hb(sg);
+  // a pose write that never finished: the lock stays odd, every later read is torn
+  __atomic_store_n(&sg->pose.lock, __atomic_load_n(&sg->pose.lock, __ATOMIC_RELAXED) | 1u, __ATOMIC_RELEASE);
+  EXPECT_EQ(read_for(shm.get(), 0.05, &tick), 0);
+  EXPECT_TRUE(shm->connected());
+  EXPECT_GT(shm->counters().torn_reads, 0);
+  ShmSegment::unlink(name);
+}
+
+TEST(ShmDevice, FrozenPoseIsStaleAfterTheWatchdog) {
+  const std::string name = unique("stale");
+  auto seg = ShmSegment::serve(name, specs());
+  ASSERT_TRUE(seg);
+  palpate_shim_segment* sg = seg.value().get();
+  ShmParams p;
+  p.name = name;
+  p.watchdog_s = 0.02;
+  std::unique_ptr<ShmDevice> shm;
+  int64_t tick = 0;
+  {
+    FakeDevice dev(sg);
+    auto d = ShmDevice::connect(p, DeviceSpecs{});
+    ASSERT_TRUE(d) << d.error().message;
+    shm = std::move(d).value();
+    EXPECT_GT(read_for(shm.get(), 0.03, &tick), 0);
+  }
+  HeartbeatOnly hb(sg);  // alive, but no new pose
+  read_for(shm.get(), 0.03, &tick);
+  EXPECT_EQ(read_for(shm.get(), 0.05, &tick), 0);
+  EXPECT_GT(shm->counters().stale_ticks, 0);
+  ShmSegment::unlink(name);
+}
+
+TEST(ShimSeqlock, WriterMendsALockLeftOdd) {
+  palpate_shim_pose_slot slot{};
+  slot.lock = 7;  // a write that died half way
+  palpate_shim_pose in{};
+  in.seq = 42;
+  in.quat_wxyz[0] = 1.0;
+  palpate_shim_write_pose(&slot, &in);
+  palpate_shim_pose out{};
+  ASSERT_EQ(palpate_shim_read_pose(&slot, &out, 1), 1);
+  EXPECT_EQ(out.seq, 42u);
+  EXPECT_EQ(slot.lock % 2, 0u);
+}
+
+TEST(ShimSegment, SecondServerIsRefusedWhileTheFirstLives) {
+  const std::string name = unique("twice");
+  auto a = ShmSegment::serve(name, specs());
+  ASSERT_TRUE(a);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    pause();
+    _exit(0);
+  }
+  // the segment as a device process `child` serves it
+  a.value().get()->header.device_pid = static_cast<uint64_t>(child);
+  auto b = ShmSegment::serve(name, specs());
+  ASSERT_FALSE(b.ok());
+  EXPECT_NE(b.error().message.find("already served by device process " + std::to_string(child)), std::string::npos)
+      << b.error().message;
+  kill(child, SIGKILL);
+  waitpid(child, nullptr, 0);
+  auto c = ShmSegment::serve(name, specs());  // its process gone: the name is free again
+  EXPECT_TRUE(c.ok()) << c.error().message;
   ShmSegment::unlink(name);
 }
 

@@ -107,6 +107,7 @@ nlohmann::json device_report(const Device& device) {
          {"rejected_outside", c.rejected_outside},
          {"rejected_speed", c.rejected_speed},
          {"torn_reads", c.torn_reads},
+         {"stale_ticks", c.stale_ticks},
          {"disconnected_ticks", c.disconnected_ticks},
          {"forces_sent", c.forces_sent}};
   } else if (const auto* plugin = dynamic_cast<const PluginDevice*>(&device)) {
