@@ -70,10 +70,34 @@ ExplicitEulerCheck check_explicit_euler(const LatticeSpec& spec, double dt_s) {
 }
 
 std::string integrator_warning(const LatticeSpec& spec, double dt_s) {
-  if (spec.integrator != IntegratorKind::kExplicitEuler) return "";
-  const double h = dt_s / std::max(1, spec.substeps);
-  const ExplicitEulerCheck c = check_explicit_euler(spec, h);
-  return c.stable ? "" : c.message;
+  if (spec.integrator == IntegratorKind::kExplicitEuler) {
+    const double h = dt_s / std::max(1, spec.substeps);
+    const ExplicitEulerCheck c = check_explicit_euler(spec, h);
+    return c.stable ? "" : c.message;
+  }
+  if (spec.integrator != IntegratorKind::kSymplecticEuler && spec.integrator != IntegratorKind::kRk4) return "";
+  // the bound of stability_bound() at an interior node of a full lattice, from the scene's parameters alone:
+  // 6 structural, 20 shear and 6 bend springs meet there
+  const double ksum = 6.0 * spec.structural_N_per_m + 20.0 * spec.shear_N_per_m + 6.0 * spec.bend_N_per_m;
+  const int springs = (spec.structural_N_per_m > 0.0 ? 6 : 0) + (spec.shear_N_per_m > 0.0 ? 20 : 0) +
+                      (spec.bend_N_per_m > 0.0 ? 6 : 0);
+  const double w2 = 2.0 * ksum / spec.node_mass_kg;
+  const double g = 2.0 * springs * spec.damping_Ns_per_m / spec.node_mass_kg;
+  const double rhs = 4.0 * 0.8;  // the integrator's safety factor
+  double h_max = INFINITY;
+  if (w2 > 0.0) h_max = (-2.0 * g + std::sqrt(4.0 * g * g + 4.0 * w2 * rhs)) / (2.0 * w2);
+  else if (g > 0.0) h_max = rhs / (2.0 * g);
+  if (!(h_max > 0.0) || !std::isfinite(h_max)) return "";
+  const double needed = std::ceil(dt_s / h_max);
+  const int allowed = spec.substeps > 0 ? spec.substeps : spec.max_substeps;
+  if (needed <= allowed) return "";
+  std::ostringstream s;
+  s << integrator_name(spec.integrator) << " needs " << static_cast<long long>(std::min(needed, 1e18)) << " substeps per frame to stay stable (step <= "
+    << h_max << " s from h^2 w^2 + 2 h g <= 3.2, w^2 = 2 sum k / m = " << w2 << " s^-2, g = 2 sum c / m = " << g
+    << " s^-1) but " << (spec.substeps > 0 ? "lattice.substeps is " : "lattice.max_substeps is ") << allowed
+    << ": the lattice will diverge; raise node_mass_kg, lower the stiffness or damping, or choose implicit_euler "
+       "/ local_global";
+  return s.str();
 }
 
 }  // namespace palpate

@@ -33,7 +33,8 @@ ExplicitEulerCheck check_explicit_euler(const Lattice& lat, double dt_s);
 /// Checks explicit Euler from scene parameters alone (start-up), assuming a full lattice (32 springs a node).
 ExplicitEulerCheck check_explicit_euler(const LatticeSpec& spec, double dt_s);
 
-/// A start-up warning for the scene's integrator at frame step dt_s, or "" when there is nothing to say.
+/// A start-up warning for the scene's integrator at frame step dt_s, or "" when there is nothing to say: explicit
+/// Euler past its bound, or symplectic Euler / RK4 needing more substeps than substeps / max_substeps allow.
 std::string integrator_warning(const LatticeSpec& spec, double dt_s);
 
 }  // namespace palpate

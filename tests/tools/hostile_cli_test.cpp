@@ -124,6 +124,17 @@ TEST(Hostile, DeviceErrorsLeaveNoOutputBehind) {
   }
 }
 
+TEST(Hostile, DivergenceIsWarnedAtStartAndFailsTheRun) {
+  const std::string s = box_scene("diverge", R"("node_mass_kg": 1e-7, "stiffness_N_per_m": {"structural": 1e9}, "max_substeps": 256)");
+  const std::string out = tmp("out_diverge");
+  fs::remove_all(out);
+  const CliRun r = palpate("record " + s + " -q --no-render --out " + out);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("warning: symplectic_euler needs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("lattice.max_substeps is 256"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the lattice diverged: nan_events"), std::string::npos) << r.out;
+}
+
 TEST(Hostile, SceneNameCannotSteerTheOutput) {
   const std::string s = write("named.json", R"({"name": "../../escape", "mesh": {"box_m": [0.06, 0.06, 0.06]},
       "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");

@@ -290,6 +290,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   res.frame_latency = frame_latency;
   res.frames_late = frames_late;
   res.frames_dropped = fst.frames_dropped;
+  res.nan_events = fst.nan_events;
+  res.divergence_events = fst.divergence_events;
   if (auto st = write_file_atomic(res.summary_path, res.summary_json, "summary"); !st) return st.error();
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());

@@ -40,6 +40,8 @@ struct RecordResult {
   LatencyHistogram frame_latency;///< realtime: 60 Hz loop wake latency
   int64_t frames_late = 0;       ///< realtime: frames started more than a period late
   int64_t frames_dropped = 0;    ///< realtime: frames not rendered because the writer was full
+  int64_t nan_events = 0;        ///< frames whose lattice state became non-finite (and was reset)
+  int64_t divergence_events = 0; ///< frames whose lattice diverged (and was reset)
 };
 
 /// Runs the recording. Errors (unwritable output, GL failure, write failures) name the culprit;
