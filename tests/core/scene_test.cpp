@@ -104,7 +104,10 @@ TEST(SceneHostile, NameMustBeAPlainFileName) {
 
 TEST(SceneHostile, TooManyKeyframesNameTheLimit) {
   std::string keys;
-  for (int i = 0; i <= 100000; ++i) keys += (i ? "," : "") + std::string(R"({"t_s": )") + std::to_string(i) + R"(, "pos_m": [0,0,0]})";
+  for (int i = 0; i <= 100000; ++i) {
+    if (i > 0) keys += ',';
+    keys.append(R"({"t_s": )").append(std::to_string(i)).append(R"(, "pos_m": [0,0,0]})");
+  }
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [)" + keys + "]}",
                "trajectory: 100001 keyframes, more than the limit of 100000");
 }

@@ -219,6 +219,7 @@ TEST(ShmDevice, TornPoseIsAMissingReadingNotTheLastGoodPose) {
   {
     FakeDevice dev(sg);
     auto d = ShmDevice::connect(p, DeviceSpecs{});
+    ShmSegment::unlink(name);  // the mappings stay valid; nothing is left in /dev/shm whatever happens below
     ASSERT_TRUE(d) << d.error().message;
     shm = std::move(d).value();
     EXPECT_GT(read_for(shm.get(), 0.03, &tick), 0);
@@ -245,6 +246,7 @@ TEST(ShmDevice, FrozenPoseIsStaleAfterTheWatchdog) {
   {
     FakeDevice dev(sg);
     auto d = ShmDevice::connect(p, DeviceSpecs{});
+    ShmSegment::unlink(name);  // the mappings stay valid; nothing is left in /dev/shm whatever happens below
     ASSERT_TRUE(d) << d.error().message;
     shm = std::move(d).value();
     EXPECT_GT(read_for(shm.get(), 0.03, &tick), 0);
@@ -282,14 +284,14 @@ TEST(ShimSegment, SecondServerIsRefusedWhileTheFirstLives) {
   // the segment as a device process `child` serves it
   a.value().get()->header.device_pid = static_cast<uint64_t>(child);
   auto b = ShmSegment::serve(name, specs());
+  kill(child, SIGKILL);  // before any assertion: a failed one must not leave the child behind
+  waitpid(child, nullptr, 0);
+  auto c = ShmSegment::serve(name, specs());  // its process gone: the name is free again
+  ShmSegment::unlink(name);
   ASSERT_FALSE(b.ok());
   EXPECT_NE(b.error().message.find("already served by device process " + std::to_string(child)), std::string::npos)
       << b.error().message;
-  kill(child, SIGKILL);
-  waitpid(child, nullptr, 0);
-  auto c = ShmSegment::serve(name, specs());  // its process gone: the name is free again
   EXPECT_TRUE(c.ok()) << c.error().message;
-  ShmSegment::unlink(name);
 }
 
 TEST(ShmDevice, TenThousandTicksAllocateNothing) {

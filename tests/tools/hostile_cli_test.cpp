@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "support/fixtures.h"
+#include "support/temp_root.h"
 
 namespace palpate {
 namespace {
@@ -35,7 +36,7 @@ CliRun palpate(const std::string& args) {
   return r;
 }
 
-std::string tmp(const std::string& name) { return (fs::path(testing::TempDir()) / ("palpate_hostile_" + name)).string(); }
+std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("hostile_" + name)).string(); }
 
 std::string write(const std::string& name, const std::string& text) {
   const std::string path = tmp(name);
