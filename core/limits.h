@@ -18,6 +18,8 @@ inline constexpr int kMaxKeyframes = 100000;
 inline constexpr int64_t kMaxLatticeNodes = 65536;
 /// Most lattice springs a scene's lattice may reach (estimated likewise).
 inline constexpr int64_t kMaxLatticeSprings = 1048576;
+/// Most triangles of a model after mesh.subdivisions (each subdivision makes 4 of every triangle).
+inline constexpr int64_t kMaxTriangles = int64_t{1} << 22;
 /// Deepest grid level (128^3 = 2,097,152 cells at the finest level).
 inline constexpr int kMaxGridLevels = 8;
 /// Most pixels of a rendered frame (width x height; 4096 x 4096).
@@ -29,7 +31,7 @@ inline constexpr int kMaxIterations = 1000;
 
 /// The limits above as a few lines of text, for --help.
 inline constexpr const char* kLimitsHelp =
-    "Limits: scene file 16 MiB, mesh file 512 MiB, replay log 256 MiB; 100000 keyframes; grid.levels 8 "
+    "Limits: scene file 16 MiB, mesh file 512 MiB, replay log 256 MiB; 100000 keyframes; 4194304 triangles (after mesh.subdivisions); grid.levels 8 "
     "(2097152 cells); lattice 65536 nodes and 1048576 springs (estimated from the scene and its grid before "
     "anything is built); frames 4096 x 4096 pixels; 100000 substeps; 1000 iterations.";
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/grid_hierarchy.h"
+#include "core/limits.h"
 #include "core/scene.h"
 #include "core/stats.h"
 #include "sim/forces.h"
@@ -25,6 +26,11 @@ constexpr double kPullRelease_s = 0.5;     // ... and is released here; the rest
 
 // A lattice over every cell of a cube split into `cells` per axis (a power of two), floor fixed.
 Result<Lattice> box_lattice(const LatticeSpec& spec_in, int cells) {
+  // the lattice's size is known from the option alone: refused before any grid or lattice exists
+  const int64_t nodes = int64_t{cells + 1} * (cells + 1) * (cells + 1);
+  if (nodes > kMaxLatticeNodes)
+    return make_error("bench sim: --box ", std::to_string(cells), " makes ", std::to_string(nodes),
+                      " nodes, more than the limit of ", std::to_string(kMaxLatticeNodes));
   int level = 1;
   while ((1 << (level - 1)) < cells) ++level;
   if ((1 << (level - 1)) != cells || level > GridHierarchy::kMaxLevels)

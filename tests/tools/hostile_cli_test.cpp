@@ -82,6 +82,16 @@ TEST(Hostile, HugeLatticeIsRefusedBeforeAnyOutput) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(Hostile, SubdividedModelAndBoxLatticeAreBoundedBeforeBuilding) {
+  const std::string s = write("subdivided.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 64,
+      "subdivisions": 5}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
+  expect_error(palpate("record " + s + " -q --out " + tmp("out_subdivided")),
+               "49152 triangles with mesh.subdivisions 5 make 50331648, more than the limit of 4194304");
+  EXPECT_FALSE(fs::exists(tmp("out_subdivided")));
+  expect_error(palpate("bench sim " + box_scene("box128", "") + " -q --box 128"),
+               "bench sim: --box 128 makes 2146689 nodes, more than the limit of 65536");
+}
+
 TEST(Hostile, NumberTooLargeForADoubleIsAnErrorNotAnAbort) {
   const std::string s = box_scene("overflow", R"("node_mass_kg": 1e400)");
   expect_error(palpate("record " + s + " -q --out " + tmp("out_overflow")), "scene '" + s + "': invalid JSON");

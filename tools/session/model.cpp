@@ -1,5 +1,6 @@
 #include "tools/session/model.h"
 
+#include "core/limits.h"
 #include "core/mesh_io.h"
 #include "sim/lattice_estimate.h"
 
@@ -16,6 +17,12 @@ Result<Model> load_model(const Scene& scene) {
     if (!mesh) return mesh.error();
     m.rest = std::move(mesh).value();
   }
+  // triangles after subdividing, bounded before any subdivision allocates them
+  const auto triangles = static_cast<int64_t>(m.rest.triangles.size()) << (2 * scene.mesh.subdivisions);
+  if (triangles > kMaxTriangles)
+    return make_error("mesh '", name, "': ", std::to_string(m.rest.triangles.size()), " triangles with mesh.subdivisions ",
+                      std::to_string(scene.mesh.subdivisions), " make ", std::to_string(triangles),
+                      ", more than the limit of ", std::to_string(kMaxTriangles));
   for (int i = 0; i < scene.mesh.subdivisions; ++i) m.rest = subdivide_midpoint(m.rest);
   // the file's up axis becomes world z (a right-handed rotation)
   for (Vec3& v : m.rest.vertices_m) {
