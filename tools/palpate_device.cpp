@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
   print_hist("wake latency", r.wake_latency);
   print_hist("pose -> force written by the sim", r.pose_to_force);
   print_hist("pose -> force seen here (round trip)", r.round_trip);
-  std::printf("  overruns %lld; forces received %lld (non-finite %lld); sim connected %lld, lost %lld; "
+  std::printf("  overruns %lld; forces received %lld (refused: non-finite or past the maximum %lld); sim connected %lld, lost %lld; "
               "max force applied %.3f N\n",
               static_cast<long long>(r.overruns), static_cast<long long>(r.forces),
               static_cast<long long>(r.rejected_forces), static_cast<long long>(r.sim_found),

@@ -2,9 +2,11 @@
 // scene against it, and faults are injected from outside (SIGSTOP, SIGKILL, restart, killing the sim).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
+#include "core/clock.h"
 #include "haptics/shm_segment.h"
 #include "render/png_io.h"
 #include "tools/device_process.h"
@@ -68,6 +70,39 @@ std::vector<int64_t> ticks_of(const nlohmann::json& s, const std::string& kind) 
   for (const auto& e : s["device"]["events"])
     if (e["event"] == kind) t.push_back(e["tick"].get<int64_t>());
   return t;
+}
+
+TEST(DeviceLink, GarbageInTheForceSlotIsRefusedNotRendered) {
+  // a sim side writing forces far past the device's maximum: the device must not render them clamped to full force
+  const std::string dir = fresh("garbage");
+  const std::string link = test::link_name("garbage");
+  const std::string scene = test::device_scene(link, 1.0, {});
+  Child dev = start_device(link, scene, dir, "g", {"--duration", "1.0", "--priority", "0", "-q"});
+  auto seg = ShmSegment::connect(link, kWait_s);
+  ASSERT_TRUE(seg) << seg.error().message;
+  palpate_shim_segment* s = seg.value().get();
+  uint64_t seq = __atomic_load_n(&s->force.force.seq, __ATOMIC_ACQUIRE);
+  const int64_t end_ns = monotonic_ns() + 400'000'000;
+  while (monotonic_ns() < end_ns) {
+    const int64_t now = monotonic_ns();
+    palpate_shim_beat(&s->sim_hb, now);
+    palpate_shim_force f{};
+    f.seq = ++seq;
+    f.time_ns = now;
+    f.force_N[0] = 1e6;
+    f.force_N[1] = -3e5;
+    f.force_N[2] = 7e4;
+    palpate_shim_write_force(&s->force, &f);
+    sleep_until_ns(monotonic_ns() + 1'000'000);
+  }
+  ASSERT_EQ(dev.wait(kWait_s), 0) << dev.output();
+  const Csv log = test::read_csv(dir + "/device_g.csv");
+  const int fx = log.col("force_x_N"), fy = log.col("force_y_N"), fz = log.col("force_z_N");
+  ASSERT_GE(fx, 0);
+  double max_N = 0.0;
+  for (const auto& r : log.rows) max_N = std::max(max_N, std::hypot(r[fx], r[fy], r[fz]));
+  EXPECT_EQ(max_N, 0.0) << "garbage commands were rendered";
+  ShmSegment::unlink(link);
 }
 
 TEST(DeviceLink, RecordsAgainstTheDeviceProcessAndBothEndCleanly) {

@@ -93,11 +93,13 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
       force_seq = f.seq;
       ++rep.forces;
       const Vec3 in(f.force_N[0], f.force_N[1], f.force_N[2]);
-      if (!in.allFinite()) {
+      // the sim clamps to at most this device's maximum: a command beyond it (or non-finite) is garbage in the
+      // slot, not a force to render at full strength
+      if (!in.allFinite() || in.norm() > o.max_force_N * (1.0 + 1e-9)) {
         ++rep.rejected_forces;
         cmd_N.setZero();
       } else {
-        cmd_N = in.norm() > o.max_force_N ? Vec3(in * (o.max_force_N / in.norm())) : in;
+        cmd_N = in;
       }
       if (f.pose_seq != 0 && f.pose_time_ns > 0 && f.pose_time_ns <= now) {
         rep.round_trip.add(now - f.pose_time_ns);

@@ -44,7 +44,7 @@ struct DeviceServerReport {
   LatencyHistogram pose_to_force;    ///< pose published -> force written by the sim (both stamped on CLOCK_MONOTONIC)
   int64_t overruns = 0;              ///< periods skipped
   int64_t forces = 0;                ///< new force commands received
-  int64_t rejected_forces = 0;       ///< non-finite force commands (replaced by zero)
+  int64_t rejected_forces = 0;       ///< non-finite force commands or ones past max_force_N (replaced by zero)
   int64_t sim_lost = 0;              ///< times the sim went silent
   int64_t sim_found = 0;             ///< times a sim's heartbeat started (or resumed)
   double max_force_applied_N = 0.0;  ///< largest force applied to the handle
