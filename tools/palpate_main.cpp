@@ -13,6 +13,7 @@
 #include "sim/stability.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
+#include "tools/bench_scale.h"
 #include "tools/bench_sim.h"
 #include "tools/info_command.h"
 #include "tools/session/device_factory.h"
@@ -140,6 +141,21 @@ int main(int argc, char** argv) {
                    "e.g. 4,8,16 = 125, 729, 4913 nodes")->delimiter(',')->check(CLI::Range(1, 128));
   bsim->add_flag("--quiet,-q", so.quiet, "No progress lines");
 
+  auto* bscale = bench->add_subcommand(
+      "scale", "Record a scene on its model subdivided 0..N times, cached layer beside full redraw (lockstep)");
+  std::string bscale_scene = "scenes/bunny_pull.json";
+  palpate::BenchScaleOptions sco;
+  bscale->add_option("scene", bscale_scene, "Scene whose interaction is recorded")->capture_default_str();
+  bscale->add_option("--max-subdivisions", sco.max_subdivisions,
+                     "Largest midpoint subdivision (bunny: 0 = 3.7k, 1 = 14.7k, 2 = 58.8k, 3 = 235k, 4 = 940k triangles)")
+      ->check(CLI::Range(0, 5))->capture_default_str();
+  bscale->add_option("--duration", sco.duration_s, "Scene seconds to record (overrides the scene)")
+      ->check(palpate::finite_range(1.0 / 60.0, 3600.0));
+  bscale->add_flag("!--no-full", sco.full_redraw, "Skip the full-redraw runs beside the cached-layer ones");
+  bscale->add_option("--json", sco.json_path, "Write the rows as JSON");
+  bscale->add_option("--plot", sco.plot_path, "Plot ms per frame against triangles (log-log) as PNG");
+  bscale->add_flag("--quiet,-q", sco.quiet, "No progress lines");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -154,6 +170,15 @@ int main(int argc, char** argv) {
   if (*info) return palpate::run_info(mesh_path, levels, json);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
+  if (*bscale) {
+    auto table = palpate::run_bench_scale(bscale_scene, sco);
+    if (!table) {
+      std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
+      return 1;
+    }
+    std::fputs(table.value().c_str(), stdout);
+    return 0;
+  }
   if (*bsim) {
     auto table = so.box_cells.empty() ? palpate::run_bench_sim(bsim_scene, so) : palpate::run_bench_sim_box(bsim_scene, so);
     if (!table) {

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "support/fixtures.h"
 
 namespace palpate {
@@ -122,6 +124,33 @@ TEST(Cli, AssimpInvalidModelsGiveErrorsNotCrashes) {
     ++n;
   }
   EXPECT_GT(n, 0);
+}
+
+TEST(Cli, BenchScaleRecordsEachSizeBothWaysAndWritesItsRows) {
+  const std::string json = tmp("scale.json");
+  const CliRun r = palpate("bench scale scenes/bunny_touch.json --max-subdivisions 1 --duration 1.0 -q --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream f(json);
+  const auto j = nlohmann::json::parse(f);
+  ASSERT_EQ(j["rows"].size(), 4u);  // 3674 and 14696 triangles, layered and full redraw
+  for (const auto& row : j["rows"]) {
+    const bool full = row["full_redraw"].get<bool>();
+    const int64_t tris = row["triangles"].get<int64_t>();
+    EXPECT_TRUE(tris == 3674 || tris == 14696) << tris;
+    EXPECT_EQ(row["subdivisions"].get<int>(), tris == 3674 ? 0 : 1);
+    EXPECT_GT(row["peak_rss_MB"].get<double>(), 10.0);
+    EXPECT_EQ(row["render_ms"]["count"].get<int64_t>(), 60);
+    // the cached layer is used in the layered runs only, and both draw the same recording
+    EXPECT_EQ(row["frames_layered"].get<int64_t>(), full ? 0 : 60);
+  }
+  EXPECT_EQ(j["rows"][0]["state_hash"], j["rows"][1]["state_hash"]);
+  EXPECT_NE(j["rows"][0]["state_hash"], j["rows"][2]["state_hash"]);  // a finer mesh deforms other vertices
+  // the table names every size
+  EXPECT_NE(r.out.find("14696"), std::string::npos) << r.out;
+}
+
+TEST(Cli, BenchScaleRefusesAnOutputThatIsNotAFile) {
+  expect_error(palpate("bench scale --max-subdivisions 0 --duration 0.1 -q --json /dev/null"), "/dev/null");
 }
 
 }  // namespace
