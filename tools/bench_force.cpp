@@ -12,6 +12,7 @@
 #include "haptics/servo.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/frame_stage.h"
+#include "tools/session/lockstep.h"
 #include "tools/session/model.h"
 
 namespace palpate {
@@ -25,31 +26,30 @@ struct ForceTrace {
 
 // Lockstep run with the sim stepping at frame_hz (60, or 1000 for the reference) and the given force model.
 Result<ForceTrace> run(const Scene& scene, const Model& model, double frame_hz, ForceModel fm) {
-  auto dev = make_device(scene, "scripted", 1000.0);
+  const Rates rates{1000.0, frame_hz};
+  auto dev = make_device(scene, "scripted", rates.servo_hz);
   if (!dev) return dev.error();
   SpscQueue<HapticSample> q(8192);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
-  stage.set_step_dt(1.0 / frame_hz);
-  ServoParams sp = servo_params_for(scene, 1000.0);
+  stage.set_step_dt(rates.frame_period_s());
+  ServoParams sp = servo_params_for(scene, dev.value()->specs(), rates.servo_hz);
   sp.force_model = fm;
   Servo servo(sp, dev.value().get(), &q, tb.get());
   ForceTrace tr;
-  const int64_t ticks = std::llround(scene.duration_s * 1000.0);
-  tr.force_N.reserve(static_cast<std::size_t>(ticks));
-  int64_t frame = 0;
+  tr.force_N.reserve(static_cast<std::size_t>(rates.ticks(scene.duration_s)));
   double sim_s = 0.0;
-  for (int64_t i = 0; i < ticks; ++i) {
-    const double t = static_cast<double>(i) * 1e-3;
-    while (static_cast<double>(frame) / frame_hz <= t + 1e-12) {
-      const auto t0 = std::chrono::steady_clock::now();
-      stage.frame(frame, static_cast<double>(frame) / frame_hz, false);
-      sim_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      ++frame;
-    }
-    servo.tick(i, t);
-    tr.force_N.push_back(servo.last_sample().force_N);
-  }
+  run_lockstep(
+      rates, scene.duration_s,
+      [&](int64_t f, double t) {
+        const auto t0 = std::chrono::steady_clock::now();
+        stage.frame(f, t, false);
+        sim_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      },
+      [&](int64_t i, double t) {
+        servo.tick(i, t);
+        tr.force_N.push_back(servo.last_sample().force_N);
+      });
   tr.sim_ms_per_scene_s = 1e3 * sim_s / scene.duration_s;
   return tr;
 }

@@ -45,7 +45,7 @@ Status run_servo_alone(const Scene& scene, const BenchLoopOptions& o, int spin_u
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   FrameStage stage(scene, model.value(), &q, tb.get(), nullptr, nullptr, nullptr);
   stage.frame(0, 0.0, false);  // publishes the surface patch around the tool's start
-  const ServoParams sp = servo_params_for(scene, o.rate_hz);
+  const ServoParams sp = servo_params_for(scene, device.value()->specs(), o.rate_hz);
   Servo servo(sp, device.value().get(), &q, tb.get());
   std::string why;
   lock_process_memory(&why);

@@ -19,13 +19,13 @@
 #include "tools/plot.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/frame_stage.h"
+#include "tools/session/lockstep.h"
 #include "tools/session/model.h"
 
 namespace palpate {
 namespace {
 
-constexpr double kServoRate_hz = 1000.0;
-constexpr double kFrameRate_hz = 60.0;
+constexpr Rates kRates{};  // the rates `palpate record` runs at by default
 
 // Everything one lockstep replay leaves behind for comparison.
 struct Trace {
@@ -40,18 +40,16 @@ struct Trace {
 
 // Replays the scene's interaction through the real servo and frame stage (no rendering), in lockstep.
 Result<Trace> replay(const Scene& scene, const Model& model) {
-  auto device_r = make_device(scene, "", kServoRate_hz);
+  auto device_r = make_device(scene, "", kRates.servo_hz);
   if (!device_r) return device_r.error();
   // the coupling as `palpate record` sets it up; every configuration gets the same servo
-  const ServoParams sp = servo_params_for(scene, kServoRate_hz);
+  const ServoParams sp = servo_params_for(scene, device_r.value()->specs(), kRates.servo_hz);
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
   Servo servo(sp, device_r.value().get(), &samples, local_model.get());
   FrameStage stage(scene, model, &samples, local_model.get(), nullptr, nullptr, nullptr);
   Trace t;
-  const int64_t ticks = std::llround(scene.duration_s * kServoRate_hz);
-  const auto frames = static_cast<int64_t>(std::ceil(scene.duration_s * kFrameRate_hz - 1e-9));
-  t.force_N.reserve(static_cast<std::size_t>(ticks));
+  t.force_N.reserve(static_cast<std::size_t>(kRates.ticks(scene.duration_s)));
   auto after_frame = [&]() {
     std::unordered_map<int32_t, Vec3> nodes;
     double e = 0.0;
@@ -65,21 +63,16 @@ Result<Trace> replay(const Scene& scene, const Model& model) {
     t.vertices_m.push_back(stage.vertices_m());
     t.energy_J.push_back(e);
   };
-  int64_t next_frame = 0;
-  for (int64_t i = 0; i < ticks; ++i) {
-    const double ts = static_cast<double>(i) / kServoRate_hz;
-    while (next_frame < frames && static_cast<double>(next_frame) / kFrameRate_hz <= ts + 1e-12) {
-      stage.frame(next_frame, static_cast<double>(next_frame) / kFrameRate_hz, true);
-      after_frame();
-      ++next_frame;
-    }
-    servo.tick(i, ts);
-    t.force_N.push_back(servo.last_sample().force_N);
-  }
-  for (; next_frame < frames; ++next_frame) {
-    stage.frame(next_frame, static_cast<double>(next_frame) / kFrameRate_hz, true);
-    after_frame();
-  }
+  run_lockstep(
+      kRates, scene.duration_s,
+      [&](int64_t f, double ts) {
+        stage.frame(f, ts, true);
+        after_frame();
+      },
+      [&](int64_t i, double ts) {
+        servo.tick(i, ts);
+        t.force_N.push_back(servo.last_sample().force_N);
+      });
   stage.drain_remaining();
   t.stats = stage.stats();
   return t;

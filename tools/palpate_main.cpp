@@ -21,7 +21,7 @@
 
 namespace {
 
-int run_record(const std::string& scene_path, palpate::RecordOptions opt, const std::string& mode) {
+int run_record(const std::string& scene_path, palpate::RecordOptions opt, const std::string& mode, bool realtime_flags) {
   auto scene = palpate::load_scene(scene_path);
   if (!scene) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
@@ -39,6 +39,9 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
     opt.override_mode = true;
     opt.mode = palpate::RunMode::kRealtime;
   }
+  const palpate::RunMode run_mode = opt.override_mode ? opt.mode : scene.value().run_mode;
+  if (realtime_flags && run_mode == palpate::RunMode::kLockstep)
+    std::fprintf(stderr, "palpate: warning: --spin-us and --priority apply to realtime recordings; this one is lockstep\n");
   auto res = palpate::record_scene(scene.value(), opt);
   if (!res) {
     std::fprintf(stderr, "palpate: %s\n", res.error().message.c_str());
@@ -87,7 +90,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000));
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
       ->check(CLI::Range(0, 99));
-  rec->add_option("--servo-rate", opt.servo_rate_hz, "realtime: servo rate in Hz")->check(palpate::finite_range(100.0, 20000.0));
+  rec->add_option("--servo-rate", opt.servo_rate_hz,
+                  "Servo rate in Hz (lockstep: ticks per scene-second); device, servo period and passivity follow it")
+      ->check(palpate::finite_range(100.0, 20000.0))->capture_default_str();
 
   auto* info = app.add_subcommand("info", "Mesh counts, box and grid hierarchy per level");
   std::string mesh_path;
@@ -165,7 +170,8 @@ int main(int argc, char** argv) {
   if (*rec) {
     opt.render = !no_render;
     opt.full_redraw = full_redraw;
-    return run_record(scene_path, opt, mode);
+    const bool realtime_flags = rec->get_option("--spin-us")->count() > 0 || rec->get_option("--priority")->count() > 0;
+    return run_record(scene_path, opt, mode, realtime_flags);
   }
   if (*info) return palpate::run_info(mesh_path, levels, json);
   if (*bloop) return palpate::run_bench_loop(lo);

@@ -54,6 +54,7 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   split_spec(scene, spec, &driver, &target);
   DeviceSpecs specs;
   specs.max_force_N = scene.device.max_force_N;
+  specs.max_stiffness_N_per_m = scene.device.max_stiffness_N_per_m;
   specs.workspace_half_m = scene.device.workspace_half_m;
   specs.rate_hz = rate_hz;
   if (driver == "scripted") {
@@ -142,11 +143,12 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
   return f.commit();
 }
 
-ServoParams servo_params_for(const Scene& scene, double rate_hz) {
+ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, double rate_hz) {
   ServoParams sp;
   sp.mode = scene.mode;
-  // the coupling never renders more stiffness than the device can display stably
-  sp.coupling_N_per_m = std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m);
+  // the coupling never renders more stiffness than the device can display stably, by the scene's word or its own
+  sp.coupling_N_per_m = std::min({scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m,
+                                  device.max_stiffness_N_per_m});
   sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
   sp.passivity = scene.device.passivity;
   sp.ramp_s = scene.device.ramp_s;

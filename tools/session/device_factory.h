@@ -32,8 +32,10 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
 /// The config string handed to a plugin's open(): scene path, hand and keyframes as C99 hex floats.
 std::string plugin_config(const Scene& scene);
 
-/// The servo as a scene asks for it at rate_hz: the coupling capped at the device's stable stiffness, passivity,
-/// ramp, grab and blade settings. Every driver of the pipeline (record, benchmarks, tests) starts from this.
-ServoParams servo_params_for(const Scene& scene, double rate_hz);
+/// The servo as a scene asks for it at rate_hz: the coupling capped at the stable stiffness of the scene's
+/// device.max_stiffness_N_per_m and of the device itself (its specs, as shm and plugin drivers report them),
+/// passivity, ramp, grab and blade settings, period 1 / rate_hz. Every driver of the pipeline (record,
+/// benchmarks, tests) starts from this.
+ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, double rate_hz);
 
 }  // namespace palpate

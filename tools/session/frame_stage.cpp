@@ -276,7 +276,10 @@ void FrameStage::render(int64_t index, bool block) {
   }
   renderer_->draw(view, buf);
   stats_.frames_layered += renderer_->last_draw_layered() ? 1 : 0;
-  writer_->submit(static_cast<int>(index), buf);
+  // files are numbered in the order written, so a realtime run's skipped frames leave no gap in the sequence;
+  // written_frames says which scene frame each file shows
+  writer_->submit(static_cast<int>(stats_.frames_rendered), buf);
+  stats_.written_frames.push_back(index);
   ++stats_.frames_rendered;
   stats_.render_ms.push_back(ms_since(t0));
 }

@@ -30,6 +30,7 @@ struct FrameStats {
   std::vector<double> sim_ms;       ///< per frame: drain + step + deform + publish
   std::vector<double> render_ms;    ///< per rendered frame
   int64_t frames_layered = 0;       ///< rendered frames that drew only what moves over the cached static layer
+  std::vector<int64_t> written_frames; ///< scene frame index of each PNG, in file order (frame_00000 first)
   int64_t frames = 0;               ///< frames processed
   int64_t frames_rendered = 0;      ///< frames handed to the PNG writer
   int64_t frames_dropped = 0;       ///< realtime: frames not rendered because the writer was full

@@ -23,14 +23,13 @@
 #include "haptics/servo_runner.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/frame_stage.h"
+#include "tools/session/lockstep.h"
 #include "tools/session/model.h"
 
 namespace palpate {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kServoRate_hz = 1000.0;
-constexpr double kFrameRate_hz = 60.0;
 
 // Creates out/ and out/frames, checks it can be written, clears frames of an earlier recording.
 Status prepare_output(const std::string& out, std::string* frames_dir) {
@@ -103,7 +102,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   const Model& model = model_r.value();
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
-  auto device_r = make_device(scene, opt.device, kServoRate_hz);
+  const Rates rates{opt.servo_rate_hz, kDefaultFrameRate_hz};
+  auto device_r = make_device(scene, opt.device, rates.servo_hz);
   if (!device_r) return device_r.error();
   std::string frames_dir;
   if (auto st = prepare_output(opt.out_dir, &frames_dir); !st) return st.error();
@@ -132,14 +132,14 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (auto st = log.open(csv_path); !st) return st.error();
 
   Device& device = *device_r.value();
-  const ServoParams sp = servo_params_for(scene, kServoRate_hz);
+  const ServoParams sp = servo_params_for(scene, device.specs(), rates.servo_hz);
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
   Servo servo(sp, &device, &samples, local_model.get());
   FrameStage stage(scene, model, &samples, local_model.get(), renderer.get(), writer.get(), &log);
+  stage.set_step_dt(rates.frame_period_s());
 
-  const int64_t ticks = std::llround(scene.duration_s * kServoRate_hz);
-  const auto frames = static_cast<int64_t>(std::ceil(scene.duration_s * kFrameRate_hz - 1e-9));
+  const int64_t frames = rates.frames(scene.duration_s);
   Progress progress(opt.quiet, scene.name, scene.duration_s);
   const auto wall0 = std::chrono::steady_clock::now();
   ServoTiming timing;
@@ -148,29 +148,27 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   bool memory_locked = false;
 
   if (lockstep) {
-    // virtual clock: 1000 servo ticks and 60 frames per scene-second, in a fixed order
-    int64_t next_frame = 0;
-    for (int64_t i = 0; i < ticks; ++i) {
-      const double t = static_cast<double>(i) / kServoRate_hz;
-      while (next_frame < frames && static_cast<double>(next_frame) / kFrameRate_hz <= t + 1e-12) {
-        stage.frame(next_frame, static_cast<double>(next_frame) / kFrameRate_hz, true);
-        ++next_frame;
-        progress.update(t, next_frame, frames);
-      }
-      const int64_t c0 = monotonic_ns();
-      servo.tick(i, t);
-      timing.compute.add(monotonic_ns() - c0);
-    }
-    for (; next_frame < frames; ++next_frame) stage.frame(next_frame, static_cast<double>(next_frame) / kFrameRate_hz, true);
+    // virtual clock: rates.servo_hz ticks and rates.frame_hz frames per scene-second, in a fixed order
+    run_lockstep(
+        rates, scene.duration_s,
+        [&](int64_t f, double t) {
+          stage.frame(f, t, true);
+          progress.update(t, f + 1, frames);
+        },
+        [&](int64_t i, double t) {
+          const int64_t c0 = monotonic_ns();
+          servo.tick(i, t);
+          timing.compute.add(monotonic_ns() - c0);
+        });
   } else {
     std::string mem_refused;
     const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);
     ServoRunnerConfig cfg;
-    cfg.rate_hz = opt.servo_rate_hz;
+    cfg.rate_hz = rates.servo_hz;
     cfg.spin_us = opt.spin_us;
     cfg.rt.fifo_priority = opt.fifo_priority;
     cfg.rt.cpu = opt.servo_cpu;
-    cfg.max_ticks = std::llround(scene.duration_s * opt.servo_rate_hz);  // the servo ends on time by itself
+    cfg.max_ticks = rates.ticks(scene.duration_s);  // the servo ends on time by itself
     ServoRunner runner(&servo, cfg);
     const int64_t t0_ns = monotonic_ns() + 5'000'000;
     const RtGrant& grant = runner.start(t0_ns);
@@ -181,7 +179,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
       std::fprintf(stderr, "palpate: servo: refused: %s; running with %s%s\n", what.c_str(),
                    grant.fifo ? "SCHED_FIFO" : "normal priority", grant.timer_slack_1ns ? ", timer slack 1 ns" : "");
     }
-    const double frame_ns = 1e9 / kFrameRate_hz;
+    const double frame_ns = 1e9 * rates.frame_period_s();
     for (int64_t f = 0; f < frames; ++f) {
       const int64_t deadline = t0_ns + static_cast<int64_t>(std::llround(static_cast<double>(f) * frame_ns));
       sleep_until_ns(deadline);
@@ -192,8 +190,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
         ++frames_late;
         continue;
       }
-      stage.frame(f, static_cast<double>(f) / kFrameRate_hz, false);
-      progress.update(static_cast<double>(f) / kFrameRate_hz, f + 1, frames);
+      stage.frame(f, static_cast<double>(f) * rates.frame_period_s(), false);
+      progress.update(static_cast<double>(f) * rates.frame_period_s(), f + 1, frames);
     }
     runner.join();  // the servo ends by itself after the scene's ticks
     timing = runner.timing();
@@ -238,7 +236,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                 {"overruns", timing.overruns},
                 {"first_overrun_ticks", std::vector<int64_t>(timing.first_overrun_ticks.begin(),
                                                              timing.first_overrun_ticks.begin() + timing.overrun_ticks_recorded)},
-                {"rate_hz", lockstep ? kServoRate_hz : opt.servo_rate_hz},
+                {"rate_hz", rates.servo_hz},
                 {"spin_us", lockstep ? 0 : opt.spin_us},
                 {"rt", {{"memory_locked", memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
                         {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};
@@ -275,6 +273,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                  {"frames_layered", fst.frames_layered}, {"layer_builds", renderer ? renderer->layer_builds() : 0}};
   j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
               {"write_errors", writer ? writer->write_errors() : 0}};
+  // realtime: which scene frame each file shows (files are numbered without gaps; lockstep: file i is frame i)
+  if (!lockstep) j["frames_scene_index"] = fst.written_frames;
   j["wall_s"] = wall_s;
   j["wall_s_per_scene_s"] = wall_s / scene.duration_s;
   if (lockstep) j["state_hash"] = stage.state_hash();

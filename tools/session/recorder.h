@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "core/rates.h"
 #include "core/result.h"
 #include "core/scene.h"
 #include "haptics/servo_runner.h"
@@ -12,6 +13,8 @@ namespace palpate {
 
 /// Default sleep-then-spin window of the realtime servo (see README, "Servo timing").
 inline constexpr int kDefaultSpin_us = 100;
+/// Sim/render frames per (scene-)second.
+inline constexpr double kDefaultFrameRate_hz = 60.0;
 
 /// How to run a recording (command-line overrides of the scene).
 struct RecordOptions {
@@ -23,7 +26,8 @@ struct RecordOptions {
   bool render = true;            ///< false: no GL, no frames (sim and haptics only)
   bool full_redraw = false;      ///< draw the whole mesh every frame (no cached static layer; same pixels)
   std::string device;            ///< device override ("scripted", ...); empty = the scene's driver
-  double servo_rate_hz = 1000.0; ///< realtime servo rate (lockstep always ticks 1000 per scene-second)
+  double servo_rate_hz = 1000.0; ///< servo ticks per second (lockstep: per scene-second); device, servo period,
+                                 ///< passivity guard and velocity estimate all follow it
   int spin_us = kDefaultSpin_us; ///< realtime: spin this long before each servo deadline
   int fifo_priority = 80;        ///< realtime: SCHED_FIFO priority for the servo, 0 = normal scheduling
   int servo_cpu = -1;            ///< realtime: CPU to pin the servo to, -1 = the last allowed CPU
