@@ -14,6 +14,13 @@
 
 namespace palpate {
 
+/// The default sleep-then-spin window at rate_hz: 100 us, but never more than a quarter of the period, so the
+/// thread sleeps in every period (a thread that never sleeps is stopped by the kernel's real-time throttling).
+inline int default_spin_us(double rate_hz) {
+  const double quarter_us = 0.25e6 / rate_hz;
+  return quarter_us < 100.0 ? static_cast<int>(quarter_us) : 100;
+}
+
 /// How the servo thread runs.
 struct ServoRunnerConfig {
   double rate_hz = 1000.0;  ///< tick rate

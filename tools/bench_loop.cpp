@@ -71,7 +71,7 @@ Status run_servo_alone(const Scene& scene, const BenchLoopOptions& o, int spin_u
 Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, LoopRun* out) {
   out->rate_hz = rate_hz;
   out->load = o.load;
-  out->spin_us = o.spin_us >= 0 ? o.spin_us : kDefaultSpin_us;
+  out->spin_us = o.spin_us >= 0 ? o.spin_us : default_spin_us(rate_hz);
   BenchLoopOptions oo = o;
   oo.rate_hz = rate_hz;
   if (o.load == "none") return run_servo_alone(scene, oo, out->spin_us, out);

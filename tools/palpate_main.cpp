@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
   rec->add_flag("--full-redraw", full_redraw,
                 "Draw the whole mesh every frame instead of a cached static layer plus what moves (same pixels)");
   rec->add_option("--device", opt.device, "Device: scripted | shm:NAME (palpate-device) | plugin:PATH.so | replay:PATH (haptic.csv or recording folder)");
-  rec->add_option("--spin-us", opt.spin_us, "realtime: spin this many us before each servo deadline (0 = sleep only)")
+  rec->add_option("--spin-us", opt.spin_us,
+                  "realtime: spin this many us before each servo deadline (0 = sleep only; default 100, at most a quarter period)")
       ->check(CLI::Range(0, 1000));
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
       ->check(CLI::Range(0, 99));

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "haptics/scripted_device.h"
+#include "haptics/servo_runner.h"
 #include "support/alloc_counter.h"
 #include "support/haptic_fixtures.h"
 
@@ -200,6 +201,14 @@ TEST(AllocationGuard, SeesAnAllocation) {
   test::AllocationGuard guard;
   auto p = std::make_unique<int>(3);
   EXPECT_EQ(guard.count(), 1);
+}
+
+TEST(ServoRunner, DefaultSpinWindowLeavesTheThreadASleepInEveryPeriod) {
+  EXPECT_EQ(default_spin_us(1000.0), 100);
+  EXPECT_EQ(default_spin_us(2000.0), 100);
+  EXPECT_EQ(default_spin_us(5000.0), 50);
+  EXPECT_EQ(default_spin_us(10000.0), 25);
+  for (double rate : {500.0, 1000.0, 4000.0, 10000.0, 20000.0}) EXPECT_LE(default_spin_us(rate), 0.25e6 / rate) << rate;
 }
 
 }  // namespace

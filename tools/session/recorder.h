@@ -11,8 +11,6 @@
 
 namespace palpate {
 
-/// Default sleep-then-spin window of the realtime servo (see README, "Servo timing").
-inline constexpr int kDefaultSpin_us = 100;
 /// Sim/render frames per (scene-)second.
 inline constexpr double kDefaultFrameRate_hz = 60.0;
 
@@ -28,7 +26,7 @@ struct RecordOptions {
   std::string device;            ///< device override ("scripted", ...); empty = the scene's driver
   double servo_rate_hz = 1000.0; ///< servo ticks per second (lockstep: per scene-second); device, servo period,
                                  ///< passivity guard and velocity estimate all follow it
-  int spin_us = kDefaultSpin_us; ///< realtime: spin this long before each servo deadline
+  int spin_us = -1;              ///< realtime: spin this long before each servo deadline; -1 = default_spin_us(rate)
   int fifo_priority = 80;        ///< realtime: SCHED_FIFO priority for the servo, 0 = normal scheduling
   int servo_cpu = -1;            ///< realtime: CPU to pin the servo to, -1 = the last allowed CPU
   bool lock_memory = true;       ///< realtime: mlockall before starting
