@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "haptics/latency_histogram.h"
 #include "haptics/scripted_device.h"
 #include "haptics/servo_runner.h"
 #include "support/alloc_counter.h"
@@ -209,6 +210,26 @@ TEST(ServoRunner, DefaultSpinWindowLeavesTheThreadASleepInEveryPeriod) {
   EXPECT_EQ(default_spin_us(5000.0), 50);
   EXPECT_EQ(default_spin_us(10000.0), 25);
   for (double rate : {500.0, 1000.0, 4000.0, 10000.0, 20000.0}) EXPECT_LE(default_spin_us(rate), 0.25e6 / rate) << rate;
+}
+
+TEST(LatencyHistogram, WideBucketsCoverAFrameLoopsLatencies) {
+  // 1 us buckets (the servo's) end at 2 ms: a 60 Hz loop's 5-100 ms latencies would all be "max"
+  LatencyHistogram servo;
+  LatencyHistogram frames(100'000);
+  for (int i = 0; i < 98; ++i) {
+    servo.add(5'000'000);
+    frames.add(5'000'000);
+  }
+  servo.add(103'000'000);
+  frames.add(103'000'000);
+  frames.add(300'000'000);  // past 200 ms: overflow, still the max
+  EXPECT_EQ(servo.overflow(), 99);
+  EXPECT_DOUBLE_EQ(servo.quantile_us(0.5), servo.max_us());
+  EXPECT_DOUBLE_EQ(frames.range_us(), 200'000.0);
+  EXPECT_DOUBLE_EQ(frames.quantile_us(0.5), 5'100.0);   // upper edge of the 5.0-5.1 ms bucket
+  EXPECT_DOUBLE_EQ(frames.quantile_us(0.99), 103'100.0);
+  EXPECT_EQ(frames.overflow(), 1);
+  EXPECT_DOUBLE_EQ(frames.quantile_us(1.0), 300'000.0);
 }
 
 }  // namespace

@@ -54,8 +54,9 @@ nlohmann::json ms_json(const std::vector<double>& v) {
 }
 
 nlohmann::json hist_json(const LatencyHistogram& h) {
+  const std::string over = "over_" + std::to_string(static_cast<int64_t>(h.range_us() / 1000.0)) + "ms";
   return {{"p50", h.quantile_us(0.5)}, {"p99", h.quantile_us(0.99)}, {"p999", h.quantile_us(0.999)},
-          {"max", h.max_us()}, {"count", h.count()}, {"over_2ms", h.overflow()}};
+          {"max", h.max_us()}, {"count", h.count()}, {over, h.overflow()}};
 }
 
 // A single progress line on stderr: rewritten in place on a terminal, one line a second otherwise.
@@ -143,7 +144,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   Progress progress(opt.quiet, scene.name, scene.duration_s);
   const auto wall0 = std::chrono::steady_clock::now();
   ServoTiming timing;
-  LatencyHistogram frame_latency;   // realtime: frame start - frame deadline
+  LatencyHistogram frame_latency(100'000);  // realtime: frame start - frame deadline, 100 us buckets to 200 ms
   int64_t frames_late = 0;
   bool memory_locked = false;
 
