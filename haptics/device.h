@@ -3,6 +3,10 @@
 
 #include <cstdint>
 
+#include <string>
+
+#include <nlohmann/json.hpp>
+
 #include "core/types.h"
 
 namespace palpate {
@@ -33,6 +37,14 @@ class Device {
   virtual bool read(double t_s, DevicePose* out) noexcept = 0;
   /// Commands a force (N) to be applied until the next call.
   virtual void write_force(const Vec3& force_N) noexcept = 0;
+
+  /// What the driver reports after a run for summary.json: {"driver": name, its own figures}. Not for the servo
+  /// thread (it allocates).
+  virtual nlohmann::json report() const { return {{"driver", "custom"}}; }
+  /// Link events (connected, disconnected, ...) for device_events.csv; null for a driver without a link.
+  virtual const class DeviceEventLog* link_events() const noexcept { return nullptr; }
+  /// The link's name for messages about its events (empty without a link).
+  virtual std::string link_name() const { return {}; }
 };
 
 }  // namespace palpate

@@ -33,6 +33,10 @@ class PluginDevice final : public Device {
   const std::string& name() const noexcept { return name_; }
   /// Readings the plugin did not deliver or that were not finite.
   int64_t bad_readings() const noexcept { return bad_readings_; }
+  /// Driver "plugin": its name and refused readings.
+  nlohmann::json report() const override {
+    return {{"driver", "plugin"}, {"name", name_}, {"bad_readings", bad_readings_}};
+  }
 
  private:
   PluginDevice() = default;

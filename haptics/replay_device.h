@@ -45,6 +45,10 @@ class ReplayDevice final : public Device {
   std::size_t size() const noexcept { return rows_.size(); }
   /// Duration covered (s).
   double duration_s() const noexcept { return rows_.back().t_s - rows_.front().t_s; }
+  /// Driver "replay": rows and their time span.
+  nlohmann::json report() const override {
+    return {{"driver", "replay"}, {"rows", rows_.size()}, {"duration_s", duration_s()}};
+  }
   /// Last force written.
   const Vec3& last_force_N() const noexcept { return force_N_; }
 

@@ -19,6 +19,8 @@ class ScriptedDevice final : public Device {
   /// Integrates the hand from the previous call's time to t_s (0.1 ms substeps) and reports the handle.
   bool read(double t_s, DevicePose* out) noexcept override;
   void write_force(const Vec3& force_N) noexcept override { force_N_ = force_N; }
+  /// Driver "scripted".
+  nlohmann::json report() const override { return {{"driver", "scripted"}}; }
 
   /// Keyframe target position and button at time t_s (linear in position, button held until the next key).
   void target(double t_s, Vec3* pos_m, bool* button) const noexcept;

@@ -165,4 +165,27 @@ void ShmDevice::write_force(const Vec3& force_N) noexcept {
   ++counters_.forces_sent;
 }
 
+nlohmann::json ShmDevice::report() const {
+  nlohmann::json events = nlohmann::json::array();
+  for (int i = 0; i < events_.count(); ++i) {
+    const DeviceEvent& e = events_.at(i);
+    events.push_back({{"tick", e.tick}, {"t_s", e.t_s}, {"event", device_event_name(e.kind)}, {"silent_ms", e.silent_ms}});
+  }
+  const ShmCounters& c = counters_;
+  return {{"driver", "shm"},
+          {"link", params_.name},
+          {"connected_at_end", connected_},
+          {"watchdog_ms", params_.watchdog_s * 1e3},
+          {"events", events},
+          {"events_lost", events_.lost()},
+          {"poses", c.poses},
+          {"rejected_nonfinite", c.rejected_nonfinite},
+          {"rejected_outside", c.rejected_outside},
+          {"rejected_speed", c.rejected_speed},
+          {"torn_reads", c.torn_reads},
+          {"stale_ticks", c.stale_ticks},
+          {"disconnected_ticks", c.disconnected_ticks},
+          {"forces_sent", c.forces_sent}};
+}
+
 }  // namespace palpate

@@ -65,6 +65,12 @@ class ShmDevice final : public Device {
   const ShmParams& params() const noexcept { return params_; }
   /// Force (N) last written to the peer, after the link check and clamp.
   const Vec3& last_force_sent_N() const noexcept { return sent_N_; }
+  /// Driver "shm": link, connection at the end, watchdog, events, pose and rejection counters.
+  nlohmann::json report() const override;
+  /// The link's events.
+  const DeviceEventLog* link_events() const noexcept override { return &events_; }
+  /// The link name.
+  std::string link_name() const override { return params_.name; }
 
  private:
   ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs& specs);

@@ -88,56 +88,23 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   return make_error("device '", driver, "': unknown driver (known: scripted, shm:NAME, plugin:PATH, replay:PATH)");
 }
 
-nlohmann::json device_report(const Device& device) {
-  nlohmann::json j;
-  if (const auto* shm = dynamic_cast<const ShmDevice*>(&device)) {
-    const ShmCounters& c = shm->counters();
-    nlohmann::json events = nlohmann::json::array();
-    for (int i = 0; i < shm->events().count(); ++i) {
-      const DeviceEvent& e = shm->events().at(i);
-      events.push_back({{"tick", e.tick}, {"t_s", e.t_s}, {"event", device_event_name(e.kind)}, {"silent_ms", e.silent_ms}});
-    }
-    j = {{"driver", "shm"},
-         {"link", shm->params().name},
-         {"connected_at_end", shm->connected()},
-         {"watchdog_ms", shm->params().watchdog_s * 1e3},
-         {"events", events},
-         {"events_lost", shm->events().lost()},
-         {"poses", c.poses},
-         {"rejected_nonfinite", c.rejected_nonfinite},
-         {"rejected_outside", c.rejected_outside},
-         {"rejected_speed", c.rejected_speed},
-         {"torn_reads", c.torn_reads},
-         {"stale_ticks", c.stale_ticks},
-         {"disconnected_ticks", c.disconnected_ticks},
-         {"forces_sent", c.forces_sent}};
-  } else if (const auto* plugin = dynamic_cast<const PluginDevice*>(&device)) {
-    j = {{"driver", "plugin"}, {"name", plugin->name()}, {"bad_readings", plugin->bad_readings()}};
-  } else if (const auto* replay = dynamic_cast<const ReplayDevice*>(&device)) {
-    j = {{"driver", "replay"}, {"rows", replay->size()}, {"duration_s", replay->duration_s()}};
-  } else {
-    j = {{"driver", "scripted"}};
-  }
-  return j;
-}
-
 Status write_device_events(const Device& device, const std::string& out_dir, bool quiet) {
-  const auto* shm = dynamic_cast<const ShmDevice*>(&device);
-  if (!shm) return Ok{};
+  const DeviceEventLog* events = device.link_events();
+  if (events == nullptr) return Ok{};
   const std::string path = (std::filesystem::path(out_dir) / "device_events.csv").string();
   auto out = AtomicFile::open(path, "events", ".partial");
   if (!out) return out.error();
   AtomicFile& f = out.value();
   f.write("tick,t_s,event,silent_ms\n");
-  for (int i = 0; i < shm->events().count(); ++i) {
-    const DeviceEvent& e = shm->events().at(i);
+  for (int i = 0; i < events->count(); ++i) {
+    const DeviceEvent& e = events->at(i);
     char line[128];
     std::snprintf(line, sizeof line, "%lld,%.6f,%s,%.3f\n", static_cast<long long>(e.tick), e.t_s,
                   device_event_name(e.kind), e.silent_ms);
     f.write(line);
     if (!quiet && e.kind != DeviceEventKind::kConnected)
       std::fprintf(stderr, "palpate: device '%s': %s at tick %lld (t = %.3f s, peer silent %.1f ms)\n",
-                   shm->params().name.c_str(), device_event_name(e.kind), static_cast<long long>(e.tick), e.t_s,
+                   device.link_name().c_str(), device_event_name(e.kind), static_cast<long long>(e.tick), e.t_s,
                    e.silent_ms);
   }
   return f.commit();

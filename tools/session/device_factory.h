@@ -21,10 +21,6 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
 /// The driver name of a spec ("shm" for "shm:x"; the scene's driver when spec is empty).
 std::string device_driver(const Scene& scene, const std::string& spec);
 
-/// What the driver saw, for summary.json: {"driver", "connected", "events": [{tick, t_s, event, silent_ms}],
-/// counters}. Drivers without a link report just their name.
-nlohmann::json device_report(const Device& device);
-
 /// Writes <out_dir>/device_events.csv (tick,t_s,event,silent_ms) via a temporary name when the driver keeps
 /// link events, and prints one line per event to stderr unless quiet. Errors name the file.
 Status write_device_events(const Device& device, const std::string& out_dir, bool quiet);

@@ -279,7 +279,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["wall_s"] = wall_s;
   j["wall_s_per_scene_s"] = wall_s / scene.duration_s;
   if (lockstep) j["state_hash"] = stage.state_hash();
-  j["device"] = device_report(device);
+  j["device"] = device.report();
   j["outputs"] = {{"frames", frames_dir}, {"haptic_csv", csv_path}};
 
   RecordResult res;
