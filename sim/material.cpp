@@ -1,0 +1,43 @@
+#include "sim/material.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace palpate {
+
+LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m) {
+  LatticeCalibration c;
+  const double e_l = material.young_modulus_Pa * cell_m;
+  c.edge_N_per_m = 7.0 * e_l / 50.0;
+  c.diagonal_N_per_m = 3.0 * e_l / 25.0;
+  c.damping_Ns_per_m = 6.0 / 35.0 * material.stiffness_damping_s * e_l;
+  if (std::abs(material.poisson_ratio - kLatticePoissonRatio) > 1e-9) {
+    std::ostringstream s;
+    s << "material.poisson_ratio " << material.poisson_ratio << " is not representable: a cubic lattice of central "
+      << "springs has nu = 0.25 only (Cauchy relation); Young's modulus " << material.young_modulus_Pa
+      << " Pa is matched and the lattice's Poisson ratio is 0.25";
+    c.warning = s.str();
+  }
+  return c;
+}
+
+double cell_solid_fraction(const GridHierarchy& grid, int32_t index, int level) {
+  if (!grid.solid_cell(index, level)) return 0.0;
+  const int leaf_level = grid.levels();
+  if (level == leaf_level) return 1.0;
+  // count solid leaves in the cell's block of the leaf grid
+  const int per = 1 << (leaf_level - level);
+  const CellCoord c = grid.coord_of(index, level);
+  int64_t solid = 0;
+  for (int k = 0; k < per; ++k)
+    for (int j = 0; j < per; ++j)
+      for (int i = 0; i < per; ++i)
+        solid += grid.solid_cell(grid.linear_index({c.i * per + i, c.j * per + j, c.k * per + k}, leaf_level), leaf_level);
+  return static_cast<double>(solid) / (static_cast<double>(per) * per * per);
+}
+
+double solid_volume_m3(const GridHierarchy& grid) {
+  return static_cast<double>(grid.solid_cells(grid.levels())) * std::pow(grid.cell_size_m(grid.levels()), 3);
+}
+
+}  // namespace palpate
