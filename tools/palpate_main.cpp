@@ -13,6 +13,8 @@
 #include "tools/bench_sim.h"
 #include "tools/info_command.h"
 #include "tools/session/device_factory.h"
+#include "tools/session/material_report.h"
+#include "tools/session/model.h"
 #include "tools/session/recorder.h"
 
 namespace {
@@ -26,6 +28,8 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   if (opt.out_dir.empty()) opt.out_dir = (std::filesystem::path("out") / scene.value().name).string();
   // the integrator's stability at the frame step, said once before starting
   if (const std::string w = palpate::integrator_warning(scene.value().lattice, 1.0 / 60.0); !w.empty())
+    std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
+  if (const std::string w = palpate::material_warning(scene.value()); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   if (!mode.empty()) {
     opt.override_mode = true;
@@ -41,6 +45,16 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
     return 1;
   }
   const auto& r = res.value();
+  if (scene.value().lattice.material.enabled) {
+    // what the material became on the lattice (nu represented, total mass), beside the recording's figures
+    auto model = palpate::load_model(scene.value());
+    auto added = model ? palpate::add_to_summary(r.summary_path, palpate::material_summary(scene.value(), model.value().grid))
+                       : palpate::Status(model.error());
+    if (!added) {
+      std::fprintf(stderr, "palpate: %s\n", added.error().message.c_str());
+      return 1;
+    }
+  }
   std::printf("frames   %s/frames/ (%d PNG)\n", opt.out_dir.c_str(), r.frames_written);
   std::printf("log      %s/haptic.csv\n", opt.out_dir.c_str());
   std::printf("summary  %s\n", r.summary_path.c_str());
