@@ -10,6 +10,7 @@
 #include "sim/stability.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
+#include "tools/bench_material.h"
 #include "tools/bench_sim.h"
 #include "tools/info_command.h"
 #include "tools/session/device_factory.h"
@@ -139,6 +140,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0 / 60.0, 3600.0));
   bsim->add_flag("--quiet,-q", so.quiet, "No progress lines");
 
+  auto* bmat = bench->add_subcommand("material", "Model error against closed-form continuum references per lattice level, beside ms per frame");
+  palpate::BenchMaterialOptions mo;
+  bmat->add_option("--compression-levels", mo.compression_levels, "Levels of the compression cube")->delimiter(',')
+      ->check(CLI::Range(1, 6))->capture_default_str();
+  bmat->add_option("--cantilever-levels", mo.cantilever_levels, "Levels of the cantilever (>= 4)")->delimiter(',')
+      ->check(CLI::Range(4, 8))->capture_default_str();
+  bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(CLI::Range(1.0, 1e12))->capture_default_str();
+  bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -153,6 +163,15 @@ int main(int argc, char** argv) {
   if (*info) return palpate::run_info(mesh_path, levels, json);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
+  if (*bmat) {
+    auto table = palpate::run_bench_material(mo);
+    if (!table) {
+      std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
+      return 1;
+    }
+    std::fputs(table.value().c_str(), stdout);
+    return 0;
+  }
   if (*bsim) {
     auto table = palpate::run_bench_sim(bsim_scene, so);
     if (!table) {
