@@ -10,7 +10,7 @@ LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m
   const double e_l = material.young_modulus_Pa * cell_m;
   c.edge_N_per_m = 7.0 * e_l / 50.0;
   c.diagonal_N_per_m = 3.0 * e_l / 25.0;
-  c.damping_Ns_per_m = 6.0 / 35.0 * material.stiffness_damping_s * e_l;
+  c.damping_Ns_per_m = 2.0 / 45.0 * material.stiffness_damping_s * e_l;
   if (std::abs(material.poisson_ratio - kLatticePoissonRatio) > 1e-9) {
     std::ostringstream s;
     s << "material.poisson_ratio " << material.poisson_ratio << " is not representable: a cubic lattice of central "

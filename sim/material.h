@@ -21,12 +21,14 @@
 /// uniformly stressed hexahedron, so a homogeneous block under uniaxial stress deforms uniformly and
 /// F = E A d / L holds to round-off at small strain.
 ///
-/// Damping: every spring gets one relative-velocity coefficient c (the integrators take one per lattice). The
-/// viscous tensor homogenises like C with per-cell shares c/4, c/2, c: mu_visc = 7/3 c / l. Matching a
-/// Kelvin-Voigt solid with viscosity beta * C (Rayleigh stiffness-proportional damping beta, a mode of angular
-/// frequency w then has damping ratio beta w / 2) in shear gives c = 3/7 beta mu l = 6/35 beta E l; its
-/// dilatational viscosity is then 0.62 of beta (lambda + 2 mu).
-///
+/// Damping: every spring gets one relative-velocity coefficient c (the integrators take one per lattice), and the
+/// force c (v_b - v_a) of the paper's eq. 4 acts on the whole relative velocity, not only along the spring. Under a
+/// uniform velocity gradient G it dissipates (1/l^3) sum c L^2 |G n|^2 per volume; with per-cell shares c/4, c/2, c
+/// that is eta |G|^2 with eta = 9 c / l: a viscous stress eta G. Matching a Kelvin-Voigt solid with viscosity
+/// beta * C (Rayleigh stiffness-proportional damping beta; a mode of angular frequency w then has damping ratio
+/// beta w / 2) in simple shear, eta = beta mu, gives c = beta mu l / 9 = 2/45 beta E l. Its dilatational viscosity
+/// is then 1/3 of beta (lambda + 2 mu), and unlike Kelvin-Voigt it also damps spin: rigid rotation and the
+/// rotation of cross-sections in bending, so the bending modes of slender parts are damped more than beta w / 2.
 /// Masses: each region cell gives 1/8 of its solid volume to each corner. The solid volume of a cell at level L is
 /// l^3 times the fraction of its leaf cells (the finest grid level) flagged solid: a leaf cell crossed by the
 /// surface counts whole, which over-estimates the volume by up to one leaf layer over the surface (exact for a box
@@ -47,7 +49,7 @@ inline constexpr double kLatticePoissonRatio = 0.25;
 struct LatticeCalibration {
   double edge_N_per_m = 0.0;      ///< k_e each cell adds to each of its 12 edges: 7 E l / 50
   double diagonal_N_per_m = 0.0;  ///< k_s each cell adds to each face and body diagonal: 3 E l / 25
-  double damping_Ns_per_m = 0.0;  ///< c of every spring: 6/35 beta E l
+  double damping_Ns_per_m = 0.0;  ///< c of every spring: 2/45 beta E l
   double poisson_represented = kLatticePoissonRatio;  ///< nu of the lattice (always 1/4)
   std::string warning;            ///< non-empty when the asked nu differs from the represented one
 };
