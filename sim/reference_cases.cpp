@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/mesh_io.h"
+#include "sim/material.h"
 #include "sim/static_solve.h"
 
 namespace palpate {
@@ -12,6 +13,9 @@ namespace {
 constexpr double kCompressionSide_m = 0.04;
 constexpr double kBeamLength_m = 0.08;
 constexpr int kBeamSlenderness = 8;
+constexpr double kHertzBlock_m = 0.04;
+constexpr double kHertzRadius_m = 0.1;
+constexpr double kHertzDepth_m = 2.5e-4;
 
 // Area share of node q of n cells along an edge of a face: 1/2 at the ends, 1 inside, over n.
 double edge_share(int q, int n) { return (q == 0 || q == n ? 0.5 : 1.0) / n; }
@@ -142,6 +146,60 @@ Result<ReferenceCheck> check_cantilever(const MaterialSpec& material, int level)
   out.nodes = L.num_nodes();
   out.springs = L.springs.size();
   out.newton_steps = rep.value().iterations;
+  return out;
+}
+
+Result<ReferenceCheck> check_hertz(const MaterialSpec& material, int level) {
+  const int n = 1 << (level - 1);
+  auto made = box_lattice(material, kHertzBlock_m, level, {n, n, n});
+  if (!made) return made.error();
+  Lattice lat = std::move(made).value();
+  const std::size_t nodes = lat.num_nodes();
+  const double side = kHertzBlock_m, eps = 1e-9 * side, d = kHertzDepth_m, radius = kHertzRadius_m;
+  std::vector<uint8_t> held(3 * nodes, 0);
+  std::vector<double> surface_z(nodes, 0.0);
+  std::vector<uint8_t> top(nodes, 0), active(nodes, 0);
+  for (std::size_t i = 0; i < nodes; ++i) {
+    const Vec3& r = lat.rest_m[i];
+    if (r.x() < eps) held[3 * i] = 1;
+    if (r.y() < eps) held[3 * i + 1] = 1;
+    if (r.z() < eps) held[3 * i + 2] = 1;
+    top[i] = r.z() > side - eps;
+    surface_z[i] = side - d + (r.x() * r.x() + r.y() * r.y()) / (2.0 * radius);
+    active[i] = top[i] && surface_z[i] < r.z();
+  }
+  StaticOptions opt;
+  opt.iterative = nodes > 4000;
+  ReferenceCheck out;
+  std::vector<Vec3> f;
+  // active set: hold the nodes in contact on the sphere, release the ones it would pull, add the ones inside it
+  for (int round = 0; round < 50; ++round) {
+    for (std::size_t i = 0; i < nodes; ++i)
+      if (top[i] && !held[3 * i + 2] == static_cast<bool>(active[i])) {
+        held[3 * i + 2] = active[i];
+        if (active[i]) lat.x_m[i].z() = surface_z[i];
+      }
+    auto rep = solve_static(&lat, held, {}, opt);
+    if (!rep) return rep.error();
+    out.newton_steps += rep.value().iterations;
+    f = spring_forces_N(lat, lat.x_m);
+    bool changed = false;
+    for (std::size_t i = 0; i < nodes; ++i) {
+      if (!top[i]) continue;
+      if (active[i] && f[i].z() < 0.0) active[i] = 0, changed = true;
+      else if (!active[i] && lat.x_m[i].z() > surface_z[i] + 1e-12 * side) active[i] = 1, changed = true;
+    }
+    if (!changed) break;
+    if (round == 49) return make_error("hertz: contact set still changing after 50 rounds at level ", std::to_string(level));
+  }
+  for (std::size_t i = 0; i < nodes; ++i)
+    if (active[i]) out.model += 4.0 * f[i].z();
+  const double nu = kLatticePoissonRatio;
+  const double e_star = material.young_modulus_Pa / (1.0 - nu * nu);
+  out.closed_form = 4.0 / 3.0 * e_star * std::sqrt(radius) * std::pow(d, 1.5);
+  out.rel_error = (out.model - out.closed_form) / out.closed_form;
+  out.nodes = nodes;
+  out.springs = lat.springs.size();
   return out;
 }
 

@@ -46,6 +46,16 @@ Result<ReferenceCase> compression_case(const MaterialSpec& material, int level, 
 /// shear deformation adds about 1.2 % for this slenderness at nu = 1/4 (Timoshenko).
 Result<ReferenceCase> cantilever_case(const MaterialSpec& material, int level);
 
+/// Hertz indentation of a block by a rigid sphere of radius 10 cm pressed 0.25 mm deep (contact radius
+/// a = sqrt(R d) = 5 mm), modelled as the quarter x, y >= 0 of a block 8 cm wide and 4 cm deep (the grid cube of
+/// side 4 cm at `level`, a = 1, 2, 4 cells at levels 4, 5, 6): symmetry planes hold their normal DOF, the base is
+/// held in z (frictionless). Frictionless contact by active set: top nodes under the paraboloid
+/// z = top - d + r^2 / (2R) are held on it, released when the sphere would have to pull. Closed form
+/// F = 4/3 E* sqrt(R) d^(3/2), E* = E / (1 - nu^2) with the lattice's nu = 1/4 (N, the whole block: 4 x the quarter).
+/// The block is 8 a deep and wide, so it is somewhat stiffer than the half-space Hertz assumes. Level 6 (35937
+/// nodes) and level 5 use conjugate gradients.
+Result<ReferenceCheck> check_hertz(const MaterialSpec& material, int level);
+
 /// Solves a compression case for equilibrium and compares the plate force with its closed form.
 Result<ReferenceCheck> check_compression(const MaterialSpec& material, int level, double strain);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -34,6 +35,10 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
   StaticReport rep;
   if (free == 0) return rep;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double>> cg;
+  cg.setTolerance(options.cg_tolerance);
+  cg.setMaxIterations(20000);
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::VectorXd r(free), dx(free);
   for (int it = 0; it <= options.max_iterations; ++it) {
@@ -66,6 +71,18 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
     }
     Eigen::SparseMatrix<double> k(free, free);
     k.setFromTriplets(trip.begin(), trip.end());
+    if (options.iterative) {
+      cg.compute(k);
+      dx = cg.solve(r);
+      if (cg.info() != Eigen::Success || !dx.allFinite())
+        return make_error("static solve: conjugate gradients did not converge (", std::to_string(free), " free DOFs, ",
+                          std::to_string(cg.iterations()), " iterations, error ", std::to_string(cg.error()),
+                          ") at Newton step ", std::to_string(it));
+      for (std::size_t d = 0; d < 3 * n; ++d)
+        if (col[d] >= 0) lat->x_m[d / 3][static_cast<int>(d % 3)] += dx[col[d]];
+      rep.iterations = it + 1;
+      continue;
+    }
     ldlt.compute(k);
     if (ldlt.info() != Eigen::Success)
       return make_error("static solve: stiffness matrix (", std::to_string(free), " free DOFs) is singular at Newton step ",

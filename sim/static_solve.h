@@ -10,10 +10,12 @@
 
 namespace palpate {
 
-/// Newton iteration limits.
+/// Newton iteration limits and the linear solver of each step.
 struct StaticOptions {
   int max_iterations = 30;        ///< Newton steps at most
   double step_tol_m = 1e-14;      ///< stop when the largest node move of a step falls below this
+  bool iterative = false;         ///< conjugate gradients with incomplete Cholesky instead of LDL^T (large lattices)
+  double cg_tolerance = 1e-12;    ///< relative residual of each conjugate-gradient solve
 };
 
 /// What the solve did.
