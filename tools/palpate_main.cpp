@@ -146,6 +146,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 6))->capture_default_str();
   bmat->add_option("--cantilever-levels", mo.cantilever_levels, "Levels of the cantilever (>= 4)")->delimiter(',')
       ->check(CLI::Range(4, 8))->capture_default_str();
+  bmat->add_option("--hertz-levels", mo.hertz_levels, "Levels of the Hertz indentation block")->delimiter(',')
+      ->check(CLI::Range(2, 6))->capture_default_str();
   bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(CLI::Range(1.0, 1e12))->capture_default_str();
   bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
 
