@@ -175,7 +175,7 @@ Result<ReferenceCheck> check_hertz(const MaterialSpec& material, int level) {
   // active set: hold the nodes in contact on the sphere, release the ones it would pull, add the ones inside it
   for (int round = 0; round < 50; ++round) {
     for (std::size_t i = 0; i < nodes; ++i)
-      if (top[i] && !held[3 * i + 2] == static_cast<bool>(active[i])) {
+      if (top[i] && held[3 * i + 2] != active[i]) {
         held[3 * i + 2] = active[i];
         if (active[i]) lat.x_m[i].z() = surface_z[i];
       }
