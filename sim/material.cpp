@@ -24,20 +24,22 @@ LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m
 double cell_solid_fraction(const GridHierarchy& grid, int32_t index, int level) {
   if (!grid.solid_cell(index, level)) return 0.0;
   const int leaf_level = grid.levels();
-  if (level == leaf_level) return 1.0;
-  // count solid leaves in the cell's block of the leaf grid
+  if (level == leaf_level) return grid.leaf_solid_fraction(index);
+  // mean over the cell's block of leaf cells
   const int per = 1 << (leaf_level - level);
   const CellCoord c = grid.coord_of(index, level);
-  int64_t solid = 0;
+  double solid = 0.0;
   for (int k = 0; k < per; ++k)
     for (int j = 0; j < per; ++j)
       for (int i = 0; i < per; ++i)
-        solid += grid.solid_cell(grid.linear_index({c.i * per + i, c.j * per + j, c.k * per + k}, leaf_level), leaf_level);
-  return static_cast<double>(solid) / (static_cast<double>(per) * per * per);
+        solid += grid.leaf_solid_fraction(grid.linear_index({c.i * per + i, c.j * per + j, c.k * per + k}, leaf_level));
+  return solid / (static_cast<double>(per) * per * per);
 }
 
 double solid_volume_m3(const GridHierarchy& grid) {
-  return static_cast<double>(grid.solid_cells(grid.levels())) * std::pow(grid.cell_size_m(grid.levels()), 3);
+  double leaves = 0.0;
+  for (int64_t c = 0; c < grid.num_cells(grid.levels()); ++c) leaves += grid.leaf_solid_fraction(static_cast<int32_t>(c));
+  return leaves * std::pow(grid.cell_size_m(grid.levels()), 3);
 }
 
 }  // namespace palpate

@@ -29,10 +29,10 @@
 /// beta w / 2) in simple shear, eta = beta mu, gives c = beta mu l / 9 = 2/45 beta E l. Its dilatational viscosity
 /// is then 1/3 of beta (lambda + 2 mu), and unlike Kelvin-Voigt it also damps spin: rigid rotation and the
 /// rotation of cross-sections in bending, so the bending modes of slender parts are damped more than beta w / 2.
-/// Masses: each region cell gives 1/8 of its solid volume to each corner. The solid volume of a cell at level L is
-/// l^3 times the fraction of its leaf cells (the finest grid level) flagged solid: a leaf cell crossed by the
-/// surface counts whole, which over-estimates the volume by up to one leaf layer over the surface (exact for a box
-/// whose faces lie on leaf planes).
+/// Masses: each region cell gives 1/8 of its solid volume to each corner. The solid volume of a cell is l^3 times
+/// the mean solid fraction of its leaf cells (GridHierarchy::leaf_solid_fraction: cells crossed by the surface
+/// count the inside length of 16 lines through them by the parity of their crossings with the mesh; where the mesh
+/// is not closed along a line the cell counts whole).
 
 #include <string>
 #include <vector>
@@ -57,10 +57,10 @@ struct LatticeCalibration {
 /// The calibration for `material` at cell edge cell_m (> 0).
 LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m);
 
-/// Fraction in [0, 1] of the cell `index` at `level` that is solid: its solid leaf cells over all its leaf cells.
+/// Fraction in [0, 1] of the cell `index` at `level` inside the mesh: the mean solid fraction of its leaf cells.
 double cell_solid_fraction(const GridHierarchy& grid, int32_t index, int level);
 
-/// Solid volume of the whole model (solid leaf cells x leaf cell volume; the same at every level), m^3.
+/// Solid volume of the whole model (leaf solid fractions x leaf cell volume; the same at every level), m^3.
 double solid_volume_m3(const GridHierarchy& grid);
 
 }  // namespace palpate

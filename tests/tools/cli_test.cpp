@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -40,7 +41,9 @@ void write(const std::string& path, const std::string& text) { std::ofstream(pat
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 // A scene using the given mesh file, written next to it.
