@@ -60,6 +60,7 @@ void fill_csr(const std::vector<std::pair<int32_t, int32_t>>& pairs, int64_t num
 GridHierarchy::GridHierarchy() {
   build_leaf_lists(TriMesh{});
   build_flags();
+  build_solid_fractions(TriMesh{});
 }
 
 Result<GridHierarchy> GridHierarchy::build(const TriMesh& mesh, const Aabb& cube, int levels) {
@@ -99,6 +100,7 @@ Result<GridHierarchy> GridHierarchy::build(const TriMesh& mesh, const Aabb& cube
   grid.num_triangles_ = mesh.triangles.size();
   grid.build_leaf_lists(mesh);
   grid.build_flags();
+  grid.build_solid_fractions(mesh);
   return grid;
 }
 

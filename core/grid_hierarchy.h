@@ -74,6 +74,10 @@ class GridHierarchy {
   /// True for surface cells and cells enclosed by them (not reached by a 6-connected flood of non-surface
   /// cells from the grid's outer border).
   bool solid_cell(int32_t index, int level) const;
+  /// Fraction in [0, 1] of a leaf cell inside the mesh: 1 for solid cells the surface does not cross, 0 outside,
+  /// and for surface cells the inside length of 4 x 4 lines along x through the cell by the parity of their crossings
+  /// with the mesh (a line with an odd count, where the mesh is not closed, counts the cell whole).
+  double leaf_solid_fraction(int32_t leaf) const;
   /// Number of surface cells at `level`.
   int64_t surface_cells(int level) const;
   /// Number of solid cells at `level`.
@@ -92,6 +96,7 @@ class GridHierarchy {
  private:
   void build_leaf_lists(const TriMesh& mesh);
   void build_flags();
+  void build_solid_fractions(const TriMesh& mesh);
 
   int levels_ = 1;
   Aabb cube_{Vec3::Constant(-0.5), Vec3::Constant(0.5)};
@@ -108,6 +113,7 @@ class GridHierarchy {
   std::vector<std::vector<uint8_t>> solid_;
   std::vector<int64_t> surface_count_;
   std::vector<int64_t> solid_count_;
+  std::vector<float> leaf_solid_fraction_;       // (num leaves)
 };
 
 }  // namespace palpate

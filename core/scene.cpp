@@ -185,6 +185,25 @@ void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
   r.finish();
 }
 
+// The top-level "material" object; exclusive with the raw spring, mass and damping keys of "lattice".
+void read_material(ObjectReader& top, const Json& lattice_json, Scene* s, std::string* err) {
+  if (!top.has("material")) return;
+  ObjectReader r(top.object("material"), "material.", err);
+  MaterialSpec& m = s->lattice.material;
+  m.enabled = true;
+  for (const char* key : {"young_modulus_Pa", "poisson_ratio", "density_kg_per_m3"}) r.require(key);
+  r.number("young_modulus_Pa", &m.young_modulus_Pa, 1.0, 1e12);
+  r.number("poisson_ratio", &m.poisson_ratio, -0.999, 0.4999);
+  r.number("density_kg_per_m3", &m.density_kg_per_m3, 1.0, 1e5);
+  r.number("stiffness_damping_s", &m.stiffness_damping_s, 0.0, 10.0);
+  r.finish();
+  std::string raw;
+  for (const char* key : {"node_mass_kg", "stiffness_N_per_m", "damping_Ns_per_m"})
+    if (lattice_json.is_object() && lattice_json.contains(key)) raw += (raw.empty() ? "lattice." : ", lattice.") + std::string(key);
+  if (err->empty() && !raw.empty())
+    r.fail("material", "is exclusive with " + raw + ": give the object in physical units or the raw per-spring/per-node keys, not both");
+}
+
 void read_device(ObjectReader& top, Scene* s, std::string* err) {
   ObjectReader r(top.object("device"), "device.", err);
   DeviceSpec& d = s->device;
@@ -357,6 +376,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
     g.finish();
   }
   read_lattice(top, &s, &err);
+  read_material(top, j.is_object() && j.contains("lattice") ? j.at("lattice") : Json(), &s, &err);
   read_device(top, &s, &err);
   const Json& inter = top.object("interaction");
   if (!inter.is_null()) {

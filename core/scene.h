@@ -26,6 +26,16 @@ struct MeshSpec {
   int subdivisions = 0;               ///< midpoint subdivisions applied on load (each: 4x the triangles, same shape)
 };
 
+/// The object in physical units (scene key "material"); when set, build_lattice() derives spring constants,
+/// node masses and damping from it (sim/material.h) instead of the raw lattice keys, which it excludes.
+struct MaterialSpec {
+  bool enabled = false;                 ///< true when the scene has a "material" object
+  double young_modulus_Pa = 1e5;        ///< E
+  double poisson_ratio = 0.25;          ///< nu asked for; the lattice represents exactly 0.25 (sim/material.h)
+  double density_kg_per_m3 = 1000.0;    ///< rho
+  double stiffness_damping_s = 0.0;     ///< Rayleigh beta: a mode of angular frequency w gets damping ratio beta w / 2
+};
+
 /// The local mass-spring lattice (paper section 4.2) and its dynamics.
 struct LatticeSpec {
   int level = 4;                        ///< grid level the lattice is built at
@@ -45,6 +55,7 @@ struct LatticeSpec {
   double rest_kinetic_J = 1e-12;        ///< the lattice rests (is not stepped) below this kinetic energy ...
   double rest_force_N = 1e-6;           ///< ... and with every node's net force below this
   bool follow_contact = true;           ///< move/grow the region when the contact leaves it
+  MaterialSpec material;                ///< the scene's top-level "material" object (exclusive with the raw k, M, C_d)
 };
 
 /// Device limits and the proxy coupling.

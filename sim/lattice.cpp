@@ -1,20 +1,31 @@
 #include "sim/lattice.h"
 
 #include "core/pair_key.h"
+#include "sim/material.h"
 
 #include <algorithm>
 #include <atomic>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace palpate {
 namespace {
 
+// Adds springs once per node pair. Raw keys: a spring shared by several cells keeps one k (the paper's lattice).
+// Material (accumulate): every cell adds its share, so a shared spring carries the sum (sim/material.h).
 struct Builder {
   Lattice* lat;
   std::unordered_set<uint64_t> seen;
+  bool accumulate = false;
+  std::unordered_map<uint64_t, int32_t> index;  // spring of each pair (accumulate mode)
 
   void add(int32_t a, int32_t b, double k, SpringFamily fam) {
-    if (!seen.insert(unordered_pair_key(a, b)).second) return;
+    const uint64_t key = unordered_pair_key(a, b);
+    if (!seen.insert(key).second) {
+      if (accumulate) lat->springs[static_cast<std::size_t>(index.at(key))].k_N_per_m += k;
+      return;
+    }
+    if (accumulate) index.emplace(key, static_cast<int32_t>(lat->springs.size()));
     Spring s;
     s.a = a;
     s.b = b;
@@ -60,7 +71,16 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
   lat.level = level;
   lat.cells_per_axis = n;
   lat.cell_m = grid.cell_size_m(level);
+  // spring constants and damping: the raw keys, or the material's calibration at this cell size
+  double k_structural = spec.structural_N_per_m, k_shear = spec.shear_N_per_m, k_bend = spec.bend_N_per_m;
   lat.damping_Ns_per_m = spec.damping_Ns_per_m;
+  if (spec.material.enabled) {
+    const LatticeCalibration cal = calibrate_lattice(spec.material, lat.cell_m);
+    k_structural = cal.edge_N_per_m;
+    k_shear = cal.diagonal_N_per_m;
+    k_bend = 0.0;
+    lat.damping_Ns_per_m = cal.damping_Ns_per_m;
+  }
   lat.gravity_m_per_s2 = spec.gravity_m_per_s2;
   lat.cells = cells;
   lat.slot_of_cell.assign(static_cast<std::size_t>(grid.num_cells(level)), -1);
@@ -90,6 +110,15 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
   lat.x_m = lat.rest_m;
   lat.v_m_per_s.assign(num, Vec3::Zero());
   lat.mass_kg.assign(num, spec.node_mass_kg);
+  if (spec.material.enabled) {
+    // each cell gives 1/8 of its solid mass to each corner
+    std::fill(lat.mass_kg.begin(), lat.mass_kg.end(), 0.0);
+    const double cell_kg = spec.material.density_kg_per_m3 * lat.cell_m * lat.cell_m * lat.cell_m;
+    for (std::size_t s = 0; s < cells.size(); ++s) {
+      const double share_kg = cell_kg * cell_solid_fraction(grid, cells[s], level) / 8.0;
+      for (int32_t node : lat.cell_nodes[s]) lat.mass_kg[static_cast<std::size_t>(node)] += share_kg;
+    }
+  }
   lat.fixed.assign(num, 0);
 
   // border: a node touching a solid cell that is not in the region is held at rest
@@ -107,39 +136,39 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
     if (spec.fix_floor && g.k == min_k) lat.fixed[i] = 1;
   }
 
-  Builder b{&lat, {}};
+  Builder b{&lat, {}, spec.material.enabled, {}};
   auto node_at = [&](int i, int j, int k) -> int32_t {
     if (i < 0 || j < 0 || k < 0 || i >= nv || j >= nv || k >= nv) return -1;
     return node_of_gv[static_cast<std::size_t>(i + nv * (j + nv * k))];
   };
   // structural: the 12 cell edges
-  if (spec.structural_N_per_m > 0.0 || spec.bend_N_per_m > 0.0) {
+  if (k_structural > 0.0 || k_bend > 0.0) {
     for (const auto& cn : lat.cell_nodes)
       for (int corner = 0; corner < 8; ++corner)
         for (int axis = 0; axis < 3; ++axis)
           if (!(corner & (1 << axis))) {
             const int32_t a = cn[corner], o = cn[corner | (1 << axis)];
-            if (spec.structural_N_per_m > 0.0) b.add(a, o, spec.structural_N_per_m, SpringFamily::kStructural);
+            if (k_structural > 0.0) b.add(a, o, k_structural, SpringFamily::kStructural);
             else b.seen.insert(unordered_pair_key(a, o));  // bend still needs to know the edge exists
           }
   }
   std::unordered_set<uint64_t> edges = b.seen;  // structural edges, for the bend rule below
-  if (spec.shear_N_per_m > 0.0) {
+  if (k_shear > 0.0) {
     for (const auto& cn : lat.cell_nodes) {
       // face diagonals: for each axis pair, both diagonals of the two faces normal to the third axis
       for (int normal = 0; normal < 3; ++normal) {
         const int u = 1 << ((normal + 1) % 3), w = 1 << ((normal + 2) % 3);
         for (int side = 0; side < 2; ++side) {
           const int base = side ? (1 << normal) : 0;
-          b.add(cn[base], cn[base | u | w], spec.shear_N_per_m, SpringFamily::kShear);
-          b.add(cn[base | u], cn[base | w], spec.shear_N_per_m, SpringFamily::kShear);
+          b.add(cn[base], cn[base | u | w], k_shear, SpringFamily::kShear);
+          b.add(cn[base | u], cn[base | w], k_shear, SpringFamily::kShear);
         }
       }
       // body diagonals
-      for (int corner = 0; corner < 4; ++corner) b.add(cn[corner], cn[7 - corner], spec.shear_N_per_m, SpringFamily::kShear);
+      for (int corner = 0; corner < 4; ++corner) b.add(cn[corner], cn[7 - corner], k_shear, SpringFamily::kShear);
     }
   }
-  if (spec.bend_N_per_m > 0.0) {
+  if (k_bend > 0.0) {
     for (std::size_t i = 0; i < num; ++i) {
       const CellCoord g = node_coord[i];
       for (int axis = 0; axis < 3; ++axis) {
@@ -149,7 +178,7 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
         if (mid < 0 || far < 0) continue;
         const int32_t self = static_cast<int32_t>(i);
         if (edges.count(unordered_pair_key(self, mid)) && edges.count(unordered_pair_key(mid, far)))
-          b.add(self, far, spec.bend_N_per_m, SpringFamily::kBend);
+          b.add(self, far, k_bend, SpringFamily::kBend);
       }
     }
   }

@@ -55,7 +55,9 @@ std::vector<int32_t> region_cells(const GridHierarchy& grid, int level, const Ce
 
 /// Builds a lattice over `cells` (grid indices at spec.level): nodes at their corners, the families whose
 /// stiffness is non-zero, border nodes (shared with solid cells outside the region) fixed, and with
-/// spec.fix_floor the nodes on the model's lowest node plane fixed too. Errors when `cells` is empty.
+/// spec.fix_floor the nodes on the model's lowest node plane fixed too. With spec.material enabled, k, M and C_d
+/// come from the material (sim/material.h) and each cell adds its share to the springs it shares with others;
+/// otherwise a shared spring keeps the one raw k. Errors when `cells` is empty.
 Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec, const std::vector<int32_t>& cells);
 
 }  // namespace palpate

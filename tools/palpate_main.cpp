@@ -13,10 +13,13 @@
 #include "sim/stability.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
+#include "tools/bench_material.h"
 #include "tools/bench_scale.h"
 #include "tools/bench_sim.h"
 #include "tools/info_command.h"
 #include "tools/session/device_factory.h"
+#include "tools/session/material_report.h"
+#include "tools/session/model.h"
 #include "tools/session/recorder.h"
 
 namespace {
@@ -30,6 +33,8 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   if (opt.out_dir.empty()) opt.out_dir = (std::filesystem::path("out") / scene.value().name).string();
   // the integrator's stability at the frame step, said once before starting
   if (const std::string w = palpate::integrator_warning(scene.value().lattice, 1.0 / 60.0); !w.empty())
+    std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
+  if (const std::string w = palpate::material_warning(scene.value()); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   if (!mode.empty()) {
     opt.override_mode = true;
@@ -162,6 +167,17 @@ int main(int argc, char** argv) {
   bscale->add_option("--plot", sco.plot_path, "Plot ms per frame against triangles (log-log) as PNG");
   bscale->add_flag("--quiet,-q", sco.quiet, "No progress lines");
 
+  auto* bmat = bench->add_subcommand("material", "Model error against closed-form continuum references per lattice level, beside ms per frame");
+  palpate::BenchMaterialOptions mo;
+  bmat->add_option("--compression-levels", mo.compression_levels, "Levels of the compression cube")->delimiter(',')
+      ->check(CLI::Range(1, 6))->capture_default_str();
+  bmat->add_option("--cantilever-levels", mo.cantilever_levels, "Levels of the cantilever (>= 4)")->delimiter(',')
+      ->check(CLI::Range(4, 8))->capture_default_str();
+  bmat->add_option("--hertz-levels", mo.hertz_levels, "Levels of the Hertz indentation block")->delimiter(',')
+      ->check(CLI::Range(2, 6))->capture_default_str();
+  bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(CLI::Range(1.0, 1e12))->capture_default_str();
+  bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -177,8 +193,8 @@ int main(int argc, char** argv) {
   if (*info) return palpate::run_info(mesh_path, levels, json);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
-  if (*bscale) {
-    auto table = palpate::run_bench_scale(bscale_scene, sco);
+  if (*bscale || *bmat) {
+    auto table = *bscale ? palpate::run_bench_scale(bscale_scene, sco) : palpate::run_bench_material(mo);
     if (!table) {
       std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
       return 1;

@@ -7,6 +7,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -37,6 +40,13 @@ CliRun palpate(const std::string& args) {
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("palpate_cli_" + name)).string(); }
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
 
 // A scene using the given mesh file, written next to it.
 std::string scene_for_mesh(const std::string& mesh, const std::string& name) {
@@ -110,6 +120,31 @@ TEST(Cli, UnwritableOutputFolderIsAnError) {
   write(file, "x");
   expect_error(palpate("record scenes/cube_press.json -q --duration 0.1 --out " + file + "/sub"),
                "output '" + file + "/sub': cannot create folder");
+}
+
+// cube_press in physical units: summary.json says what the material became (nu represented, total mass), and a
+// Poisson ratio the lattice cannot represent is said at start-up, not hidden.
+TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
+  const std::string out = tmp("material_out");
+  const CliRun r = palpate("record scenes/cube_press.json -q --no-render --duration 0.1 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(slurp(out + "/summary.json"));
+  ASSERT_TRUE(j.contains("material")) << j.dump();
+  EXPECT_EQ(j["material"]["poisson_ratio_represented"].get<double>(), 0.25);
+  EXPECT_NEAR(j["material"]["total_mass_kg"].get<double>(), 1070.0 * 0.06 * 0.06 * 0.06, 1e-9);
+  EXPECT_TRUE(j.contains("state_hash"));
+
+  nlohmann::json scene = nlohmann::json::parse(slurp(test::source_path("scenes/cube_press.json")));
+  scene["material"]["poisson_ratio"] = 0.45;
+  const std::string s = tmp("nu045.json");
+  write(s, scene.dump());
+  const CliRun w = palpate("record " + s + " -q --no-render --duration 0.1 --out " + tmp("nu045_out"));
+  ASSERT_EQ(w.code, 0) << w.out;
+  EXPECT_NE(w.out.find("warning: material.poisson_ratio 0.45 is not representable"), std::string::npos) << w.out;
+  const auto k = nlohmann::json::parse(slurp(tmp("nu045_out") + "/summary.json"));
+  EXPECT_EQ(k["material"]["poisson_ratio_asked"].get<double>(), 0.45);
+  EXPECT_EQ(k["material"]["poisson_ratio_represented"].get<double>(), 0.25);
 }
 
 TEST(Cli, AssimpInvalidModelsGiveErrorsNotCrashes) {

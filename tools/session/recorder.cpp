@@ -24,6 +24,7 @@
 #include "tools/session/device_factory.h"
 #include "tools/session/frame_stage.h"
 #include "tools/session/lockstep.h"
+#include "tools/session/material_report.h"
 #include "tools/session/model.h"
 
 namespace palpate {
@@ -215,6 +216,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["duration_s"] = scene.duration_s;
   j["model"] = {{"vertices", model.rest.vertices_m.size()}, {"triangles", model.rest.triangles.size()},
                 {"startup_s", startup_s}};
+  // what the material became on the lattice (nu represented, total mass)
+  if (scene.lattice.material.enabled) j["material"] = material_summary(scene, model.grid);
   j["frames_written"] = writer ? writer->frames_written() : 0;
   j["frames_dropped"] = fst.frames_dropped;
   j["servo_ticks"] = sc.ticks;

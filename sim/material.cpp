@@ -1,0 +1,45 @@
+#include "sim/material.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace palpate {
+
+LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m) {
+  LatticeCalibration c;
+  const double e_l = material.young_modulus_Pa * cell_m;
+  c.edge_N_per_m = 7.0 * e_l / 50.0;
+  c.diagonal_N_per_m = 3.0 * e_l / 25.0;
+  c.damping_Ns_per_m = 2.0 / 45.0 * material.stiffness_damping_s * e_l;
+  if (std::abs(material.poisson_ratio - kLatticePoissonRatio) > 1e-9) {
+    std::ostringstream s;
+    s << "material.poisson_ratio " << material.poisson_ratio << " is not representable: a cubic lattice of central "
+      << "springs has nu = 0.25 only (Cauchy relation); Young's modulus " << material.young_modulus_Pa
+      << " Pa is matched and the lattice's Poisson ratio is 0.25";
+    c.warning = s.str();
+  }
+  return c;
+}
+
+double cell_solid_fraction(const GridHierarchy& grid, int32_t index, int level) {
+  if (!grid.solid_cell(index, level)) return 0.0;
+  const int leaf_level = grid.levels();
+  if (level == leaf_level) return grid.leaf_solid_fraction(index);
+  // mean over the cell's block of leaf cells
+  const int per = 1 << (leaf_level - level);
+  const CellCoord c = grid.coord_of(index, level);
+  double solid = 0.0;
+  for (int k = 0; k < per; ++k)
+    for (int j = 0; j < per; ++j)
+      for (int i = 0; i < per; ++i)
+        solid += grid.leaf_solid_fraction(grid.linear_index({c.i * per + i, c.j * per + j, c.k * per + k}, leaf_level));
+  return solid / (static_cast<double>(per) * per * per);
+}
+
+double solid_volume_m3(const GridHierarchy& grid) {
+  double leaves = 0.0;
+  for (int64_t c = 0; c < grid.num_cells(grid.levels()); ++c) leaves += grid.leaf_solid_fraction(static_cast<int32_t>(c));
+  return leaves * std::pow(grid.cell_size_m(grid.levels()), 3);
+}
+
+}  // namespace palpate

@@ -1,0 +1,66 @@
+#pragma once
+/// Material in physical units: spring constants, node masses and damping of a cubic lattice from Young's modulus,
+/// Poisson's ratio and density, by homogenisation of the lattice's central springs.
+///
+/// Calibration (Born's homogenisation of central-force lattices; Kot, Nagahashi & Szymczak, "Elastic moduli of
+/// simple mass spring models", The Visual Computer 31, 2015; Kot & Nagahashi, "Second degree of freedom of
+/// elastic objects: adjustable Poisson's ratio for mass spring models", GRAPP 2015). Under a uniform strain a
+/// spring of stiffness k, rest length L and direction n stores (1/2) k L^2 (n.eps.n)^2, so a cell of volume l^3
+/// has the stiffness tensor C_ijkl = (1/l^3) sum_springs k L^2 n_i n_j n_k n_l. Each CELL contributes k_e to each
+/// of its 12 edges (an interior edge, shared by 4 cells, so carries 4 k_e), k_f to each of its 12 face diagonals
+/// (shared by 2) and k_b to each of its 4 body diagonals. Summing (edges: L^2 = l^2, n_x^4 = 1 on 4 of them;
+/// face diagonals: L^2 = 2 l^2, n_x^4 = n_x^2 n_y^2 = 1/4 on 8 resp. 4; body diagonals: L^2 = 3 l^2, 1/9 on 4):
+///   C11 = (4 k_e + 4 k_f + 4/3 k_b) / l,    C12 = C44 = (2 k_f + 4/3 k_b) / l.
+/// Central forces impose the Cauchy relation C12 = C44, i.e. lambda = mu, so the only isotropic Poisson ratio a
+/// cubic lattice of central springs can represent is nu = lambda / (2 (lambda + mu)) = 1/4. With one shear family
+/// (k_f = k_b = k_s), isotropy C11 = C12 + 2 C44 = 3 C44 gives k_e = 7/6 k_s; E = mu (3 lambda + 2 mu) /
+/// (lambda + mu) = 5/2 mu with mu = 10/3 k_s / l gives
+///   k_s = 3 E l / 25,    k_e = 7 E l / 50,    bend springs 0 (they would add to C11 only).
+/// Outside nu = 1/4 the calibration keeps E exact and the lattice's nu stays 1/4 (calibrate_lattice() says so in
+/// its warning). Under a uniform strain every cell's springs put on each corner the force sigma . (l^2/4) n of a
+/// uniformly stressed hexahedron, so a homogeneous block under uniaxial stress deforms uniformly and
+/// F = E A d / L holds to round-off at small strain.
+///
+/// Damping: every spring gets one relative-velocity coefficient c (the integrators take one per lattice), and the
+/// force c (v_b - v_a) of the paper's eq. 4 acts on the whole relative velocity, not only along the spring. Under a
+/// uniform velocity gradient G it dissipates (1/l^3) sum c L^2 |G n|^2 per volume; with per-cell shares c/4, c/2, c
+/// that is eta |G|^2 with eta = 9 c / l: a viscous stress eta G. Matching a Kelvin-Voigt solid with viscosity
+/// beta * C (Rayleigh stiffness-proportional damping beta; a mode of angular frequency w then has damping ratio
+/// beta w / 2) in simple shear, eta = beta mu, gives c = beta mu l / 9 = 2/45 beta E l. Its dilatational viscosity
+/// is then 1/3 of beta (lambda + 2 mu), and unlike Kelvin-Voigt it also damps spin: rigid rotation and the
+/// rotation of cross-sections in bending, so the bending modes of slender parts are damped more than beta w / 2.
+/// Masses: each region cell gives 1/8 of its solid volume to each corner. The solid volume of a cell is l^3 times
+/// the mean solid fraction of its leaf cells (GridHierarchy::leaf_solid_fraction: cells crossed by the surface
+/// count the inside length of 16 lines through them by the parity of their crossings with the mesh; where the mesh
+/// is not closed along a line the cell counts whole).
+
+#include <string>
+#include <vector>
+
+#include "core/grid_hierarchy.h"
+#include "core/scene.h"
+
+namespace palpate {
+
+/// The Poisson ratio a cubic lattice of central springs represents (the Cauchy relation lambda = mu).
+inline constexpr double kLatticePoissonRatio = 0.25;
+
+/// Per-cell spring constants and the per-spring damping derived from a material at one cell size. Plain data.
+struct LatticeCalibration {
+  double edge_N_per_m = 0.0;      ///< k_e each cell adds to each of its 12 edges: 7 E l / 50
+  double diagonal_N_per_m = 0.0;  ///< k_s each cell adds to each face and body diagonal: 3 E l / 25
+  double damping_Ns_per_m = 0.0;  ///< c of every spring: 2/45 beta E l
+  double poisson_represented = kLatticePoissonRatio;  ///< nu of the lattice (always 1/4)
+  std::string warning;            ///< non-empty when the asked nu differs from the represented one
+};
+
+/// The calibration for `material` at cell edge cell_m (> 0).
+LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m);
+
+/// Fraction in [0, 1] of the cell `index` at `level` inside the mesh: the mean solid fraction of its leaf cells.
+double cell_solid_fraction(const GridHierarchy& grid, int32_t index, int level);
+
+/// Solid volume of the whole model (leaf solid fractions x leaf cell volume; the same at every level), m^3.
+double solid_volume_m3(const GridHierarchy& grid);
+
+}  // namespace palpate

@@ -1,0 +1,102 @@
+#include "sim/static_solve.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "sim/forces.h"
+
+namespace palpate {
+
+std::vector<Vec3> spring_forces_N(const Lattice& lat, const std::vector<Vec3>& x_m) {
+  std::vector<Vec3> f(lat.num_nodes(), Vec3::Zero());
+  for (const Spring& s : lat.springs) {
+    const Vec3 fa = spring_force_on_a(s, x_m[s.b] - x_m[s.a]);
+    f[s.a] += fa;
+    f[s.b] -= fa;
+  }
+  return f;
+}
+
+Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held_dof, const std::vector<Vec3>& f_ext_N,
+                                  const StaticOptions& options) {
+  const std::size_t n = lat->num_nodes();
+  // free DOF numbering; -1 for held DOFs
+  std::vector<int> col(3 * n, -1);
+  int free = 0;
+  for (std::size_t d = 0; d < 3 * n; ++d) {
+    const bool held = held_dof.empty() ? lat->fixed[d / 3] != 0 : held_dof[d] != 0;
+    if (!held) col[d] = free++;
+  }
+  StaticReport rep;
+  if (free == 0) return rep;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double>> cg;
+  cg.setTolerance(options.cg_tolerance);
+  cg.setMaxIterations(20000);
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::VectorXd r(free), dx(free);
+  for (int it = 0; it <= options.max_iterations; ++it) {
+    // residual: spring + gravity + external force on the free DOFs
+    const std::vector<Vec3> f = spring_forces_N(*lat, lat->x_m);
+    for (std::size_t i = 0; i < n; ++i) {
+      Vec3 fi = f[i] + lat->mass_kg[i] * lat->gravity_m_per_s2;
+      if (!f_ext_N.empty()) fi += f_ext_N[i];
+      for (int a = 0; a < 3; ++a)
+        if (col[3 * i + a] >= 0) r[col[3 * i + a]] = fi[a];
+    }
+    rep.max_residual_N = r.cwiseAbs().maxCoeff();
+    if (it > 0 && dx.cwiseAbs().maxCoeff() < options.step_tol_m) return rep;
+    if (it == options.max_iterations) break;
+    // tangent stiffness K (f(x + dx) ~ f(x) - K dx), assembled over free DOFs
+    trip.clear();
+    for (const Spring& s : lat->springs) {
+      const Mat3 blk = spring_stiffness_block(s, lat->x_m[s.b] - lat->x_m[s.a], false);
+      const int32_t ends[2] = {s.a, s.b};
+      for (int p = 0; p < 2; ++p)
+        for (int q = 0; q < 2; ++q) {
+          const double sign = p == q ? 1.0 : -1.0;
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const int ri = col[3 * static_cast<std::size_t>(ends[p]) + i];
+              const int cj = col[3 * static_cast<std::size_t>(ends[q]) + j];
+              if (ri >= 0 && cj >= 0) trip.emplace_back(ri, cj, sign * blk(i, j));
+            }
+        }
+    }
+    Eigen::SparseMatrix<double> k(free, free);
+    k.setFromTriplets(trip.begin(), trip.end());
+    if (options.iterative) {
+      cg.compute(k);
+      dx = cg.solve(r);
+      if (cg.info() != Eigen::Success || !dx.allFinite())
+        return make_error("static solve: conjugate gradients did not converge (", std::to_string(free), " free DOFs, ",
+                          std::to_string(cg.iterations()), " iterations, error ", std::to_string(cg.error()),
+                          ") at Newton step ", std::to_string(it));
+      for (std::size_t d = 0; d < 3 * n; ++d)
+        if (col[d] >= 0) lat->x_m[d / 3][static_cast<int>(d % 3)] += dx[col[d]];
+      rep.iterations = it + 1;
+      continue;
+    }
+    ldlt.compute(k);
+    if (ldlt.info() != Eigen::Success)
+      return make_error("static solve: stiffness matrix (", std::to_string(free), " free DOFs) is singular at Newton step ",
+                        std::to_string(it), "; hold enough DOFs to remove rigid motion");
+    dx = ldlt.solve(r);
+    if (!dx.allFinite() || (ldlt.vectorD().array() <= 0.0).any())
+      return make_error("static solve: stiffness matrix (", std::to_string(free), " free DOFs) is not positive definite at Newton step ",
+                        std::to_string(it), "; hold enough DOFs to remove rigid motion");
+    for (std::size_t d = 0; d < 3 * n; ++d)
+      if (col[d] >= 0) lat->x_m[d / 3][static_cast<int>(d % 3)] += dx[col[d]];
+    rep.iterations = it + 1;
+  }
+  return make_error("static solve: no convergence after ", std::to_string(options.max_iterations),
+                    " Newton steps (largest force imbalance ", std::to_string(rep.max_residual_N), " N)");
+}
+
+}  // namespace palpate

@@ -1,0 +1,21 @@
+#pragma once
+/// What a scene's material becomes on the lattice, said at start-up and in summary.json ("material" block):
+/// E, nu asked, nu represented (0.25), density, total mass and the calibration at the scene's level.
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/grid_hierarchy.h"
+#include "core/result.h"
+#include "core/scene.h"
+
+namespace palpate {
+
+/// The "material" block for summary.json; null when the scene uses the raw spring/mass keys.
+nlohmann::json material_summary(const Scene& scene, const GridHierarchy& grid);
+
+/// The start-up warning for the scene's material ("" when nu = 0.25 or there is no material).
+std::string material_warning(const Scene& scene);
+
+}  // namespace palpate
