@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Palpate builds and tests with, when any is missing.
+# FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
@@ -8,6 +9,8 @@ packages=(
   libeigen3-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
+  libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
+  ffmpeg
 )
 
 missing=()

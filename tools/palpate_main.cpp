@@ -21,16 +21,19 @@
 #include "tools/session/material_report.h"
 #include "tools/session/model.h"
 #include "tools/session/recorder.h"
+#include "tools/video_command.h"
 
 namespace {
 
-int run_record(const std::string& scene_path, palpate::RecordOptions opt, const std::string& mode, bool realtime_flags) {
+int run_record(const std::string& scene_path, palpate::RecordOptions opt, const std::string& mode, bool realtime_flags,
+               bool want_video) {
   auto scene = palpate::load_scene(scene_path);
   if (!scene) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
     return 1;
   }
   if (opt.out_dir.empty()) opt.out_dir = (std::filesystem::path("out") / scene.value().name).string();
+  if (want_video && opt.video_path.empty()) opt.video_path = (std::filesystem::path(opt.out_dir) / "recording.mp4").string();
   // the integrator's stability at the frame step, said once before starting
   if (const std::string w = palpate::integrator_warning(scene.value().lattice, 1.0 / 60.0); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
@@ -54,6 +57,7 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   }
   const auto& r = res.value();
   std::printf("frames   %s/frames/ (%d PNG)\n", opt.out_dir.c_str(), r.frames_written);
+  if (!r.video_path.empty()) std::printf("video    %s\n", r.video_path.c_str());
   std::printf("log      %s/haptic.csv\n", opt.out_dir.c_str());
   std::printf("summary  %s\n", r.summary_path.c_str());
   if (!r.state_hash.empty()) std::printf("state_hash %s\n", r.state_hash.c_str());
@@ -99,6 +103,22 @@ int main(int argc, char** argv) {
   rec->add_option("--servo-rate", opt.servo_rate_hz,
                   "Servo rate in Hz (lockstep: ticks per scene-second); device, servo period and passivity follow it")
       ->check(palpate::finite_range(100.0, 20000.0))->capture_default_str();
+
+  // video on by default: it costs the sim thread one frame copy (the encoder has its own thread); see README
+  std::string video_path;
+  bool no_video = false;
+  rec->add_option("--video", video_path,
+                  "Also encode the frames as H.264 MP4 (default on, at <out>/recording.mp4; an explicit FILE must be "
+                  "writable, a missing encoder is then an error instead of a warning)")
+      ->expected(0, 1);
+  rec->add_flag("--no-video", no_video, "No MP4, frames/*.png only");
+
+  auto* vid = app.add_subcommand("video", "Make the MP4 (H.264, yuv420p) of a recording from its frames/frame_*.png");
+  std::string vid_folder, vid_out;
+  int vid_fps = 60;
+  vid->add_option("folder", vid_folder, "Recording folder (holds frames/ and summary.json)")->required();
+  vid->add_option("--out,-o", vid_out, "MP4 to write (default: FOLDER/recording.mp4)");
+  vid->add_option("--fps", vid_fps, "Frames per second")->check(CLI::Range(1, 1000))->capture_default_str();
 
   auto* info = app.add_subcommand("info", "Mesh counts, box and grid hierarchy per level");
   std::string mesh_path;
@@ -187,8 +207,31 @@ int main(int argc, char** argv) {
   if (*rec) {
     opt.render = !no_render;
     opt.full_redraw = full_redraw;
+    const bool video_given = rec->get_option("--video")->count() > 0;
+    if (video_given && no_video) {
+      std::fprintf(stderr, "palpate: --video and --no-video exclude each other\n");
+      return 2;
+    }
+    if (!no_video && !no_render) {
+      // the default path is decided once the output folder is known (run_record)
+      opt.video_path = video_path;
+      opt.video_optional = video_path.empty();
+    }
+    if (video_given && no_render) std::fprintf(stderr, "palpate: warning: --video needs frames; --no-render records none\n");
+    const bool want_video = !no_video && !no_render;
     const bool realtime_flags = rec->get_option("--spin-us")->count() > 0 || rec->get_option("--priority")->count() > 0;
-    return run_record(scene_path, opt, mode, realtime_flags);
+    return run_record(scene_path, opt, mode, realtime_flags, want_video);
+  }
+  if (*vid) {
+    auto made = palpate::make_recording_video(vid_folder, vid_out, vid_fps);
+    if (!made) {
+      std::fprintf(stderr, "palpate: %s\n", made.error().message.c_str());
+      return 1;
+    }
+    const auto& m = made.value();
+    std::printf("video    %s (%lld frames, %s, %lld bytes)\n", m.path.c_str(), static_cast<long long>(m.frames),
+                m.encoder.c_str(), static_cast<long long>(m.bytes));
+    return 0;
   }
   if (*info) return palpate::run_info(mesh_path, levels, json);
   if (*bloop) return palpate::run_bench_loop(lo);

@@ -276,6 +276,8 @@ void FrameStage::render(int64_t index, bool block) {
   }
   renderer_->draw(view, buf);
   stats_.frames_layered += renderer_->last_draw_layered() ? 1 : 0;
+  // the video gets its own copy: its frame index is the scene's, so a skipped frame holds the last one shown
+  if (video_) video_->submit(index, buf, block);
   // files are numbered in the order written, so a realtime run's skipped frames leave no gap in the sequence;
   // written_frames says which scene frame each file shows
   writer_->submit(static_cast<int>(stats_.frames_rendered), buf);

@@ -16,6 +16,7 @@
 #include "render/gl_context.h"
 #include "render/png_writer.h"
 #include "render/renderer.h"
+#include "render/video_writer.h"
 #include "sim/cut_model.h"
 #include "sim/deformer.h"
 #include "sim/integrator.h"
@@ -66,6 +67,9 @@ class FrameStage {
   /// Processes frame `index` at scene time t_s; block_on_writer waits for a free PNG buffer (lockstep)
   /// instead of dropping the frame (realtime).
   void frame(int64_t index, double t_s, bool block_on_writer);
+  /// Also encodes every rendered frame into `video` (may be null; must outlive the stage); it gets the same
+  /// pixels as the PNG writer, waiting for the encoder when frame() blocks on the writer, else dropping.
+  void set_video(VideoWriter* video) { video_ = video; }
   /// Sets the lattice step per frame (default 1/60 s; a reference run steps at the servo rate).
   void set_step_dt(double dt_s) { step_dt_s_ = dt_s; }
   /// Drains and logs samples left after the last frame.
@@ -108,6 +112,7 @@ class FrameStage {
   TripleBuffer<LocalModel>* local_model_;
   Renderer* renderer_;
   PngWriter* writer_;
+  VideoWriter* video_ = nullptr;
   HapticLog* log_;
 
   std::optional<Lattice> lattice_;

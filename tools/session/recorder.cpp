@@ -26,6 +26,7 @@
 #include "tools/session/lockstep.h"
 #include "tools/session/material_report.h"
 #include "tools/session/model.h"
+#include "tools/session/video_output.h"
 
 namespace palpate {
 namespace fs = std::filesystem;
@@ -107,6 +108,9 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   const Rates rates{opt.servo_rate_hz, kDefaultFrameRate_hz};
   auto device_r = make_device(scene, opt.device, rates.servo_hz);
   if (!device_r) return device_r.error();
+  // an explicit video path that can never be written fails before any output exists
+  if (!opt.video_path.empty() && !opt.video_optional)
+    if (auto st = check_output_target(opt.video_path, "video"); !st) return st.error();
   std::string frames_dir;
   if (auto st = prepare_output(opt.out_dir, &frames_dir); !st) return st.error();
 
@@ -128,6 +132,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     renderer->set_layered(!opt.full_redraw);
     writer = std::make_unique<PngWriter>(frames_dir, scene.render.width, scene.render.height, 6);
   }
+  auto video_r = open_recording_video(opt.render ? opt.video_path : "", opt.video_optional, scene.render.width,
+                                      scene.render.height, static_cast<int>(std::lround(rates.frame_hz)));
+  if (!video_r) return video_r.error();
+  RecordingVideo& video = video_r.value();
 
   HapticLog log;
   const std::string csv_path = (fs::path(opt.out_dir) / "haptic.csv").string();
@@ -140,6 +148,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   Servo servo(sp, &device, &samples, local_model.get());
   FrameStage stage(scene, model, &samples, local_model.get(), renderer.get(), writer.get(), &log);
   stage.set_step_dt(rates.frame_period_s());
+  stage.set_video(video.writer.get());
 
   const int64_t frames = rates.frames(scene.duration_s);
   Progress progress(opt.quiet, scene.name, scene.duration_s);
@@ -203,6 +212,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   progress.update(scene.duration_s, frames, frames, true);
   progress.done();
   if (writer) writer->finish();
+  const Status video_status = finish_recording_video(&video);
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const Status log_status = log.close();
   const Status events_status = write_device_events(device, opt.out_dir, opt.quiet);
@@ -279,6 +289,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
               {"write_errors", writer ? writer->write_errors() : 0}};
   // realtime: which scene frame each file shows (files are numbered without gaps; lockstep: file i is frame i)
   if (!lockstep) j["frames_scene_index"] = fst.written_frames;
+  j["video"] = video_json(video, opt.render ? "off: no video path (--no-video)" : "no frames (--no-render)");
   j["wall_s"] = wall_s;
   j["wall_s_per_scene_s"] = wall_s / scene.duration_s;
   if (lockstep) j["state_hash"] = stage.state_hash();
@@ -289,6 +300,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   res.summary_path = (fs::path(opt.out_dir) / "summary.json").string();
   res.summary_json = j.dump(2) + "\n";
   res.frames_written = writer ? writer->frames_written() : 0;
+  if (video.writer && video.error.empty()) res.video_path = video.path;
   res.state_hash = lockstep ? stage.state_hash() : "";
   res.servo_timing = timing;
   res.frame_latency = frame_latency;
@@ -299,6 +311,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (auto st = write_file_atomic(res.summary_path, res.summary_json, "summary"); !st) return st.error();
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());
+  if (!video_status) return video_status.error();
   if (!log_status) return log_status.error();
   if (!events_status) return events_status.error();
   return res;

@@ -30,6 +30,8 @@ struct RecordOptions {
   int fifo_priority = 80;        ///< realtime: SCHED_FIFO priority for the servo, 0 = normal scheduling
   int servo_cpu = -1;            ///< realtime: CPU to pin the servo to, -1 = the last allowed CPU
   bool lock_memory = true;       ///< realtime: mlockall before starting
+  std::string video_path;        ///< MP4 of the rendered frames (H.264, yuv420p, frame rate); empty = none
+  bool video_optional = false;   ///< a video that cannot be made is a warning (video on by default), not an error
 };
 
 /// What a finished recording reports (also written to summary.json).
@@ -37,6 +39,7 @@ struct RecordResult {
   std::string summary_path;
   std::string summary_json;      ///< the summary as written
   int frames_written = 0;
+  std::string video_path;        ///< the MP4 written, empty when none
   std::string state_hash;        ///< lockstep only
   ServoTiming servo_timing;      ///< realtime: the servo's timing (lockstep: compute time only)
   LatencyHistogram frame_latency;///< realtime: 60 Hz loop wake latency

@@ -1,0 +1,39 @@
+#pragma once
+/// The video beside a recording: opened before the first frame, finished after the last, reported in
+/// summary.json's "video" object.
+
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/result.h"
+#include "render/video_writer.h"
+
+namespace palpate {
+
+/// A recording's video and what became of it. Movable, not copyable. Thread: the sim thread.
+struct RecordingVideo {
+  std::string path;                     ///< the MP4 asked for; empty = no video
+  bool optional = false;                ///< failures are warnings (video on by default), else errors
+  std::unique_ptr<VideoWriter> writer;  ///< null when off or when opening failed
+  std::string error;                    ///< the open or encode failure, empty when none
+};
+
+/// Frame copies the encoder may fall behind by before a realtime recording drops video frames.
+inline constexpr int kVideoQueueFrames = 8;
+
+/// Opens the encoder and its thread for width x height RGBA frames at frame_rate_hz. A failure is returned as
+/// the error unless `optional`; then it is printed as a warning on stderr and kept in error.
+Result<RecordingVideo> open_recording_video(const std::string& path, bool optional, int width, int height,
+                                            int frame_rate_hz);
+
+/// Encodes what is queued and finishes the file; a failure is returned unless video->optional (then printed as
+/// a warning and kept in video->error).
+Status finish_recording_video(RecordingVideo* video);
+
+/// summary.json "video": {enabled, path, codec, encoder, frame_rate_hz, frames, frames_dropped, bytes,
+/// encode_ms {p50, p99, max, count}, finish_ms} or {enabled: false, reason}.
+nlohmann::json video_json(const RecordingVideo& video, const std::string& off_reason);
+
+}  // namespace palpate
