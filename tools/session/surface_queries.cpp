@@ -1,0 +1,98 @@
+#include "tools/session/surface_queries.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "haptics/triangle_queries.h"
+
+namespace palpate {
+namespace {
+
+Vec3 face_normal(const TriMesh& mesh, int32_t t) {
+  const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+  const Vec3 n = (mesh.vertices_m[tri[1]] - mesh.vertices_m[tri[0]]).cross(mesh.vertices_m[tri[2]] - mesh.vertices_m[tri[0]]);
+  const double len = n.norm();
+  return len > 0.0 ? Vec3(n / len) : Vec3::UnitZ();
+}
+
+// nearest of the given triangles to p (distance +inf when the list is empty)
+SurfaceHit nearest_of(const TriMesh& mesh, const std::vector<int32_t>& ids, const Vec3& p) {
+  SurfaceHit best;
+  best.distance_m = std::numeric_limits<double>::infinity();
+  for (int32_t t : ids) {
+    const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+    Vec3 bary;
+    const Vec3 q = closest_point_on_triangle(p, mesh.vertices_m[tri[0]], mesh.vertices_m[tri[1]], mesh.vertices_m[tri[2]],
+                                             &bary);
+    const double d = (q - p).norm();
+    if (d < best.distance_m) {
+      best.distance_m = d;
+      best.point_m = q;
+      best.triangle = t;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::optional<SurfaceHit> first_ray_hit(const Model& model, const Vec3& origin_m, const Vec3& dir, double length_m,
+                                        bool front_only) {
+  const double n = dir.norm();
+  if (!(n > 0.0) || !(length_m > 0.0) || !origin_m.allFinite()) return std::nullopt;
+  const Vec3 end = origin_m + dir * (length_m / n);
+  // candidates: the leaves the segment's box touches (a superset of those it crosses)
+  std::vector<int32_t> ids;
+  model.grid.triangles_near(origin_m.cwiseMin(end), origin_m.cwiseMax(end), &ids);
+  const TriMesh& mesh = model.rest;
+  std::optional<SurfaceHit> best;
+  double best_u = 2.0;
+  for (int32_t t : ids) {
+    const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+    const Vec3& a = mesh.vertices_m[tri[0]];
+    const Vec3& b = mesh.vertices_m[tri[1]];
+    const Vec3& c = mesh.vertices_m[tri[2]];
+    double u = 0.0;
+    Vec3 bary;
+    // the servo's entry test from the front, and the same test on the flipped triangle for a back-side crossing
+    bool hit = segment_enters_triangle(origin_m, end, a, b, c, &u, &bary);
+    if (!hit && !front_only) hit = segment_enters_triangle(origin_m, end, a, c, b, &u, &bary);
+    if (!hit || u >= best_u) continue;
+    best_u = u;
+    SurfaceHit h;
+    h.point_m = origin_m + u * (end - origin_m);
+    h.normal = face_normal(mesh, t);
+    h.triangle = t;
+    h.distance_m = u * length_m;
+    best = h;
+  }
+  return best;
+}
+
+std::optional<SurfaceHit> nearest_surface_point(const Model& model, const Vec3& p_m) {
+  const TriMesh& mesh = model.rest;
+  if (mesh.triangles.empty() || !p_m.allFinite()) return std::nullopt;
+  const Aabb& cube = model.normalization.cube;
+  // grow a box around p until it holds a triangle: the nearest of those bounds the true distance ...
+  const double gap_m = (p_m - p_m.cwiseMax(cube.min_m).cwiseMin(cube.max_m)).norm();
+  double r = gap_m + std::max(model.leaf_cell_m, 1e-9);
+  std::vector<int32_t> ids;
+  const double side_m = cube.extent().maxCoeff();
+  for (;;) {
+    model.grid.triangles_near(p_m - Vec3::Constant(r), p_m + Vec3::Constant(r), &ids);
+    if (!ids.empty() || r > gap_m + 2.0 * side_m) break;
+    r *= 2.0;
+  }
+  SurfaceHit best = nearest_of(mesh, ids, p_m);
+  if (!std::isfinite(best.distance_m)) return std::nullopt;
+  // ... and every triangle within that distance lies in the box of that half-side
+  model.grid.triangles_near(p_m - Vec3::Constant(best.distance_m), p_m + Vec3::Constant(best.distance_m), &ids);
+  const SurfaceHit exact = nearest_of(mesh, ids, p_m);
+  if (exact.distance_m < best.distance_m) best = exact;
+  best.normal = face_normal(mesh, best.triangle);
+  return best;
+}
+
+}  // namespace palpate

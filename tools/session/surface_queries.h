@@ -1,0 +1,31 @@
+#pragma once
+/// Surface queries on a loaded model at rest (world frame): the first hit of a ray and the nearest surface point.
+/// Used off the real-time path (scene generation, model-relative keyframes, the no-contact report). Thread: any.
+
+#include <cstdint>
+#include <optional>
+
+#include "core/types.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+
+/// A point on the model's rest surface.
+struct SurfaceHit {
+  Vec3 point_m = Vec3::Zero();   ///< the point, world metres
+  Vec3 normal = Vec3::UnitZ();   ///< unit face normal of its triangle (counter-clockwise side out)
+  int32_t triangle = -1;         ///< triangle id in model.rest
+  double distance_m = 0.0;       ///< from the query's origin (ray) or query point (nearest)
+};
+
+/// First triangle crossed by the segment origin_m -> origin_m + length_m * dir (dir need not be unit); with
+/// front_only, only triangles entered from their front side count (as the servo's touch test does).
+/// Empty when nothing is crossed or dir is zero.
+std::optional<SurfaceHit> first_ray_hit(const Model& model, const Vec3& origin_m, const Vec3& dir, double length_m,
+                                        bool front_only);
+
+/// The closest point of the rest surface to p_m (exact, found through the grid's leaf lists);
+/// empty only for a model without triangles.
+std::optional<SurfaceHit> nearest_surface_point(const Model& model, const Vec3& p_m);
+
+}  // namespace palpate
