@@ -242,9 +242,14 @@ void read_trajectory(ObjectReader& top, Scene* s, std::string* err) {
     ObjectReader r((*t)[i], p, err);
     Keyframe k;
     r.require("t_s");
-    r.require("pos_m");
+    if (!r.has("pos_rel")) r.require("pos_m");
+    else if (r.has("pos_m")) r.fail(p + "pos_rel", "and pos_m are exclusive");
     r.number("t_s", &k.t_s, 0.0, 1e6);
     r.vec3("pos_m", &k.pos_m, -100.0, 100.0);
+    if (r.has("pos_rel")) r.vec3("pos_rel", &k.pos_rel.emplace(), -10.0, 10.0);
+    r.boolean("surface", &k.surface);
+    r.number("depth_m", &k.depth_m, -1.0, 1.0);
+    if (err->empty() && r.has("depth_m") && !k.surface) r.fail(p + "depth_m", "needs \"surface\": true");
     r.boolean("button", &k.button);
     if (const Json* q = r.take("orientation_wxyz")) {
       // every element must be a number: a string or null is an error, not a zero

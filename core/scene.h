@@ -1,6 +1,7 @@
 #pragma once
 /// Scene: everything a recording needs, parsed strictly from JSON (unknown keys and out-of-range values are errors).
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,7 +88,13 @@ struct Keyframe {
   Vec3 pos_m = Vec3::Zero();
   bool button = false;
   Quat orientation = Quat::Identity();  ///< tool orientation (key "orientation_wxyz", normalised), slerped between keys
+  std::optional<Vec3> pos_rel = std::nullopt;  ///< instead of pos_m: a point of the model's box (0..1 per axis, world axes)
+  bool surface = false;                        ///< snap to the first surface the approach from the previous key crosses
+  double depth_m = 0.0;                        ///< with surface: this far past the surface along the approach (< 0: short of it)
 };
+
+/// True when a keyframe's position is only known once the model is loaded (pos_rel or surface).
+inline bool needs_model(const Keyframe& k) { return k.pos_rel.has_value() || k.surface; }
 
 /// Off-screen rendering.
 struct RenderSpec {

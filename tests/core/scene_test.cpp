@@ -57,6 +57,28 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "grid": {"levels": 3}, "lattice": {"level": 4}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "deeper than grid.levels");
 }
 
+TEST(Scene, ModelRelativeKeysParseAndAreCheckedNamingTheKey) {
+  auto r = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_rel": [0.5, 0.5, 1.2]},
+                          {"t_s": 1, "pos_rel": [0.5, 0.5, 0.5], "surface": true, "depth_m": 0.004},
+                          {"t_s": 2, "pos_m": [0, 0, 0.1], "surface": true}]})", "s.json");
+  ASSERT_TRUE(r) << r.error().message;
+  const auto& t = r.value().trajectory;
+  ASSERT_TRUE(t[0].pos_rel.has_value());
+  EXPECT_TRUE(t[0].pos_rel->isApprox(Vec3(0.5, 0.5, 1.2)));
+  EXPECT_FALSE(t[0].surface);
+  EXPECT_TRUE(t[1].surface);
+  EXPECT_DOUBLE_EQ(t[1].depth_m, 0.004);
+  EXPECT_FALSE(t[2].pos_rel.has_value());
+  EXPECT_TRUE(needs_model(t[0]) && needs_model(t[1]) && needs_model(t[2]));
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0], "pos_rel": [0,0,0]}]})",
+               "trajectory[0].pos_rel: and pos_m are exclusive");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0}]})", "trajectory[0].pos_m: is required");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0], "depth_m": 0.01}]})",
+               "trajectory[0].depth_m: needs \"surface\": true");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_rel": [0,0,11]}]})",
+               "trajectory[0].pos_rel[2]: 11 out of range [-10, 10]");
+}
+
 TEST(Scene, MissingPiecesAndBadJson) {
   expect_error(R"({"trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "mesh: is required");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}})", "trajectory: is required");

@@ -57,6 +57,12 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   specs.max_stiffness_N_per_m = scene.device.max_stiffness_N_per_m;
   specs.workspace_half_m = scene.device.workspace_half_m;
   specs.rate_hz = rate_hz;
+  // model-relative keys are resolved where the model is loaded (resolve_relative_keys); never played as zeros
+  if (driver == "scripted" || driver == "plugin")
+    for (std::size_t i = 0; i < scene.trajectory.size(); ++i)
+      if (needs_model(scene.trajectory[i]))
+        return make_error("scene '", scene.path, "': trajectory[", std::to_string(i),
+                          "]: pos_rel / surface are resolved against the model, which this command does not load");
   if (driver == "scripted") {
     return std::unique_ptr<Device>(std::make_unique<ScriptedDevice>(specs, scene.hand, scene.trajectory));
   }

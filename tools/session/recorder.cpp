@@ -26,6 +26,7 @@
 #include "tools/session/lockstep.h"
 #include "tools/session/material_report.h"
 #include "tools/session/model.h"
+#include "tools/session/relative_keys.h"
 #include "tools/session/video_output.h"
 
 namespace palpate {
@@ -103,6 +104,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (!model_r) return model_r.error();
   const double startup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - load0).count();
   const Model& model = model_r.value();
+  if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
   const Rates rates{opt.servo_rate_hz, kDefaultFrameRate_hz};
