@@ -61,6 +61,7 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   std::printf("log      %s/haptic.csv\n", opt.out_dir.c_str());
   std::printf("summary  %s\n", r.summary_path.c_str());
   if (!r.state_hash.empty()) std::printf("state_hash %s\n", r.state_hash.c_str());
+  if (!r.no_contact.empty()) std::fprintf(stderr, "palpate: warning: %s\n", r.no_contact.c_str());
   // divergence is never silent: the outputs stay, the exit status says they hold a reset lattice
   if (r.nan_events > 0 || r.divergence_events > 0) {
     std::fprintf(stderr, "palpate: scene '%s': the lattice diverged: nan_events %lld, divergence_events %lld (see %s)\n",

@@ -58,6 +58,7 @@ TEST(RelativeKeys, PosRelAndSurfaceResolveAgainstTheLoadedModel) {
     const auto j = nlohmann::json::parse(r.value().summary_json);
     EXPECT_GT(j["max_force_N"].get<double>(), 0.0);
     EXPECT_GT(j["sim"]["nodes"].get<int>(), 0);
+    EXPECT_TRUE(r.value().no_contact.empty()) << r.value().no_contact;
   }
 }
 

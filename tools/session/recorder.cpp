@@ -19,8 +19,10 @@
 #include "core/clock.h"
 #include "core/stats.h"
 #include "haptics/latency_histogram.h"
+#include "haptics/replay_device.h"
 #include "haptics/servo.h"
 #include "haptics/servo_runner.h"
+#include "tools/session/contact_report.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/frame_stage.h"
 #include "tools/session/lockstep.h"
@@ -218,6 +220,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const Status log_status = log.close();
   const Status events_status = write_device_events(device, opt.out_dir, opt.quiet);
+  // a recording that never touched says how close the tool came (from the log just written)
+  std::string no_contact;
+  if (servo.counters().max_force_N == 0.0 && log_status)
+    if (auto rows = load_haptic_csv(csv_path)) no_contact = no_contact_note(scene, model, rows.value());
 
   const FrameStats& fst = stage.stats();
   const ServoCounters& sc = servo.counters();
@@ -234,6 +240,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["frames_dropped"] = fst.frames_dropped;
   j["servo_ticks"] = sc.ticks;
   j["max_force_N"] = sc.max_force_N;
+  if (!no_contact.empty()) j["no_contact"] = no_contact;
   j["max_displacement_m"] = fst.max_displacement_m;
   j["nan_events"] = fst.nan_events;
   j["dropped_samples"] = sc.dropped_samples;
@@ -310,6 +317,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   res.frames_dropped = fst.frames_dropped;
   res.nan_events = fst.nan_events;
   res.divergence_events = fst.divergence_events;
+  res.no_contact = no_contact;
   if (auto st = write_file_atomic(res.summary_path, res.summary_json, "summary"); !st) return st.error();
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());

@@ -47,6 +47,7 @@ struct RecordResult {
   int64_t frames_dropped = 0;    ///< realtime: frames not rendered because the writer was full
   int64_t nan_events = 0;        ///< frames whose lattice state became non-finite (and was reset)
   int64_t divergence_events = 0; ///< frames whose lattice diverged (and was reset)
+  std::string no_contact;        ///< when no force was ever sent: why ("no contact in 4.0 s: ..."), else empty
 };
 
 /// Runs the recording. Errors (unwritable output, GL failure, write failures) name the culprit;

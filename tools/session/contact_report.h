@@ -1,0 +1,19 @@
+#pragma once
+/// The end-of-recording note when the tool never touched the model: how close the tool came, instead of a
+/// silent zero-force recording.
+
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+#include "haptics/replay_device.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+
+/// For a recording whose servo never sent a force: one line saying so and why, e.g. "no contact in 4.0 s: the
+/// trajectory stays 12 mm from the surface at its closest" (distances from the tool positions in `rows` to the
+/// rest surface; pull counts only button presses, cut only rows with the button held). Thread: any.
+std::string no_contact_note(const Scene& scene, const Model& model, const std::vector<ReplayRow>& rows);
+
+}  // namespace palpate
