@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -17,6 +18,7 @@
 #include "tools/bench_scale.h"
 #include "tools/bench_sim.h"
 #include "tools/info_command.h"
+#include "tools/scene_command.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/material_report.h"
 #include "tools/session/model.h"
@@ -70,6 +72,12 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
     return 1;
   }
   return 0;
+}
+
+// A command-line value the parser let through but that does not make sense: one line, exit 2.
+int usage_error(const palpate::Error& e) {
+  std::fprintf(stderr, "palpate: %s\n", e.message.c_str());
+  return 2;
 }
 
 }  // namespace
@@ -128,6 +136,26 @@ int main(int argc, char** argv) {
   info->add_option("mesh", mesh_path, "Mesh file (OBJ, PLY, STL, OFF, ...)")->required();
   info->add_option("--levels,-k", levels, "Grid levels (1..8)")->check(CLI::Range(1, 8));
   info->add_flag("--json", json, "Print JSON");
+
+  auto* scn = app.add_subcommand("scene", "Write a touch, pull or cut scene that works on any mesh");
+  palpate::SceneRequest srq;
+  std::string scene_out, scene_mode = "touch", scene_at, scene_from, scene_up;
+  const std::map<std::string, palpate::InteractionMode> modes{
+      {"touch", palpate::InteractionMode::kTouch}, {"pull", palpate::InteractionMode::kPull},
+      {"cut", palpate::InteractionMode::kCut}};
+  scn->add_option("mesh", srq.mesh_path, "Mesh file (anything `palpate info` reads)")->required();
+  scn->add_option("--mode", scene_mode, "touch (press), pull (grab and pull out) or cut (draw a blade across)")
+      ->check(CLI::IsMember(modes))->capture_default_str();
+  scn->add_option("--out,-o", scene_out, "Scene file to write (default: <mesh name>_<mode>.json here)");
+  auto* at_opt = scn->add_option("--at", scene_at, "Work at the surface point nearest X,Y,Z (the mesh file's own "
+                                 "coordinates, as `palpate info` prints its box)");
+  scn->add_option("--from", scene_from, "Come in from this side, +x|-x|+y|-y|+z|-z (world, +z = up): the first surface "
+                  "a ray from there through the model's centre meets (default +z)")->excludes(at_opt);
+  scn->add_option("--depth-mm", srq.depth_mm, "Press / pull / cut depth in mm (default 10, pull 15)")
+      ->check(CLI::Range(0.5, 50.0));
+  scn->add_option("--level", srq.level, "Lattice level (default: sized to the model)")->check(CLI::Range(1, 8));
+  scn->add_option("--up", scene_up, "The file's up axis (default: guessed from the model's extent)")
+      ->check(CLI::IsMember({"x", "y", "z"}));
 
   // benchmarks: one sub-subcommand each
   auto* bench = app.add_subcommand("bench", "Benchmarks: figures as tables, JSON and plots");
@@ -235,6 +263,21 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (*info) return palpate::run_info(mesh_path, levels, json);
+  if (*scn) {
+    srq.mode = modes.at(scene_mode);
+    if (!scene_up.empty()) srq.up_axis = scene_up[0];
+    if (!scene_at.empty()) {
+      auto p = palpate::parse_point("--at", scene_at);
+      if (!p) return usage_error(p.error());
+      srq.at_raw = p.value();
+    }
+    if (!scene_from.empty()) {
+      auto d = palpate::parse_direction("--from", scene_from);
+      if (!d) return usage_error(d.error());
+      srq.from = d.value();
+    }
+    return palpate::run_scene(srq, scene_out);
+  }
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
   if (*bscale || *bmat) {

@@ -6,6 +6,12 @@
 
 namespace palpate {
 
+Vec3 file_to_world_axes(const Vec3& v, char up_axis) {
+  if (up_axis == 'y') return {v.x(), -v.z(), v.y()};
+  if (up_axis == 'x') return {v.y(), v.z(), v.x()};
+  return v;
+}
+
 Result<Model> load_model(const Scene& scene) {
   Model m;
   std::string name = scene.mesh.file;
@@ -24,11 +30,7 @@ Result<Model> load_model(const Scene& scene) {
                       std::to_string(scene.mesh.subdivisions), " make ", std::to_string(triangles),
                       ", more than the limit of ", std::to_string(kMaxTriangles));
   for (int i = 0; i < scene.mesh.subdivisions; ++i) m.rest = subdivide_midpoint(m.rest);
-  // the file's up axis becomes world z (a right-handed rotation)
-  for (Vec3& v : m.rest.vertices_m) {
-    if (scene.mesh.up_axis == 'y') v = Vec3(v.x(), -v.z(), v.y());
-    else if (scene.mesh.up_axis == 'x') v = Vec3(v.y(), v.z(), v.x());
-  }
+  for (Vec3& v : m.rest.vertices_m) v = file_to_world_axes(v, scene.mesh.up_axis);
   auto norm = normalize_mesh(&m.rest, scene.mesh.size_m, name);
   if (!norm) return norm.error();
   m.normalization = norm.value();

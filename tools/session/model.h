@@ -23,6 +23,10 @@ struct Model {
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
 };
 
+/// A point or direction of a mesh file with up axis `up_axis` ('x', 'y' or 'z') in world axes (its up becomes +z;
+/// a right-handed rotation), before normalisation.
+Vec3 file_to_world_axes(const Vec3& v, char up_axis);
+
 /// Loads the scene's mesh (or generates its box) and builds grid and bindings. Errors name the mesh file, or the
 /// scene when its lattice could pass kMaxLatticeNodes / kMaxLatticeSprings (sim/lattice_estimate.h).
 Result<Model> load_model(const Scene& scene);

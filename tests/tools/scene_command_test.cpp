@@ -1,0 +1,201 @@
+// `palpate scene`: generated scenes touch the model they were made for, at the point asked for.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/mesh_io.h"
+#include "support/fixtures.h"
+#include "tools/scene_command.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+namespace {
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out;  // stdout + stderr
+};
+
+CliRun palpate(const std::string& args) {
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/palpate " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int st = pclose(p);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream f(path);
+  return nlohmann::json::parse(f);
+}
+
+void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+// A 4 x 2 x 1 box (raw units) centred at (10, 0, 0), as an OBJ; normalised to 100 x 50 x 25 mm at the origin.
+std::string box_obj(const std::string& dir) {
+  fs::create_directories(dir);
+  const TriMesh m = make_box_mesh(Vec3(4.0, 2.0, 1.0), 2);
+  std::string text;
+  for (const Vec3& v : m.vertices_m) text += "v " + std::to_string(v.x() + 10.0) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+  for (const auto& t : m.triangles)
+    text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  const std::string path = (fs::path(dir) / "box.obj").string();
+  write(path, text);
+  return path;
+}
+
+// Writes a scene for `model` with `args`, records it for duration_s without frames, returns summary.json.
+nlohmann::json scene_then_record(const std::string& model, const std::string& name, const std::string& args,
+                                 double duration_s) {
+  const std::string dir = test::fresh_dir("scene_" + name);
+  fs::create_directories(dir);
+  const std::string scene = dir + "/scene.json";
+  const CliRun s = palpate("scene '" + model + "' " + args + " --out " + scene);
+  EXPECT_EQ(s.code, 0) << s.out;
+  EXPECT_NE(s.out.find("up axis"), std::string::npos) << s.out;
+  const CliRun r = palpate("record " + scene + " --no-render -q --duration " + std::to_string(duration_s) + " -o " + dir + "/out");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("no contact"), std::string::npos) << name << ": " << r.out;
+  return read_json(dir + "/out/summary.json");
+}
+
+TEST(SceneCommand, TouchScenesMakeContactOnTheBunnyAndAssimpTestModels) {
+  std::vector<std::string> models{test::source_path("scenes/bunny.obj")};
+  const fs::path assimp = "/usr/share/assimp/models";
+  for (const char* m : {"OBJ/spider.obj", "PLY/Wuson.ply", "STL/sphereWithHole.stl", "Collada/teapots.DAE"})
+    if (fs::exists(assimp / m)) models.push_back((assimp / m).string());
+  if (models.size() < 5) std::fprintf(stderr, "assimp-testmodels missing: only the bunny is checked\n");
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    SCOPED_TRACE(models[i]);
+    const auto j = scene_then_record(models[i], "touch" + std::to_string(i), "--mode touch", 2.0);
+    EXPECT_GT(j["max_force_N"].get<double>(), 0.0);
+    EXPECT_GT(j["sim"]["nodes"].get<int>(), 0);
+    EXPECT_EQ(j["nan_events"].get<int>(), 0);
+    EXPECT_EQ(j["mode"], "lockstep");
+  }
+}
+
+TEST(SceneCommand, PullAndCutScenesMakeContactOnTheBunny) {
+  const std::string bunny = test::source_path("scenes/bunny.obj");
+  const auto pull = scene_then_record(bunny, "pull", "--mode pull", 1.6);
+  EXPECT_GT(pull["max_force_N"].get<double>(), 0.0);
+  EXPECT_GT(pull["max_displacement_m"].get<double>(), 1e-3);  // the grabbed surface follows the tool out
+  // the blade goes in until 1.0 s and severs springs once it is drawn across
+  const auto cut = scene_then_record(bunny, "cut", "--mode cut", 1.5);
+  EXPECT_GT(cut["cut"]["springs_cut"].get<int>(), 0);
+  EXPECT_EQ(cut["nan_events"].get<int>(), 0);
+}
+
+TEST(SceneCommand, FromPicksTheFirstSurfaceOnThatSideAndDepthSetsThePress) {
+  const std::string obj = box_obj(test::fresh_dir("scene_from"));
+  SceneRequest rq;
+  rq.mesh_path = obj;
+  rq.up_axis = 'z';
+  rq.from = Vec3(1, 0, 0);
+  rq.depth_mm = 4.0;
+  auto g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  // the +x face of the normalised box (100 x 50 x 25 mm) through its centre, approached along -x
+  EXPECT_NEAR(g.value().surface_point_m.x(), 0.05, 1e-9);
+  EXPECT_NEAR(g.value().surface_point_m.y(), 0.0, 1e-9);
+  EXPECT_NEAR(g.value().surface_point_m.z(), 0.0, 1e-9);
+  EXPECT_TRUE(g.value().approach.isApprox(Vec3(-1, 0, 0)));
+  const auto& t = g.value().json["trajectory"];
+  EXPECT_NEAR(t.front()["pos_m"][0].get<double>(), 0.08, 1e-6);  // starts 30 mm out
+  double deepest_x = 1.0;
+  for (const auto& k : t) deepest_x = std::min(deepest_x, k["pos_m"][0].get<double>());
+  EXPECT_NEAR(deepest_x, 0.046, 1e-6);  // presses 4 mm in
+
+  rq.from = Vec3(0, -1, 0);
+  g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  EXPECT_NEAR(g.value().surface_point_m.y(), -0.025, 1e-9);
+
+  // default: from above
+  rq.from.reset();
+  g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  EXPECT_NEAR(g.value().surface_point_m.z(), 0.0125, 1e-9);
+  EXPECT_TRUE(g.value().approach.isApprox(Vec3(0, 0, -1)));
+}
+
+TEST(SceneCommand, AtPicksTheNearestSurfacePointInTheFilesCoordinates) {
+  const std::string obj = box_obj(test::fresh_dir("scene_at"));
+  SceneRequest rq;
+  rq.mesh_path = obj;
+  rq.up_axis = 'z';
+  rq.at_raw = Vec3(11.0, 0.5, 3.0);  // above the box (top at raw z = 0.5), off centre
+  auto g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  // raw (11, 0.5, 0.5) on the top face -> world ((11 - 10) * 25 mm, 0.5 * 25 mm, 12.5 mm)
+  EXPECT_NEAR(g.value().surface_point_m.x(), 0.025, 1e-9);
+  EXPECT_NEAR(g.value().surface_point_m.y(), 0.0125, 1e-9);
+  EXPECT_NEAR(g.value().surface_point_m.z(), 0.0125, 1e-9);
+  EXPECT_TRUE(g.value().approach.isApprox(Vec3(0, 0, -1), 1e-9));
+
+  // the same from the command line, with a y-up file: the file's +y face is the world's top; the mesh path is
+  // relative when the scene sits above the mesh, absolute otherwise, and resolves either way
+  const fs::path mesh_dir = fs::path(obj).parent_path();
+  const std::string other = test::fresh_dir("scene_at_cli");
+  fs::create_directories(other);
+  for (const auto& [scene, file] : {std::pair{mesh_dir.parent_path() / "s.json", std::string("scene_at/box.obj")},
+                                    std::pair{fs::path(other) / "s.json", obj}}) {
+    const CliRun r = palpate("scene " + obj + " --up y --at 9,5,0 --out " + scene.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("up axis y (--up)"), std::string::npos) << r.out;
+    const auto j = read_json(scene.string());
+    EXPECT_EQ(j["mesh"]["file"].get<std::string>(), file);
+    EXPECT_EQ(j["mesh"]["up_axis"], "y");
+    auto loaded = load_scene(scene.string());
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    ASSERT_TRUE(load_model(loaded.value())) << "the mesh path resolves";
+    // raw (9, 1, 0) on the +y face -> world (-25, 0, 25) mm after the y-up rotation (raw y spans 2 units = 50 mm)
+    const auto& press = j["trajectory"][3]["pos_m"];
+    EXPECT_NEAR(press[0].get<double>(), -0.025, 1e-6);
+    EXPECT_NEAR(press[1].get<double>(), 0.0, 1e-6);
+    EXPECT_NEAR(press[2].get<double>(), 0.025 - 0.010, 1e-6);  // 10 mm in
+  }
+}
+
+TEST(SceneCommand, BadOptionsAndOutputsAreRefusedNamingThem) {
+  const std::string dir = test::fresh_dir("scene_bad");
+  fs::create_directories(dir + "/a_folder");
+  const std::string bunny = test::source_path("scenes/bunny.obj");
+  CliRun r = palpate("scene " + bunny + " --from up");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("--from 'up': expected an axis"), std::string::npos) << r.out;
+  r = palpate("scene " + bunny + " --at 1,2");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("--at '1,2': expected three numbers"), std::string::npos) << r.out;
+  r = palpate("scene " + bunny + " --out " + dir + "/a_folder");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("exists and is not a regular file"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::is_directory(dir + "/a_folder"));
+  r = palpate("scene " + dir + "/missing.obj");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("missing.obj"), std::string::npos) << r.out;
+  // an existing scene file is replaced, and nothing temporary is left beside it
+  write(dir + "/s.json", "old");
+  r = palpate("scene " + bunny + " --out " + dir + "/s.json");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(load_scene(dir + "/s.json")) << "the file was replaced by a loadable scene";
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1);
+}
+
+}  // namespace
+}  // namespace palpate
