@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/aabb.h"
+#include "core/atomic_file.h"
 #include "core/mesh_io.h"
 #include "tools/session/model.h"
 #include "tools/scene_target.h"
@@ -301,33 +302,6 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   return g;
 }
 
-Status write_text_replacing(const std::string& path, const std::string& text) {
-  std::error_code ec;
-  const fs::file_status st = fs::symlink_status(path, ec);
-  if (fs::exists(st) && !fs::is_regular_file(st))
-    return make_error("output '", path, "': exists and is not a regular file; not replaced");
-  const fs::path parent = fs::path(path).parent_path();
-  if (!parent.empty() && !fs::is_directory(parent, ec)) return make_error("output '", path, "': folder '", parent.string(), "' does not exist");
-  const std::string tmp = path + ".tmp." + std::to_string(getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) return make_error("output '", path, "': cannot create ", tmp);
-    f << text;
-    f.flush();
-    if (!f) {
-      fs::remove(tmp, ec);
-      return make_error("output '", path, "': write failed");
-    }
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ec2;
-    fs::remove(tmp, ec2);
-    return make_error("output '", path, "': ", ec.message());
-  }
-  return Ok{};
-}
-
 int run_scene(SceneRequest rq, const std::string& out_path) {
   const std::string out =
       out_path.empty() ? fs::path(rq.mesh_path).stem().string() + "_" + mode_name(rq.mode) + ".json" : out_path;
@@ -338,7 +312,7 @@ int run_scene(SceneRequest rq, const std::string& out_path) {
     return 1;
   }
   for (const std::string& n : g.value().notes) std::fprintf(stderr, "palpate scene: %s\n", n.c_str());
-  if (auto st = write_text_replacing(out, scene_text(g.value().json)); !st) {
+  if (auto st = write_file_atomic(out, scene_text(g.value().json), "scene"); !st) {
     std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
     return 1;
   }
