@@ -176,6 +176,18 @@ TEST(Video, ExplicitPathAndNoVideo) {
   EXPECT_NE(sum["video"]["reason"].get<std::string>().find("--no-video"), std::string::npos);
 }
 
+TEST(Video, RealtimeRecordingMakesItsDefaultVideoAfterTheRun) {
+  // no encoder thread beside the servo during a realtime run: the MP4 is made from the frames afterwards
+  const std::string out = test::fresh_dir("video_realtime");
+  const CmdRun r = palpate("record scenes/cube_press.json --mode realtime --duration 0.5 -q --out '" + out + "'");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json sum = read_json(out + "/summary.json");
+  ASSERT_TRUE(sum["video"]["enabled"].get<bool>()) << sum["video"].dump();
+  EXPECT_EQ(sum["video"]["made"].get<std::string>(), "after the realtime run, from frames/");
+  EXPECT_GT(sum["video"]["frames"].get<int64_t>(), 0);
+  EXPECT_TRUE(fs::exists(out + "/recording.mp4"));
+}
+
 TEST(Video, BadVideoPathIsAnErrorBeforeRecording) {
   const std::string out = test::fresh_dir("video_bad");
   fs::create_directories(out + "/a_folder");
