@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/temp_root.h"
 
@@ -18,23 +19,8 @@ namespace palpate {
 namespace {
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code = -1;
-  std::string out;  // stdout + stderr
-};
-
-CliRun palpate(const std::string& args) {
-  const char* bin = std::getenv("PALPATE_BIN_DIR");
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/palpate " + args + " 2>&1";
-  CliRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using test::CliRun;
+using test::palpate;
 
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("hostile_" + name)).string(); }
 

@@ -13,32 +13,16 @@
 #include <nlohmann/json.hpp>
 
 #include "render/png_io.h"
+#include "support/cli_run.h"
 #include "support/fixtures.h"
 
 namespace palpate {
 namespace {
 namespace fs = std::filesystem;
 
-struct CmdRun {
-  int code = -1;
-  std::string out;  // stdout + stderr
-};
-
-CmdRun shell(const std::string& cmd) {
-  CmdRun r;
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-CmdRun palpate(const std::string& args) {
-  const char* bin = std::getenv("PALPATE_BIN_DIR");
-  return shell(std::string(bin ? bin : "build/bin") + "/palpate " + args);
-}
+using test::CliRun;
+using test::palpate;
+using test::shell;
 
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
@@ -47,7 +31,7 @@ nlohmann::json read_json(const std::string& path) {
 
 // ffprobe's view of the first video stream, frames counted by decoding
 nlohmann::json probe(const std::string& mp4) {
-  const CmdRun r = shell("ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+  const CliRun r = shell("ffprobe -v error -select_streams v:0 -count_frames -show_entries "
                       "stream=codec_name,pix_fmt,r_frame_rate,nb_frames,nb_read_frames,width,height -of json '" + mp4 + "'");
   EXPECT_EQ(r.code, 0) << r.out;
   const nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
@@ -99,7 +83,7 @@ void expect_browser_ready(const std::string& mp4, int64_t frames) {
 
 // mean absolute difference over R, G, B between frame n of the MP4 (decoded by ffmpeg) and a PNG
 double mean_abs_diff(const std::string& mp4, int n, const std::string& png, const std::string& scratch) {
-  const CmdRun r = shell("ffmpeg -v error -y -i '" + mp4 + "' -vf 'select=eq(n\\," + std::to_string(n) +
+  const CliRun r = shell("ffmpeg -v error -y -i '" + mp4 + "' -vf 'select=eq(n\\," + std::to_string(n) +
                       ")' -frames:v 1 -pix_fmt rgba '" + scratch + "'");
   EXPECT_EQ(r.code, 0) << r.out;
   auto a = read_png(scratch);
@@ -124,7 +108,7 @@ constexpr double kLossyMeanTol = 5.0;
 
 TEST(Video, LockstepRecordingGivesBrowserReadyMp4) {
   const std::string out = test::fresh_dir("video_lockstep");
-  const CmdRun r = palpate("record scenes/cube_press.json --duration 0.5 -q --out '" + out + "'");
+  const CliRun r = palpate("record scenes/cube_press.json --duration 0.5 -q --out '" + out + "'");
   ASSERT_EQ(r.code, 0) << r.out;
   const nlohmann::json sum = read_json(out + "/summary.json");
   const int64_t written = sum["frames_written"].get<int64_t>();
@@ -152,7 +136,7 @@ TEST(Video, LockstepRecordingGivesBrowserReadyMp4) {
 
   // the same frames through `palpate video` give an equivalent file
   const std::string again = out + "/again.mp4";
-  const CmdRun rv = palpate("video '" + out + "' --out '" + again + "'");
+  const CliRun rv = palpate("video '" + out + "' --out '" + again + "'");
   ASSERT_EQ(rv.code, 0) << rv.out;
   EXPECT_NE(rv.out.find("30 frames"), std::string::npos) << rv.out;
   expect_browser_ready(again, written);
@@ -163,12 +147,12 @@ TEST(Video, ExplicitPathAndNoVideo) {
   const std::string out = test::fresh_dir("video_explicit");
   fs::create_directories(out);
   const std::string mp4 = out + "/press.mp4";
-  const CmdRun r = palpate("record scenes/cube_press.json --duration 0.1 -q --out '" + out + "/rec' --video '" + mp4 + "'");
+  const CliRun r = palpate("record scenes/cube_press.json --duration 0.1 -q --out '" + out + "/rec' --video '" + mp4 + "'");
   ASSERT_EQ(r.code, 0) << r.out;
   expect_browser_ready(mp4, 6);
   EXPECT_FALSE(fs::exists(out + "/rec/recording.mp4"));
 
-  const CmdRun rn = palpate("record scenes/cube_press.json --duration 0.1 -q --out '" + out + "/none' --no-video");
+  const CliRun rn = palpate("record scenes/cube_press.json --duration 0.1 -q --out '" + out + "/none' --no-video");
   ASSERT_EQ(rn.code, 0) << rn.out;
   EXPECT_FALSE(fs::exists(out + "/none/recording.mp4"));
   const nlohmann::json sum = read_json(out + "/none/summary.json");
@@ -179,7 +163,7 @@ TEST(Video, ExplicitPathAndNoVideo) {
 TEST(Video, RealtimeRecordingMakesItsDefaultVideoAfterTheRun) {
   // no encoder thread beside the servo during a realtime run: the MP4 is made from the frames afterwards
   const std::string out = test::fresh_dir("video_realtime");
-  const CmdRun r = palpate("record scenes/cube_press.json --mode realtime --duration 0.5 -q --out '" + out + "'");
+  const CliRun r = palpate("record scenes/cube_press.json --mode realtime --duration 0.5 -q --out '" + out + "'");
   ASSERT_EQ(r.code, 0) << r.out;
   const nlohmann::json sum = read_json(out + "/summary.json");
   ASSERT_TRUE(sum["video"]["enabled"].get<bool>()) << sum["video"].dump();
@@ -193,7 +177,7 @@ TEST(Video, BadVideoPathIsAnErrorBeforeRecording) {
   fs::create_directories(out + "/a_folder");
   for (const std::string& bad : {out + "/a_folder", std::string("/dev/null")}) {
     const std::string rec = out + "/rec";
-    const CmdRun r = palpate("record scenes/cube_press.json --duration 0.1 -q --out '" + rec + "' --video '" + bad + "'");
+    const CliRun r = palpate("record scenes/cube_press.json --duration 0.1 -q --out '" + rec + "' --video '" + bad + "'");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_NE(r.out.find("video '" + bad + "': is not a regular file"), std::string::npos) << r.out;
     // nothing was recorded
@@ -205,7 +189,7 @@ TEST(Video, BadVideoPathIsAnErrorBeforeRecording) {
 TEST(Video, VideoCommandErrorsNameTheFolder) {
   const std::string out = test::fresh_dir("video_empty");
   fs::create_directories(out + "/frames");
-  const CmdRun r = palpate("video '" + out + "'");
+  const CliRun r = palpate("video '" + out + "'");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.out.find("recording '" + out + "': no frames/frame_*.png"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
