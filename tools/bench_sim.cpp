@@ -167,6 +167,18 @@ std::vector<std::size_t> pareto(const std::vector<Row>& rows, int level) {
 
 }  // namespace
 
+Result<std::vector<IntegratorKind>> integrators_from_names(const std::vector<std::string>& names,
+                                                           std::vector<IntegratorKind> all) {
+  if (names.empty()) return all;
+  std::vector<IntegratorKind> kinds;
+  for (const auto& name : names) {
+    IntegratorKind k;
+    if (!integrator_from_name(name, &k)) return make_error("bench sim: unknown integrator '", name, "'");
+    kinds.push_back(k);
+  }
+  return kinds;
+}
+
 Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& opt) {
   // outputs are checked before the sweep: never a device or a link replaced after minutes of measuring
   if (!opt.json_path.empty())
@@ -177,15 +189,11 @@ Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimO
   if (!scene_r) return scene_r.error();
   Scene base = scene_r.value();
   if (opt.duration_s > 0.0) base.duration_s = opt.duration_s;
-  std::vector<IntegratorKind> kinds;
-  for (const auto& name : opt.integrators) {
-    IntegratorKind k;
-    if (!integrator_from_name(name, &k)) return make_error("bench sim: unknown integrator '", name, "'");
-    kinds.push_back(k);
-  }
-  if (kinds.empty())
-    kinds = {IntegratorKind::kExplicitEuler, IntegratorKind::kSymplecticEuler, IntegratorKind::kImplicitEuler,
-             IntegratorKind::kLocalGlobal, IntegratorKind::kRk4};
+  auto kinds_r = integrators_from_names(opt.integrators,
+                                        {IntegratorKind::kExplicitEuler, IntegratorKind::kSymplecticEuler,
+                                         IntegratorKind::kImplicitEuler, IntegratorKind::kLocalGlobal, IntegratorKind::kRk4});
+  if (!kinds_r) return kinds_r.error();
+  const std::vector<IntegratorKind> kinds = kinds_r.value();
   std::vector<int> levels = opt.levels.empty() ? std::vector<int>{base.lattice.level} : opt.levels;
   for (int l : levels)
     if (l < 1 || l > GridHierarchy::kMaxLevels) return make_error("bench sim: level ", std::to_string(l), " out of range [1, 8]");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "core/scene.h"
 
 namespace palpate {
 
@@ -22,6 +23,10 @@ struct BenchSimOptions {
   bool quiet = false;                    ///< no progress lines on stderr
   std::vector<int> box_cells;            ///< not empty: box lattices of these cells per axis instead of the scene's replay
 };
+
+/// The integrators `names` lists, or `all` when it is empty; errors name an unknown one.
+Result<std::vector<IntegratorKind>> integrators_from_names(const std::vector<std::string>& names,
+                                                           std::vector<IntegratorKind> all);
 
 /// Runs the sweep; returns the table as text. Errors name the scene, an unknown integrator or an output path.
 Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& options);

@@ -130,15 +130,10 @@ Result<std::string> run_bench_sim_box(const std::string& scene_path, const Bench
   auto scene_r = load_scene(scene_path);
   if (!scene_r) return scene_r.error();
   const Scene& scene = scene_r.value();
-  std::vector<IntegratorKind> kinds;
-  for (const auto& name : opt.integrators) {
-    IntegratorKind k;
-    if (!integrator_from_name(name, &k)) return make_error("bench sim: unknown integrator '", name, "'");
-    kinds.push_back(k);
-  }
-  if (kinds.empty())
-    kinds = {IntegratorKind::kSymplecticEuler, IntegratorKind::kImplicitEuler, IntegratorKind::kLocalGlobal,
-             IntegratorKind::kRk4};
+  auto kinds_r = integrators_from_names(opt.integrators, {IntegratorKind::kSymplecticEuler, IntegratorKind::kImplicitEuler,
+                                                          IntegratorKind::kLocalGlobal, IntegratorKind::kRk4});
+  if (!kinds_r) return kinds_r.error();
+  const std::vector<IntegratorKind> kinds = kinds_r.value();
   const double duration_s = opt.duration_s > 0.0 ? opt.duration_s : 1.0;
   const int frames = std::max(1, static_cast<int>(std::lround(duration_s * kFrameRate_hz)));
 

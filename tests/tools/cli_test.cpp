@@ -175,5 +175,10 @@ TEST(Cli, BenchScaleRefusesAnOutputThatIsNotAFile) {
   expect_error(palpate("bench scale --max-subdivisions 0 --duration 0.1 -q --json /dev/null"), "/dev/null");
 }
 
+TEST(Cli, BenchSimNamesAnUnknownIntegratorOnBothPaths) {
+  expect_error(palpate("bench sim scenes/bunny_pull.json --integrators verlet -q"), "unknown integrator 'verlet'");
+  expect_error(palpate("bench sim scenes/bunny_pull.json --box 2 --integrators verlet -q"), "unknown integrator 'verlet'");
+}
+
 }  // namespace
 }  // namespace palpate
