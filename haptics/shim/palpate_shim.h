@@ -113,9 +113,13 @@ PALPATE_SHIM_STATIC_ASSERT(sizeof(palpate_shim_force_slot) == 64, "force layout"
 PALPATE_SHIM_STATIC_ASSERT(sizeof(palpate_shim_heartbeat) == 64, "heartbeat layout");
 PALPATE_SHIM_STATIC_ASSERT(sizeof(palpate_shim_segment) == 448, "segment layout");
 
-/* relaxed per-field copies: no torn words, no data race in the C/C++ memory models */
+/* relaxed per-field copies: no torn words, no data race in the C/C++ memory models. A translation unit may
+   define PALPATE_SHIM_LD before including this header to interpose on the readers' field loads (the tests use it
+   to put a whole write between two loads of one copy, deterministically). */
 #define PALPATE_SHIM_ST(dst, src) __atomic_store(&(dst), &(src), __ATOMIC_RELAXED)
+#ifndef PALPATE_SHIM_LD
 #define PALPATE_SHIM_LD(src, dst) __atomic_load(&(src), &(dst), __ATOMIC_RELAXED)
+#endif
 
 /* Makes the lock even again (a writer that died inside a record leaves it odd). Writer side, at attach. */
 static inline void palpate_shim_lock_repair(uint64_t* lock) {
