@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Palpate builds and tests with, when any is missing.
 # FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
+# capsh (libcap2-bin) lets a test run the servo without the right to lock memory.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
@@ -10,7 +11,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
-  ffmpeg
+  ffmpeg libcap2-bin
 )
 
 missing=()

@@ -2,6 +2,7 @@
 /// Command-line checks shared by palpate and palpate-device.
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -19,6 +20,31 @@ inline CLI::Validator finite_range(double lo, double hi) {
         return {};
       },
       "FLOAT in [" + CLI::detail::to_string(lo) + " - " + CLI::detail::to_string(hi) + "]");
+}
+
+/// A default input named relative to the repository ("scenes/bunny_pull.json"): taken from the current folder when
+/// it is there, else from the nearest folder above the program that holds it (build/bin/palpate lies two below the
+/// repository root), so the commands' defaults work from any folder. Unchanged when found nowhere: the loader's
+/// error names it.
+inline std::string locate_default(const std::string& rel) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(rel, ec)) return rel;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return rel;
+  for (fs::path d = exe.parent_path(); !d.empty(); d = d.parent_path()) {
+    if (fs::exists(d / rel, ec)) return (d / rel).string();
+    if (d == d.root_path()) break;
+  }
+  return rel;
+}
+
+/// Usage errors in the same shape as every other error: "<program>: <what>", then where to look. Set on the top
+/// app before any subcommand is added (subcommands copy it when they are made).
+inline void prefix_usage_errors(CLI::App& app, std::string program) {
+  app.failure_message([program](const CLI::App*, const CLI::Error& e) {
+    return program + ": " + e.what() + "\nRun with --help for more information.\n";
+  });
 }
 
 }  // namespace palpate

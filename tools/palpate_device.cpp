@@ -35,6 +35,7 @@ void print_hist(const char* what, const palpate::LatencyHistogram& h) {
 int main(int argc, char** argv) {
   static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler sets an atomic flag");
   CLI::App app{"palpate-device: the emulated hand device served through the shared-memory shim (stop: Ctrl-C)"};
+  palpate::prefix_usage_errors(app, "palpate-device");
   palpate::DeviceServerOptions o;
   std::string scene_path, recording, inject;
   app.add_option("--name,-n", o.name, "Link name: palpate record SCENE --device shm:NAME")->required();

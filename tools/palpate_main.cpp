@@ -113,6 +113,7 @@ int usage_error(const palpate::Error& e) {
 
 int main(int argc, char** argv) {
   CLI::App app{"palpate: feel and deform 3D models through a haptic device; headless recordings and loop-rate figures"};
+  palpate::prefix_usage_errors(app, "palpate");
   app.require_subcommand(1);
   app.footer(palpate::kLimitsHelp);
 
@@ -307,6 +308,11 @@ int main(int argc, char** argv) {
     }
     return palpate::run_scene(srq, scene_out);
   }
+  // the benchmarks' default scenes are found from any folder, not only the repository root
+  if (*bloop && bloop->get_option("--scene")->count() == 0) lo.scene = palpate::locate_default(lo.scene);
+  if (*bforce && bforce->get_option("scenes")->count() == 0)
+    for (auto& s : fo.scenes) s = palpate::locate_default(s);
+  if (*bscale && bscale->get_option("scene")->count() == 0) bscale_scene = palpate::locate_default(bscale_scene);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
   if (*bscale || *bmat) {

@@ -60,6 +60,20 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(palpate("record x.json --mode fast").code, 2);
 }
 
+// Usage errors look like every other error: the program's name first, then where to look.
+TEST(Cli, UsageErrorsNameTheProgram) {
+  for (const char* args : {"record", "record --bogus x", "bench sim scenes/bunny_pull.json --levels abc", "nosuchcommand"}) {
+    const CliRun r = palpate(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(r.out.rfind("palpate: ", 0), 0u) << args << ": " << r.out;
+    EXPECT_NE(r.out.find("--help"), std::string::npos) << args << ": " << r.out;
+  }
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const CliRun d = test::shell(std::string(bin ? bin : "build/bin") + "/palpate-device --bogus");
+  EXPECT_EQ(d.code, 2);
+  EXPECT_EQ(d.out.rfind("palpate-device: ", 0), 0u) << d.out;
+}
+
 TEST(Cli, InfoReportsTheBunnyAndItsLevels) {
   const CliRun r = palpate("info scenes/bunny.obj --levels 4 --json");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -178,6 +192,58 @@ TEST(Cli, BenchScaleRefusesAnOutputThatIsNotAFile) {
 TEST(Cli, BenchSimNamesAnUnknownIntegratorOnBothPaths) {
   expect_error(palpate("bench sim scenes/bunny_pull.json --integrators verlet -q"), "unknown integrator 'verlet'");
   expect_error(palpate("bench sim scenes/bunny_pull.json --box 2 --integrators verlet -q"), "unknown integrator 'verlet'");
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+// What the system refuses the servo is said on stderr and kept in summary.json, memory locking included: run
+// without the capability to lock memory and with no lockable memory (capsh and ulimit, as a user without
+// privileges runs it).
+TEST(Cli, RealtimeRefusalsIncludingMlockallReachTheSummary) {
+  ASSERT_EQ(test::shell("command -v capsh").code, 0) << "capsh (Debian libcap2-bin) is needed by this test";
+  const std::string out = tmp("out_refused");
+  fs::remove_all(out);
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const std::string cmd = "capsh --drop=cap_ipc_lock -- -c 'ulimit -l 0; exec " + std::string(bin ? bin : "build/bin") +
+                          "/palpate record scenes/cube_press.json --mode realtime --duration 0.2 --no-render -q --out " +
+                          out + "'";
+  const CliRun r = test::shell(cmd);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("palpate: servo: refused: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("mlockall"), std::string::npos) << r.out;
+  const auto summary = nlohmann::json::parse(slurp(out + "/summary.json"));
+  const std::string refused = summary["servo"]["rt"]["refused"].get<std::string>();
+  EXPECT_NE(refused.find("mlockall: "), std::string::npos) << refused;
+  EXPECT_FALSE(summary["servo"]["rt"]["memory_locked"].get<bool>()) << summary["servo"]["rt"].dump();
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+// The benchmarks' default scenes are found when the command runs from another folder than the repository root.
+TEST(Cli, BenchDefaultScenesAreFoundFromAnyFolder) {
+  const std::string elsewhere = tmp("elsewhere");
+  fs::create_directories(elsewhere);
+  const char* bin_env = std::getenv("PALPATE_BIN_DIR");
+  const std::string bin = fs::absolute(bin_env ? bin_env : "build/bin").string();
+  const CliRun scale = test::shell("cd " + elsewhere + " && " + bin +
+                                   "/palpate bench scale --max-subdivisions 0 --duration 0.05 --no-full");
+  EXPECT_EQ(scale.code, 0) << scale.out;
+  EXPECT_NE(scale.out.find("bunny_pull"), std::string::npos) << scale.out;
+  const CliRun loop = test::shell("cd " + elsewhere + " && " + bin + "/palpate bench loop --seconds 0.2 --load sim");
+  EXPECT_EQ(loop.code, 0) << loop.out;
+  // an explicit relative path stays relative to the current folder, as a user expects
+  const CliRun named = test::shell("cd " + elsewhere + " && " + bin + "/palpate bench scale scenes/bunny_pull.json "
+                                   "--max-subdivisions 0 --duration 0.05 --no-full");
+  EXPECT_NE(named.code, 0) << named.out;
+  EXPECT_NE(named.out.find("scenes/bunny_pull.json"), std::string::npos) << named.out;
 }
 
 }  // namespace

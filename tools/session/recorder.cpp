@@ -187,13 +187,12 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     ServoRunner runner(&servo, cfg);
     const int64_t t0_ns = monotonic_ns() + 5'000'000;
     const RtGrant& grant = runner.start(t0_ns);
-    // said once: what the system refused and what the servo runs with instead
-    if (!grant.refused.empty() || (opt.lock_memory && !locked)) {
-      std::string what = grant.refused;
-      if (opt.lock_memory && !locked) what += (what.empty() ? "" : "; ") + mem_refused;
-      std::fprintf(stderr, "palpate: servo: refused: %s; running with %s%s\n", what.c_str(),
+    // said once: what the system refused and what the servo runs with instead (the summary says the same)
+    std::string refused = grant.refused;
+    if (opt.lock_memory && !locked) refused += (refused.empty() ? "" : "; ") + mem_refused;
+    if (!refused.empty())
+      std::fprintf(stderr, "palpate: servo: refused: %s; running with %s%s\n", refused.c_str(),
                    grant.fifo ? "SCHED_FIFO" : "normal priority", grant.timer_slack_1ns ? ", timer slack 1 ns" : "");
-    }
     const double frame_ns = 1e9 * rates.frame_period_s();
     for (int64_t f = 0; f < frames; ++f) {
       const int64_t deadline = t0_ns + static_cast<int64_t>(std::llround(static_cast<double>(f) * frame_ns));
@@ -210,6 +209,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     }
     runner.join();  // the servo ends by itself after the scene's ticks
     timing = runner.timing();
+    timing.rt.refused = refused;
     memory_locked = locked;
   }
   stage.drain_remaining();
