@@ -57,6 +57,27 @@ TEST(ReplayDriver, LockstepReplayOfARecordingReproducesItsStateHash) {
   EXPECT_EQ(test::slurp(a + "/haptic.csv"), test::slurp(b + "/haptic.csv"));
 }
 
+// A replay made from another scene is allowed (the same hand against another object) but said; from its own scene
+// it is not.
+TEST(ReplayDriver, ReplayFromAnotherSceneIsSaid) {
+  const std::string a = out_dir("replay_other_src");
+  CmdRun r1 = palpate({"record", "scenes/cube_press.json", "--duration", "0.2", "--no-render", "-q", "--out", a}, "o1");
+  ASSERT_EQ(r1.code, 0) << r1.out;
+  CmdRun same = palpate({"record", "scenes/cube_press.json", "--duration", "0.2", "--no-render", "-q", "--out",
+                         out_dir("replay_same_dst"), "--device", "replay:" + a},
+                        "o2");
+  ASSERT_EQ(same.code, 0) << same.out;
+  EXPECT_EQ(same.out.find("recorded from scene"), std::string::npos) << same.out;
+  CmdRun other = palpate({"record", "scenes/bunny_touch.json", "--duration", "0.2", "--no-render", "-q", "--out",
+                          out_dir("replay_other_dst"), "--device", "replay:" + a},
+                         "o3");
+  ASSERT_EQ(other.code, 0) << other.out;
+  EXPECT_NE(other.out.find("palpate: warning: replay '" + a + "' was recorded from scene 'scenes/cube_press.json', "
+                           "this run is 'scenes/bunny_touch.json'"),
+            std::string::npos)
+      << other.out;
+}
+
 TEST(ReplayDriver, MalformedLogNamesTheLine) {
   const std::string csv = (fs::path(test::temp_root()) / "palpate_bad_haptic.csv").string();
   std::ofstream(csv) << "tick,t_s,tool_x_m,tool_y_m,tool_z_m,buttons\n0,0.000,0,0,0.04,0\n1,0.001,0,zz,0.04,0\n";

@@ -4,6 +4,10 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
 #include "haptics/plugin_device.h"
@@ -18,6 +22,31 @@ std::string hexf(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%a", v);
   return buf;
+}
+
+// The scene a recording was made from: "scene" in the summary.json beside its haptic.csv; empty when there is
+// none or it cannot be read (a bare haptic.csv is a valid replay log).
+std::string recorded_scene(const std::string& target) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path dir = fs::is_directory(target, ec) ? fs::path(target) : fs::path(target).parent_path();
+  const fs::path summary = dir / "summary.json";
+  if (!fs::is_regular_file(summary, ec) || fs::file_size(summary, ec) > (1u << 20) || ec) return {};
+  std::ifstream in(summary);
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto j = nlohmann::json::parse(text.str(), nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("scene") || !j["scene"].is_string()) return {};
+  return j["scene"].get<std::string>();
+}
+
+// The same scene file: one path, or (when either is gone or was named from another folder) one file name.
+bool same_scene(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ea, eb;
+  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+  if (!ea && !eb && ca == cb) return true;
+  return fs::path(a).filename() == fs::path(b).filename();
 }
 
 // Splits "driver:target" (the scene's driver and device.link when spec is empty).
@@ -89,6 +118,11 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   if (driver == "replay") {
     auto rows = load_haptic_csv(target);
     if (!rows) return rows.error();
+    // the poses were made against another scene's model: allowed (same hand, other object), but said
+    const std::string from = recorded_scene(target);
+    if (!from.empty() && !same_scene(from, scene.path))
+      std::fprintf(stderr, "palpate: warning: replay '%s' was recorded from scene '%s', this run is '%s': the hand "
+                   "follows the other scene's poses\n", target.c_str(), from.c_str(), scene.path.c_str());
     return std::unique_ptr<Device>(std::make_unique<ReplayDevice>(specs, std::move(rows).value()));
   }
   return make_error("device '", driver, "': unknown driver (known: scripted, shm:NAME, plugin:PATH, replay:PATH)");
