@@ -70,6 +70,20 @@ class ObjectReader {
     *out = v->get<std::string>();
   }
 
+  // A string that must be one of an enum's names (core/scene_enums.h); *out untouched when absent or unknown.
+  template <typename E>
+  void name(const std::string& key, E* out) {
+    std::string s;
+    const bool present = has(key);
+    string(key, &s);
+    if (!present || !error_->empty()) return;
+    if (const auto v = from_name<E>(s)) {
+      *out = *v;
+      return;
+    }
+    fail(path(key), "'" + s + "' is not one of: " + names(E{}).list());
+  }
+
   // A string that must be one of `choices`; returns its position or -1.
   int choice(const std::string& key, const std::vector<std::string>& choices) {
     std::string s;
@@ -172,9 +186,7 @@ void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
   r.number("damping_Ns_per_m", &l.damping_Ns_per_m, 0.0, 1e6);
   r.vec3("gravity_m_per_s2", &l.gravity_m_per_s2, -1e3, 1e3);
   r.boolean("fix_floor", &l.fix_floor);
-  const int integ =
-      r.choice("integrator", {"explicit_euler", "symplectic_euler", "implicit_euler", "local_global", "rk4"});
-  if (integ >= 0) l.integrator = static_cast<IntegratorKind>(integ);
+  r.name("integrator", &l.integrator);
   r.integer("max_substeps", &l.max_substeps, 1, kMaxSubsteps);
   r.integer("substeps", &l.substeps, 0, kMaxSubsteps);
   r.integer("iterations", &l.iterations, 0, kMaxIterations);
@@ -207,8 +219,7 @@ void read_material(ObjectReader& top, const Json& lattice_json, Scene* s, std::s
 void read_device(ObjectReader& top, Scene* s, std::string* err) {
   ObjectReader r(top.object("device"), "device.", err);
   DeviceSpec& d = s->device;
-  const int driver = r.choice("driver", {"scripted", "shm", "plugin", "replay"});
-  if (driver >= 0) d.driver = std::vector<std::string>{"scripted", "shm", "plugin", "replay"}[static_cast<std::size_t>(driver)];
+  r.name("driver", &d.driver);
   r.string("link", &d.link);
   r.number("watchdog_ms", &d.watchdog_ms, 0.1, 10000.0);
   r.number("max_speed_m_per_s", &d.max_speed_m_per_s, 0.01, 1000.0);
@@ -272,12 +283,8 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   ObjectReader r(top.object("render"), "render.", err);
   r.integer("width", &s->render.width, 16, 8192);
   r.integer("height", &s->render.height, 16, 8192);
-  const std::vector<std::string> styles{"solid", "wireframe", "both"};
-  const int st = r.choice("style", styles);
-  if (st >= 0) s->render.style = styles[st];
-  const std::vector<std::string> backends{"auto", "osmesa", "egl"};
-  const int b = r.choice("backend", backends);
-  if (b >= 0) s->render.backend = backends[b];
+  r.name("style", &s->render.style);
+  r.name("backend", &s->render.backend);
   r.finish();
   const int64_t pixels = int64_t{s->render.width} * s->render.height;
   if (err->empty() && pixels > kMaxImagePixels)
@@ -386,8 +393,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   const Json& inter = top.object("interaction");
   if (!inter.is_null()) {
     ObjectReader r(inter, "interaction.", &err);
-    const int m = r.choice("mode", {"touch", "pull", "cut"});
-    if (m >= 0) s.mode = static_cast<InteractionMode>(m);
+    r.name("mode", &s.mode);
     r.number("grab_radius_m", &s.grab_radius_m, 0.0, 10.0);
     r.number("blade_length_m", &s.blade_length_m, 1e-4, 10.0);
     r.number("cut_resistance_Ns_per_m", &s.cut_resistance_Ns_per_m, 0.0, 1e4);
@@ -395,8 +401,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   }
   read_trajectory(top, &s, &err);
   read_render(top, &s, &err);
-  const int rm = top.choice("run_mode", {"lockstep", "realtime"});
-  if (rm >= 0) s.run_mode = static_cast<RunMode>(rm);
+  top.name("run_mode", &s.run_mode);
   top.number("duration_s", &s.duration_s, 1.0 / 60.0, 3600.0);
   top.finish();
   if (err.empty() && s.lattice.level > s.grid_levels)
@@ -416,29 +421,14 @@ Result<Scene> load_scene(const std::string& path) {
   return parse_scene(text.value(), path);
 }
 
-const char* integrator_name(IntegratorKind kind) {
-  switch (kind) {
-    case IntegratorKind::kExplicitEuler: return "explicit_euler";
-    case IntegratorKind::kSymplecticEuler: return "symplectic_euler";
-    case IntegratorKind::kImplicitEuler: return "implicit_euler";
-    case IntegratorKind::kLocalGlobal: return "local_global";
-    case IntegratorKind::kRk4: return "rk4";
-  }
-  return "?";
-}
+const char* integrator_name(IntegratorKind kind) { return name_of(kind); }
 
 bool integrator_from_name(const std::string& name, IntegratorKind* kind) {
-  for (auto k : {IntegratorKind::kExplicitEuler, IntegratorKind::kSymplecticEuler, IntegratorKind::kImplicitEuler,
-                 IntegratorKind::kLocalGlobal, IntegratorKind::kRk4})
-    if (name == integrator_name(k)) {
-      *kind = k;
-      return true;
-    }
-  return false;
+  const auto k = from_name<IntegratorKind>(name);
+  if (k) *kind = *k;
+  return k.has_value();
 }
 
-const char* mode_name(InteractionMode mode) {
-  return mode == InteractionMode::kPull ? "pull" : mode == InteractionMode::kCut ? "cut" : "touch";
-}
+const char* mode_name(InteractionMode mode) { return name_of(mode); }
 
 }  // namespace palpate

@@ -6,16 +6,11 @@
 #include <vector>
 
 #include "core/result.h"
+#include "core/scene_enums.h"
 #include "core/types.h"
 
 namespace palpate {
 
-/// Which integrator steps the lattice (names in scenes: integrator_name()).
-enum class IntegratorKind { kExplicitEuler, kSymplecticEuler, kImplicitEuler, kLocalGlobal, kRk4 };
-/// How the tool interacts with the model.
-enum class InteractionMode { kTouch, kPull, kCut };
-/// Which clock drives a recording.
-enum class RunMode { kLockstep, kRealtime };
 
 /// Where the model comes from and how it is normalised.
 struct MeshSpec {
@@ -61,7 +56,7 @@ struct LatticeSpec {
 
 /// Device limits and the proxy coupling.
 struct DeviceSpec {
-  std::string driver = "scripted";          ///< device driver: scripted | shm | plugin | replay
+  DeviceDriver driver = DeviceDriver::kScripted;  ///< where the poses come from (names: core/scene_enums.h)
   std::string link;                         ///< shm: link name; plugin: .so path; replay: haptic.csv or recording folder
   double watchdog_ms = 5.0;                 ///< shm: peer silent this long -> force zero, "disconnected"
   double max_speed_m_per_s = 10.0;          ///< shm: poses implying a faster handle are rejected
@@ -100,8 +95,8 @@ inline bool needs_model(const Keyframe& k) { return k.pos_rel.has_value() || k.s
 struct RenderSpec {
   int width = 640;
   int height = 480;
-  std::string style = "solid";     ///< solid | wireframe | both
-  std::string backend = "auto";    ///< auto | osmesa | egl
+  RenderStyle style = RenderStyle::kSolid;
+  RenderBackend backend = RenderBackend::kAuto;
 };
 
 /// A whole scene.

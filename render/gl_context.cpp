@@ -40,24 +40,24 @@ bool GlContext::make_current() {
   return true;
 }
 
-Result<std::unique_ptr<GlContext>> create_gl_context(int width, int height, const std::string& backend) {
+Result<std::unique_ptr<GlContext>> create_gl_context(int width, int height, RenderBackend backend) {
   if (width < 1 || height < 1 || width > kMaxSizePx || height > kMaxSizePx) {
-    return make_error("gl context '", backend, "': size ", std::to_string(width), "x", std::to_string(height),
+    return make_error("gl context '", name_of(backend), "': size ", std::to_string(width), "x", std::to_string(height),
                       " outside 1..", std::to_string(kMaxSizePx));
   }
   // llvmpipe reads this when its screen is created: 0 keeps rasterisation on the calling thread
   setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);
 
-  if (backend == "osmesa") return OsMesaContext::create(width, height);
-  if (backend == "egl") return create_egl(width, height);
-  if (backend == "auto") {
-    auto osmesa = OsMesaContext::create(width, height);
-    if (osmesa.ok()) return osmesa;
-    auto egl = create_egl(width, height);
-    if (egl.ok()) return egl;
-    return make_error("gl context 'auto': ", osmesa.error().message, "; ", egl.error().message);
+  switch (backend) {
+    case RenderBackend::kOsmesa: return OsMesaContext::create(width, height);
+    case RenderBackend::kEgl: return create_egl(width, height);
+    case RenderBackend::kAuto: break;
   }
-  return make_error("gl context: unknown backend '", backend, "' (expected osmesa, egl or auto)");
+  auto osmesa = OsMesaContext::create(width, height);
+  if (osmesa.ok()) return osmesa;
+  auto egl = create_egl(width, height);
+  if (egl.ok()) return egl;
+  return make_error("gl context 'auto': ", osmesa.error().message, "; ", egl.error().message);
 }
 
 }  // namespace palpate

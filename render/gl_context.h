@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/result.h"
+#include "core/scene_enums.h"
 #include "render/gl_api.h"
 
 namespace palpate {
@@ -42,6 +43,6 @@ class GlContext {
 /// backend: "osmesa", "egl" (EGL_PLATFORM_SURFACELESS_MESA + an FBO), or "auto" (osmesa first, then egl).
 /// Sets LP_NUM_THREADS=0 if unset (GL stays on the calling thread's core). Errors name the backend and the call
 /// that failed.
-Result<std::unique_ptr<GlContext>> create_gl_context(int width, int height, const std::string& backend);
+Result<std::unique_ptr<GlContext>> create_gl_context(int width, int height, RenderBackend backend);
 
 }  // namespace palpate

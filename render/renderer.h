@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "core/scene_enums.h"
 #include "core/types.h"
 #include "render/camera.h"
 #include "render/framebuffer.h"
@@ -15,8 +16,6 @@
 
 namespace palpate {
 
-/// How the mesh is drawn.
-enum class RenderStyle { kSolid, kWireframe, kBoth };
 
 /// What one frame shows; pointers valid during draw() only.
 struct FrameView {

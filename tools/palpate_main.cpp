@@ -46,8 +46,8 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   if (!mode.empty()) {
     opt.override_mode = true;
-    opt.mode = mode == "realtime" ? palpate::RunMode::kRealtime : palpate::RunMode::kLockstep;
-  } else if (palpate::device_driver(scene.value(), opt.device) == "shm") {
+    opt.mode = palpate::from_name<palpate::RunMode>(mode).value_or(palpate::RunMode::kLockstep);  // checked by the parser
+  } else if (palpate::device_driver(scene.value(), opt.device) == palpate::DeviceDriver::kShm) {
     // a device in another process runs on its own wall clock: so does the recording, unless told otherwise
     opt.override_mode = true;
     opt.mode = palpate::RunMode::kRealtime;

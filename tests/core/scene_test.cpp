@@ -27,6 +27,52 @@ void expect_error(const std::string& json, const std::string& needle) {
   EXPECT_NE(e.find(needle), std::string::npos) << "got: " << e;
 }
 
+// Every enum the scene spells as text: each name reads back as its value, names are distinct, and an unknown name
+// is an error that lists the table.
+template <typename E>
+void expect_round_trip() {
+  const auto table = names(E{});
+  for (const auto& [value, name] : table.entries) {
+    EXPECT_EQ(from_name<E>(name), value) << name;
+    EXPECT_STREQ(name_of(value), name);
+    int same = 0;
+    for (const auto& other : table.entries) same += std::string(other.second) == name;
+    EXPECT_EQ(same, 1) << name;
+  }
+  EXPECT_FALSE(from_name<E>("no-such-name").has_value());
+}
+
+TEST(SceneEnums, EveryNameReadsBackAsItsValue) {
+  expect_round_trip<IntegratorKind>();
+  expect_round_trip<InteractionMode>();
+  expect_round_trip<RunMode>();
+  expect_round_trip<RenderStyle>();
+  expect_round_trip<RenderBackend>();
+  expect_round_trip<DeviceDriver>();
+}
+
+TEST(SceneEnums, SceneKeysBecomeEnumsOrNameTheChoices) {
+  const std::string traj = R"("trajectory": [{"t_s": 0, "pos_m": [0,0,0.05]}])";
+  const std::string box = R"("mesh": {"box_m": [0.05,0.05,0.05]}, )";
+  auto r = parse_scene("{" + box + R"("render": {"style": "both", "backend": "egl"}, "device": {"driver": "replay", "link": "x"},
+      "interaction": {"mode": "cut"}, "run_mode": "realtime", )" + traj + "}", "s.json");
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r.value().render.style, RenderStyle::kBoth);
+  EXPECT_EQ(r.value().render.backend, RenderBackend::kEgl);
+  EXPECT_EQ(r.value().device.driver, DeviceDriver::kReplay);
+  EXPECT_EQ(r.value().mode, InteractionMode::kCut);
+  EXPECT_EQ(r.value().run_mode, RunMode::kRealtime);
+  expect_error("{" + box + R"("render": {"style": "shaded"}, )" + traj + "}",
+               "render.style: 'shaded' is not one of: solid, wireframe, both");
+  expect_error("{" + box + R"("render": {"backend": "vulkan"}, )" + traj + "}",
+               "render.backend: 'vulkan' is not one of: auto, osmesa, egl");
+  expect_error("{" + box + R"("device": {"driver": "usb"}, )" + traj + "}",
+               "device.driver: 'usb' is not one of: scripted, shm, plugin, replay");
+  expect_error("{" + box + R"("interaction": {"mode": "poke"}, )" + traj + "}",
+               "interaction.mode: 'poke' is not one of: touch, pull, cut");
+  expect_error("{" + box + R"("run_mode": "fast", )" + traj + "}", "run_mode: 'fast' is not one of: lockstep, realtime");
+}
+
 TEST(Scene, MinimalSceneTakesDefaults) {
   auto r = parse_scene(kMinimal, "dir/s.json");
   ASSERT_TRUE(r) << r.error().message;

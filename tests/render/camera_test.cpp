@@ -45,7 +45,7 @@ TEST(Camera, DegenerateBoxStillGivesAFiniteCamera) {
 }
 
 TEST(Camera, ProjectOfFramedBoxCentreIsImageCentreAndCornersInside) {
-  auto ctx = create_gl_context(kWidth, kHeight, "osmesa");
+  auto ctx = create_gl_context(kWidth, kHeight, RenderBackend::kOsmesa);
   ASSERT_TRUE(ctx.ok()) << ctx.error().message;
   for (const Vec3& hi : {Vec3(0.1, 0.08, 0.06), Vec3(0.01, 0.3, 0.02), Vec3(2.0, 0.1, 0.5)}) {
     const Vec3 lo = -0.5 * hi + Vec3(0.3, -0.2, 0.1);

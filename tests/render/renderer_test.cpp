@@ -39,7 +39,7 @@ int count_different(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b
 class RendererTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    auto ctx = create_gl_context(kW, kH, GetParam());
+    auto ctx = create_gl_context(kW, kH, from_name<RenderBackend>(GetParam()).value());
     if (!ctx.ok()) {
       const std::string& m = ctx.error().message;
       if (GetParam() == "egl" && m.find("not available") != std::string::npos) GTEST_SKIP() << m;

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <sstream>
 
@@ -49,24 +50,29 @@ bool same_scene(const std::string& a, const std::string& b) {
   return fs::path(a).filename() == fs::path(b).filename();
 }
 
-// Splits "driver:target" (the scene's driver and device.link when spec is empty).
-void split_spec(const Scene& scene, const std::string& spec, std::string* driver, std::string* target) {
-  if (spec.empty()) {
-    *driver = scene.device.driver;
-    *target = scene.device.link;
-    return;
-  }
+// "driver:target" from the command line, or the scene's device.driver and device.link when spec is empty: the
+// driver's name is turned into a DeviceDriver here, once.
+struct DeviceChoice {
+  DeviceDriver driver = DeviceDriver::kScripted;
+  std::string target;
+};
+
+Result<DeviceChoice> device_choice(const Scene& scene, const std::string& spec) {
+  if (spec.empty()) return DeviceChoice{scene.device.driver, scene.device.link};
   const auto colon = spec.find(':');
-  *driver = spec.substr(0, colon);
-  *target = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  const std::string name = spec.substr(0, colon);
+  const auto driver = from_name<DeviceDriver>(name);
+  if (!driver)
+    return make_error("device '", name, "': unknown driver (known: scripted, shm:NAME, plugin:PATH, replay:PATH)");
+  return DeviceChoice{*driver, colon == std::string::npos ? "" : spec.substr(colon + 1)};
 }
 
 }  // namespace
 
-std::string device_driver(const Scene& scene, const std::string& spec) {
-  std::string driver, target;
-  split_spec(scene, spec, &driver, &target);
-  return driver;
+std::optional<DeviceDriver> device_driver(const Scene& scene, const std::string& spec) {
+  auto c = device_choice(scene, spec);
+  if (!c) return std::nullopt;
+  return c.value().driver;
 }
 
 std::string plugin_config(const Scene& scene) {
@@ -79,53 +85,55 @@ std::string plugin_config(const Scene& scene) {
 }
 
 Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, double rate_hz) {
-  std::string driver, target;
-  split_spec(scene, spec, &driver, &target);
+  auto choice = device_choice(scene, spec);
+  if (!choice) return choice.error();
+  const DeviceDriver driver = choice.value().driver;
+  const std::string& target = choice.value().target;
   DeviceSpecs specs;
   specs.max_force_N = scene.device.max_force_N;
   specs.max_stiffness_N_per_m = scene.device.max_stiffness_N_per_m;
   specs.workspace_half_m = scene.device.workspace_half_m;
   specs.rate_hz = rate_hz;
   // model-relative keys are resolved where the model is loaded (resolve_relative_keys); never played as zeros
-  if (driver == "scripted" || driver == "plugin")
+  if (driver == DeviceDriver::kScripted || driver == DeviceDriver::kPlugin)
     for (std::size_t i = 0; i < scene.trajectory.size(); ++i)
       if (needs_model(scene.trajectory[i]))
         return make_error("scene '", scene.path, "': trajectory[", std::to_string(i),
                           "]: pos_rel / surface are resolved against the model, which this command does not load");
-  if (driver == "scripted") {
-    return std::unique_ptr<Device>(std::make_unique<ScriptedDevice>(specs, scene.hand, scene.trajectory));
+  const std::string name = name_of(driver);
+  if (driver != DeviceDriver::kScripted && target.empty())
+    return make_error("device '", name, "': needs a target (", driver == DeviceDriver::kShm ? "shm:NAME" : name + ":PATH",
+                      ", or device.link in the scene)");
+  switch (driver) {
+    case DeviceDriver::kScripted:
+      return std::unique_ptr<Device>(std::make_unique<ScriptedDevice>(specs, scene.hand, scene.trajectory));
+    case DeviceDriver::kShm: {
+      ShmParams p;
+      p.name = target;
+      p.watchdog_s = scene.device.watchdog_ms * 1e-3;
+      p.max_speed_m_per_s = scene.device.max_speed_m_per_s;
+      p.servo_rate_hz = rate_hz;
+      auto d = ShmDevice::connect(p, specs);
+      if (!d) return d.error();
+      return std::unique_ptr<Device>(std::move(d).value());
+    }
+    case DeviceDriver::kPlugin: {
+      auto d = PluginDevice::load(target, plugin_config(scene), specs);
+      if (!d) return d.error();
+      return std::unique_ptr<Device>(std::move(d).value());
+    }
+    case DeviceDriver::kReplay: {
+      auto rows = load_haptic_csv(target);
+      if (!rows) return rows.error();
+      // the poses were made against another scene's model: allowed (same hand, other object), but said
+      const std::string from = recorded_scene(target);
+      if (!from.empty() && !same_scene(from, scene.path))
+        std::fprintf(stderr, "palpate: warning: replay '%s' was recorded from scene '%s', this run is '%s': the hand "
+                     "follows the other scene's poses\n", target.c_str(), from.c_str(), scene.path.c_str());
+      return std::unique_ptr<Device>(std::make_unique<ReplayDevice>(specs, std::move(rows).value()));
+    }
   }
-  if (driver == "shm" || driver == "plugin" || driver == "replay") {
-    if (target.empty())
-      return make_error("device '", driver, "': needs a target (", driver == "shm" ? "shm:NAME" : driver + ":PATH",
-                        ", or device.link in the scene)");
-  }
-  if (driver == "shm") {
-    ShmParams p;
-    p.name = target;
-    p.watchdog_s = scene.device.watchdog_ms * 1e-3;
-    p.max_speed_m_per_s = scene.device.max_speed_m_per_s;
-    p.servo_rate_hz = rate_hz;
-    auto d = ShmDevice::connect(p, specs);
-    if (!d) return d.error();
-    return std::unique_ptr<Device>(std::move(d).value());
-  }
-  if (driver == "plugin") {
-    auto d = PluginDevice::load(target, plugin_config(scene), specs);
-    if (!d) return d.error();
-    return std::unique_ptr<Device>(std::move(d).value());
-  }
-  if (driver == "replay") {
-    auto rows = load_haptic_csv(target);
-    if (!rows) return rows.error();
-    // the poses were made against another scene's model: allowed (same hand, other object), but said
-    const std::string from = recorded_scene(target);
-    if (!from.empty() && !same_scene(from, scene.path))
-      std::fprintf(stderr, "palpate: warning: replay '%s' was recorded from scene '%s', this run is '%s': the hand "
-                   "follows the other scene's poses\n", target.c_str(), from.c_str(), scene.path.c_str());
-    return std::unique_ptr<Device>(std::make_unique<ReplayDevice>(specs, std::move(rows).value()));
-  }
-  return make_error("device '", driver, "': unknown driver (known: scripted, shm:NAME, plugin:PATH, replay:PATH)");
+  return make_error("device '", name, "': unknown driver");
 }
 
 Status write_device_events(const Device& device, const std::string& out_dir, bool quiet) {

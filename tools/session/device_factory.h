@@ -3,6 +3,7 @@
 /// and reports what the driver saw (link events, rejected input) after the run.
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -18,8 +19,9 @@ namespace palpate {
 /// a recording folder), or empty for the scene's device.driver (+ device.link). Errors name the driver and the problem.
 Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, double rate_hz);
 
-/// The driver name of a spec ("shm" for "shm:x"; the scene's driver when spec is empty).
-std::string device_driver(const Scene& scene, const std::string& spec);
+/// The driver of a spec (shm for "shm:x"; the scene's driver when spec is empty); nothing for an unknown driver
+/// (make_device names it).
+std::optional<DeviceDriver> device_driver(const Scene& scene, const std::string& spec);
 
 /// Writes <out_dir>/device_events.csv (tick,t_s,event,silent_ms) via a temporary name when the driver keeps
 /// link events, and prints one line per event to stderr unless quiet. Errors name the file.

@@ -126,9 +126,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     auto ctx = create_gl_context(scene.render.width, scene.render.height, scene.render.backend);
     if (!ctx) return ctx.error();
     gl = std::move(ctx).value();
-    const RenderStyle style = scene.render.style == "wireframe" ? RenderStyle::kWireframe
-                              : scene.render.style == "both"    ? RenderStyle::kBoth
-                                                                : RenderStyle::kSolid;
+    const RenderStyle style = scene.render.style;
     const Aabb box = Aabb::of(model.rest.vertices_m);
     renderer = std::make_unique<Renderer>(gl.get(), style,
                                           Camera::framing(box.min_m, box.max_m,
@@ -229,7 +227,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   const ServoCounters& sc = servo.counters();
   nlohmann::json j;
   j["scene"] = scene.path;
-  j["mode"] = lockstep ? "lockstep" : "realtime";
+  j["mode"] = name_of(lockstep ? RunMode::kLockstep : RunMode::kRealtime);
   j["interaction"] = mode_name(scene.mode);
   j["duration_s"] = scene.duration_s;
   j["model"] = {{"vertices", model.rest.vertices_m.size()}, {"triangles", model.rest.triangles.size()},
