@@ -191,7 +191,6 @@ int run_bench_loop(const BenchLoopOptions& o) {
     spec.y_column = "ticks";
     spec.x_min = 0.5;  // the first bucket, [0, 1) us, shows from 0.5 us
     spec.y_min = 0.5;  // a bucket of one tick stands out from the bottom
-    spec.key = "top right";
     const std::array<const char*, 4> colours{"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
     for (std::size_t r = 0; r < runs.size(); ++r) {
       PlotSeries ser;

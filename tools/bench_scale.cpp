@@ -122,6 +122,7 @@ PlotSpec plot(const std::vector<ScaleRun>& runs, const std::string& scene_path) 
   spec.x_label = "triangles";
   spec.y_label = "ms per frame (median)";
   spec.x_column = "triangles";
+  spec.key_outside = true;  // never over a point
   spec.y_column = "ms_per_frame_p50";
   auto series = [](const char* label, const char* colour, int point_type) {
     PlotSeries p;

@@ -183,9 +183,11 @@ std::string plot_script_text(const PlotSpec& spec, const std::string& data_name,
   if (spec.y_min > 0) t += "set yrange [" + number(spec.y_min) + ":*]\n";
   t += "set border 3 lw 1.2\nset tics nomirror out\n";
   t += "set grid xtics ytics mxtics mytics back lt 1 lw 1 lc rgb '#d8d8d8', lt 1 lw 0.6 lc rgb '#efefef'\n";
-  t += "set key " + spec.key + " opaque box lc rgb '#c0c0c0' spacing 1.15 samplen 2.5 width 1\n";
+  if (spec.key_outside) t += "set key outside right top vertical Left reverse spacing 1.2 samplen 2 width -3\n";
+  else t += "set key " + spec.key + " opaque box lc rgb '#c0c0c0' spacing 1.15 samplen 2.5 width 1\n";
   t += "set style fill transparent solid 0.3 border\n\n";
-  std::vector<std::string> clauses;
+  // bars and plain lines are drawn first, so markers sit on top of them
+  std::vector<std::string> under, over;
   int block = 0;
   for (const PlotSeries& s : spec.series) {
     if (!has_points(spec, s)) continue;
@@ -196,12 +198,14 @@ std::string plot_script_text(const PlotSpec& spec, const std::string& data_name,
     switch (s.style) {
       case PlotStyle::kPoints: c += " using 1:2 with points" + pt + " ps 1.1" + colour; break;
       case PlotStyle::kLines: c += " using 1:2 with lines lw 1.8" + dash + colour; break;
-      case PlotStyle::kLinesPoints: c += " using 1:2 with linespoints lw 1.6" + dash + pt + " ps 0.9" + colour; break;
+      case PlotStyle::kLinesPoints: c += " using 1:2 with linespoints lw 1.6" + dash + pt + " ps 1.2" + colour; break;
       case PlotStyle::kBoxes: c += " using 1:2:3 with boxes" + colour; break;
     }
     c += s.label.empty() ? " notitle" : " title " + quoted(s.label) + " noenhanced";
-    clauses.push_back(c);
+    (s.style == PlotStyle::kLines || s.style == PlotStyle::kBoxes ? under : over).push_back(c);
   }
+  std::vector<std::string> clauses = under;
+  clauses.insert(clauses.end(), over.begin(), over.end());
   t += "plot ";
   for (std::size_t i = 0; i < clauses.size(); ++i) t += (i ? ", \\\n     " : "") + clauses[i];
   t += "\n";

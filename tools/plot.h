@@ -45,7 +45,8 @@ struct PlotSpec {
   std::string what;                  ///< one line for the data file header: the command that measured it
   bool log_x = true, log_y = true;
   double x_min = 0.0, y_min = 0.0;   ///< > 0: the axis starts here instead of autoscaling
-  std::string key = "bottom right";  ///< legend position, gnuplot `set key` words
+  std::string key = "top right";     ///< legend position inside the graph, gnuplot `set key` words
+  bool key_outside = false;          ///< the legend right of the graph instead (never over a point)
   std::vector<PlotSeries> series;
 };
 
