@@ -251,6 +251,13 @@ TEST(Plot, OutputsAreCheckedBeforeTheBenchRuns) {
             std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("symplectic_euler"), std::string::npos) << "ran anyway: " << r.out;
+  // the box sweep has no figure: said before it runs, not skipped in silence after
+  r = palpate("bench sim " + scene + " -q --box 2 --plot " + tmp("box.png"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("palpate: bench sim: --plot draws the scene replay's sweep; --box has no plot"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("symplectic_euler"), std::string::npos) << "ran anyway: " << r.out;
+  EXPECT_FALSE(fs::exists(tmp("box.dat")));
   // a link where the data would go is never written through, and its target is untouched
   const std::string target = write("precious.txt", "keep me\n"), png = tmp("linked.png");
   fs::create_symlink(target, stem(png) + ".dat");
