@@ -2,6 +2,7 @@
 # Installs the Debian packages Palpate builds and tests with, when any is missing.
 # FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
 # capsh (libcap2-bin) lets a test run the servo without the right to lock memory.
+# gnuplot-nox draws the benchmarks' --plot figures (pngcairo) from the data and script palpate writes.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
@@ -12,6 +13,7 @@ packages=(
   assimp-testmodels
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
   ffmpeg libcap2-bin
+  gnuplot-nox
 )
 
 missing=()

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -133,12 +134,12 @@ void print_row(const LoopRun& r) {
 
 int run_bench_loop(const BenchLoopOptions& o) {
   // outputs are checked before the runs: never a device or a link replaced after minutes of measuring
-  for (const auto& [path, what] : {std::pair{o.json_path, "bench json"}, std::pair{o.plot_path, "plot"}})
-    if (!path.empty())
-      if (auto st = check_output_target(path, what); !st) {
-        std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
-        return 1;
-      }
+  Status targets = o.json_path.empty() ? Status(Ok{}) : check_output_target(o.json_path, "bench json");
+  if (targets.ok() && !o.plot_path.empty()) targets = check_plot_targets(o.plot_path);
+  if (!targets) {
+    std::fprintf(stderr, "palpate: bench loop: %s\n", targets.error().message.c_str());
+    return 1;
+  }
   auto scene = load_scene(o.scene);
   if (!scene) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
@@ -164,34 +165,6 @@ int run_bench_loop(const BenchLoopOptions& o) {
   if (!runs.front().timing.rt.fifo)
     std::printf("note: SCHED_FIFO was refused (%s); figures are for normal scheduling\n",
                 runs.front().timing.rt.refused.c_str());
-  if (!o.plot_path.empty()) {
-    // wake-latency histograms, one line per run, log count against latency
-    PlotSpec spec;
-    spec.title = "servo wake latency (" + o.load + " load)";
-    spec.x_label = "latency us";
-    spec.y_label = "ticks";
-    spec.log_x = true;  // 1 us .. 2 ms spans three decades
-    spec.log_y = true;
-    const std::array<std::array<uint8_t, 3>, 4> colours{{{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}}};
-    for (std::size_t r = 0; r < runs.size(); ++r) {
-      PlotSeries ser;
-      ser.label = std::to_string(static_cast<int>(runs[r].rate_hz)) + " hz spin " + std::to_string(runs[r].spin_us);
-      ser.rgb = colours[r % colours.size()];
-      ser.points = false;
-      ser.line = true;
-      const auto& w = runs[r].timing.wake_latency;
-      for (int i = 0; i < LatencyHistogram::kBuckets; ++i)
-        if (w.bucket(i) > 0) {
-          ser.x.push_back(i + 0.5);
-          ser.y.push_back(static_cast<double>(w.bucket(i)));
-        }
-      spec.series.push_back(ser);
-    }
-    if (auto st = write_plot_png(spec, o.plot_path); !st) {
-      std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
-      return 1;
-    }
-  }
   if (!o.json_path.empty()) {
     nlohmann::json j;
     j["scene"] = o.scene;
@@ -202,6 +175,41 @@ int run_bench_loop(const BenchLoopOptions& o) {
       std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
       return 1;
     }
+  }
+  // the plot last: when gnuplot is missing or fails, the table and the JSON are already out
+  if (!o.plot_path.empty()) {
+    // wake-latency histograms, one per run: ticks per 1 us bucket on log axes (1 us .. 2 ms spans three decades)
+    PlotSpec spec;
+    spec.title = "servo wake latency, " + o.load + " load";
+    char what[256];
+    std::snprintf(what, sizeof what, "palpate bench loop --load %s: %zu run(s) of %g s, scene %s", o.load.c_str(),
+                  runs.size(), o.seconds, o.scene.c_str());
+    spec.what = what;
+    spec.x_label = "wake latency (µs, 1 µs buckets)";
+    spec.y_label = "ticks per bucket";
+    spec.x_column = "latency_us_bucket_centre";
+    spec.y_column = "ticks";
+    spec.x_min = 0.5;  // the first bucket, [0, 1) us, shows from 0.5 us
+    spec.y_min = 0.5;  // a bucket of one tick stands out from the bottom
+    const std::array<const char*, 4> colours{"#1f77b4", "#d62728", "#2ca02c", "#9467bd"};
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      PlotSeries ser;
+      const auto& w = runs[r].timing.wake_latency;
+      ser.label = std::to_string(static_cast<int>(runs[r].rate_hz)) + " Hz, spin " + std::to_string(runs[r].spin_us) +
+                  " µs (p99 " + std::to_string(static_cast<int>(w.quantile_us(0.99))) + " µs";
+      if (w.overflow() > 0) ser.label += ", " + std::to_string(w.overflow()) + " past 2 ms not drawn";
+      ser.label += ")";
+      ser.colour = colours[r % colours.size()];
+      ser.style = PlotStyle::kBoxes;
+      for (int i = 0; i < LatencyHistogram::kBuckets; ++i)
+        if (w.bucket(i) > 0) {
+          ser.x.push_back((i + 0.5) * w.bucket_us());
+          ser.y.push_back(static_cast<double>(w.bucket(i)));
+          ser.width.push_back(w.bucket_us());
+        }
+      spec.series.push_back(ser);
+    }
+    if (write_plot_and_report(spec, o.plot_path) != 0) return 1;
   }
   return 0;
 }

@@ -115,46 +115,53 @@ std::string table(const std::vector<ScaleRun>& runs) {
   return t.str();
 }
 
-Status plot(const std::vector<ScaleRun>& runs, const std::string& path) {
+PlotSpec plot(const std::vector<ScaleRun>& runs, const std::string& scene_path) {
   PlotSpec spec;
-  spec.title = "bench scale: ms per frame (p50) against triangles";
+  spec.title = "bench scale: ms per frame (median) against triangles";
+  spec.what = "palpate bench scale " + scene_path + ": per-frame medians of each recording";
   spec.x_label = "triangles";
-  spec.y_label = "ms per frame";
-  auto series = [](const char* label, std::array<uint8_t, 3> rgb) {
+  spec.y_label = "ms per frame (median)";
+  spec.x_column = "triangles";
+  spec.key_outside = true;  // never over a point
+  spec.y_column = "ms_per_frame_p50";
+  auto series = [](const char* label, const char* colour, int point_type) {
     PlotSeries p;
     p.label = label;
-    p.rgb = rgb;
-    p.line = true;
+    p.colour = colour;
+    p.point_type = point_type;
+    p.style = PlotStyle::kLinesPoints;
+    p.extra = {{"subdivisions", {}}};
     return p;
   };
-  PlotSeries lr = series("render, layered", {200, 40, 30}), fr = series("render, full redraw", {120, 120, 120}),
-             sim = series("sim", {30, 90, 200}), wall = series("wall ms per frame, layered", {20, 140, 60});
+  PlotSeries lr = series("render, layered", "#c8281e", 7), fr = series("render, full redraw", "#787878", 5),
+             sim = series("sim", "#1e5ac8", 9), wall = series("wall ms per frame, layered", "#148c3c", 13);
+  wall.dashed = true;
+  auto add = [](PlotSeries* s, const ScaleRun& r, double ms) {
+    s->x.push_back(r.summary["model"]["triangles"].get<double>());
+    s->y.push_back(ms);
+    s->extra[0].values.push_back(r.subdivisions);
+  };
   for (const ScaleRun& r : runs) {
-    const double tris = r.summary["model"]["triangles"].get<double>();
-    const double render = r.summary["render"]["ms"]["p50"].get<double>();
-    (r.full_redraw ? fr : lr).x.push_back(tris);
-    (r.full_redraw ? fr : lr).y.push_back(render);
+    add(r.full_redraw ? &fr : &lr, r, r.summary["render"]["ms"]["p50"].get<double>());
     if (!r.full_redraw) {
-      sim.x.push_back(tris);
-      sim.y.push_back(r.summary["sim"]["ms"]["p50"].get<double>());
-      wall.x.push_back(tris);
-      wall.y.push_back(1000.0 * r.summary["wall_s_per_scene_s"].get<double>() / 60.0);
+      add(&sim, r, r.summary["sim"]["ms"]["p50"].get<double>());
+      add(&wall, r, 1000.0 * r.summary["wall_s_per_scene_s"].get<double>() / 60.0);
     }
   }
   spec.series = {lr, fr, sim, wall};
-  return write_plot_png(spec, path);
+  return spec;
 }
 
 }  // namespace
 
-Result<std::string> run_bench_scale(const std::string& scene_path, const BenchScaleOptions& opt) {
+Result<std::string> run_bench_scale(const std::string& scene_path, const BenchScaleOptions& opt, PlotSpec* plot_spec) {
   auto scene = load_scene(scene_path);
   if (!scene) return scene.error();
   // outputs checked before minutes of measuring
   if (!opt.json_path.empty())
     if (auto st = check_output_target(opt.json_path, "bench json"); !st) return st.error();
   if (!opt.plot_path.empty())
-    if (auto st = check_output_target(opt.plot_path, "bench plot"); !st) return st.error();
+    if (auto st = check_plot_targets(opt.plot_path); !st) return st.error();
   if (opt.max_subdivisions < 0 || opt.max_subdivisions > 5)
     return make_error("bench scale: --max-subdivisions ", std::to_string(opt.max_subdivisions), " is outside [0, 5]");
   // a scene that already subdivides starts there
@@ -195,8 +202,7 @@ Result<std::string> run_bench_scale(const std::string& scene_path, const BenchSc
     for (const ScaleRun& r : runs) j["rows"].push_back(row_json(r));
     if (auto st = write_file_atomic(opt.json_path, j.dump(2) + "\n", "bench json"); !st) return st.error();
   }
-  if (!opt.plot_path.empty())
-    if (auto st = plot(runs, opt.plot_path); !st) return st.error();
+  if (plot_spec != nullptr && !opt.plot_path.empty()) *plot_spec = plot(runs, scene_path);
   return table(runs);
 }
 

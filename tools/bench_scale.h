@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/result.h"
+#include "tools/plot.h"
 
 namespace palpate {
 
@@ -15,11 +16,14 @@ struct BenchScaleOptions {
   double duration_s = 0.0;      ///< > 0 overrides the scene's duration
   bool full_redraw = true;      ///< also record each size with a full redraw of every frame, beside it
   std::string json_path;        ///< write the rows as JSON here when not empty
-  std::string plot_path;        ///< write ms per frame against triangles (log-log) as PNG here when not empty
+  std::string plot_path;        ///< ms per frame against triangles (log-log) goes here (FILE.png, FILE.dat, FILE.gp)
   bool quiet = false;           ///< no progress lines on stderr
 };
 
-/// Runs every size; returns the table as text. Errors name the scene, a failed run or an output path.
-Result<std::string> run_bench_scale(const std::string& scene_path, const BenchScaleOptions& options);
+/// Runs every size; returns the table as text, and when `plot` is given and options.plot_path is set fills it with
+/// the figure (ms per frame against triangles, log-log) for the caller to draw after printing the table. Errors name
+/// the scene, a failed run or an output path.
+Result<std::string> run_bench_scale(const std::string& scene_path, const BenchScaleOptions& options,
+                                    PlotSpec* plot = nullptr);
 
 }  // namespace palpate

@@ -179,12 +179,12 @@ Result<std::vector<IntegratorKind>> integrators_from_names(const std::vector<std
   return kinds;
 }
 
-Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& opt) {
+Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& opt, PlotSpec* plot) {
   // outputs are checked before the sweep: never a device or a link replaced after minutes of measuring
   if (!opt.json_path.empty())
     if (auto st = check_output_target(opt.json_path, "bench json"); !st) return st.error();
   if (!opt.plot_path.empty())
-    if (auto st = check_output_target(opt.plot_path, "plot"); !st) return st.error();
+    if (auto st = check_plot_targets(opt.plot_path); !st) return st.error();
   auto scene_r = load_scene(scene_path);
   if (!scene_r) return scene_r.error();
   Scene base = scene_r.value();
@@ -310,40 +310,50 @@ Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimO
     }
     if (auto st = write_file_atomic(opt.json_path, j.dump(2) + "\n", "bench json"); !st) return st.error();
   }
-  if (!opt.plot_path.empty()) {
-    PlotSpec p;
+  if (plot != nullptr && !opt.plot_path.empty()) {
+    PlotSpec& p = *plot;
+    p = PlotSpec{};
     p.title = "speed against error: " + base.name;
+    p.what = "palpate bench sim " + scene_path + ": stable rows per integrator, then the Pareto front per level";
     p.x_label = "sim ms per frame (median)";
-    p.y_label = "node error rms / cell";
-    static const std::map<std::string, std::array<uint8_t, 3>> kColour{
-        {"explicit_euler", {200, 40, 40}}, {"symplectic_euler", {30, 110, 200}}, {"implicit_euler", {40, 150, 60}},
-        {"local_global", {230, 140, 20}}, {"rk4", {130, 60, 170}}};
-    for (const auto& [name, rgb] : kColour) {
+    p.y_label = "node error RMS (cells, against RK4)";
+    p.x_column = "frame_ms_p50";
+    p.key_outside = true;  // seven entries: beside the graph, never over a point
+    p.y_column = "node_error_rms_cell";
+    static const std::map<std::string, std::pair<const char*, int>> kLook{
+        {"explicit_euler", {"#c82828", 7}}, {"symplectic_euler", {"#1e6ec8", 5}}, {"implicit_euler", {"#28963c", 9}},
+        {"local_global", {"#e68c14", 13}}, {"rk4", {"#823caa", 11}}};
+    auto add_row = [](PlotSeries* s, const Row& r) {
+      s->x.push_back(r.frame_ms_p50);
+      s->y.push_back(std::max(r.err.node_rms, 1e-12));
+      s->extra[0].values.push_back(r.level);
+      s->extra[1].values.push_back(r.substeps);
+      s->extra[2].values.push_back(r.iterations);
+    };
+    auto new_series = [](const std::string& label, const char* colour) {
       PlotSeries s;
-      s.label = name;
-      s.rgb = rgb;
+      s.label = label;
+      s.colour = colour;
+      s.extra = {{"level", {}}, {"substeps", {}}, {"iterations", {}}};
+      return s;
+    };
+    for (const auto& [name, look] : kLook) {
+      PlotSeries s = new_series(name, look.first);
+      s.point_type = look.second;
       for (const Row& r : rows)
-        if (r.integrator == name && r.stable) {
-          s.x.push_back(r.frame_ms_p50);
-          s.y.push_back(std::max(r.err.node_rms, 1e-12));
-        }
+        if (r.integrator == name && r.stable) add_row(&s, r);
       if (!s.x.empty()) p.series.push_back(s);
     }
     // one Pareto line per level, darker for finer levels
     for (std::size_t l = 0; l < levels.size(); ++l) {
-      PlotSeries f;
-      f.label = "pareto front level " + std::to_string(levels[l]);
-      const auto grey = static_cast<uint8_t>(levels.size() > 1 ? 150 - 150 * l / (levels.size() - 1) : 0);
-      f.rgb = {grey, grey, grey};
-      f.points = false;
-      f.line = true;
-      for (std::size_t i : fronts[l]) {
-        f.x.push_back(rows[i].frame_ms_p50);
-        f.y.push_back(std::max(rows[i].err.node_rms, 1e-12));
-      }
+      const int grey = levels.size() > 1 ? static_cast<int>(150 - 150 * l / (levels.size() - 1)) : 0;
+      char colour[8];
+      std::snprintf(colour, sizeof colour, "#%02x%02x%02x", grey, grey, grey);
+      PlotSeries f = new_series("Pareto front, level " + std::to_string(levels[l]), colour);
+      f.style = PlotStyle::kLines;
+      for (std::size_t i : fronts[l]) add_row(&f, rows[i]);
       p.series.push_back(f);
     }
-    if (auto st = write_plot_png(p, opt.plot_path); !st) return st.error();
   }
   return out;
 }

@@ -7,6 +7,7 @@
 
 #include "core/result.h"
 #include "core/scene.h"
+#include "tools/plot.h"
 
 namespace palpate {
 
@@ -19,7 +20,7 @@ struct BenchSimOptions {
   int reference_substeps = 64;           ///< RK4 substeps per frame of the reference (checked against half as many)
   double duration_s = 0.0;               ///< > 0 overrides the scene's duration
   std::string json_path;                 ///< write JSON here when not empty
-  std::string plot_path;                 ///< write the error-against-ms PNG here when not empty
+  std::string plot_path;                 ///< the error-against-ms plot goes here (FILE.png, FILE.dat, FILE.gp)
   bool quiet = false;                    ///< no progress lines on stderr
   std::vector<int> box_cells;            ///< not empty: box lattices of these cells per axis instead of the scene's replay
 };
@@ -28,8 +29,10 @@ struct BenchSimOptions {
 Result<std::vector<IntegratorKind>> integrators_from_names(const std::vector<std::string>& names,
                                                            std::vector<IntegratorKind> all);
 
-/// Runs the sweep; returns the table as text. Errors name the scene, an unknown integrator or an output path.
-Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& options);
+/// Runs the sweep; returns the table as text, and when `plot` is given and options.plot_path is set fills it with
+/// the figure (node error against ms per frame, log axes, per integrator, Pareto front per level) for the caller
+/// to draw after printing the table. Errors name the scene, an unknown integrator or an output path.
+Result<std::string> run_bench_sim(const std::string& scene_path, const BenchSimOptions& options, PlotSpec* plot = nullptr);
 
 /// Steps box lattices (options.box_cells per axis, powers of two; the scene's k, m, c, floor fixed) under a pull on
 /// the top face for every integrator x substeps x iterations and reports step ms per frame (p50, p99, ratio to

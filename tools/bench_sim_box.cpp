@@ -127,6 +127,10 @@ std::pair<double, double> node_error(const BoxRun& run, const BoxRun& ref, doubl
 }  // namespace
 
 Result<std::string> run_bench_sim_box(const std::string& scene_path, const BenchSimOptions& opt) {
+  // refused before the sweep rather than skipped after it: there is no box figure
+  if (!opt.plot_path.empty())
+    return make_error("bench sim: --plot draws the scene replay's sweep; --box has no plot (its figures are in the "
+                      "table and --json)");
   auto scene_r = load_scene(scene_path);
   if (!scene_r) return scene_r.error();
   const Scene& scene = scene_r.value();

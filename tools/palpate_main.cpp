@@ -21,6 +21,7 @@
 #include "tools/bench_sim.h"
 #include "tools/cli_checks.h"
 #include "tools/info_command.h"
+#include "tools/plot.h"
 #include "tools/scene_command.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/material_report.h"
@@ -203,7 +204,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate without overruns");
   bloop->add_option("--json", lo.json_path, "Write the figures (with the latency histogram) as JSON");
-  bloop->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log count) as PNG");
+  bloop->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log-log) with gnuplot: FILE.png, "
+                  "its data FILE.dat and script FILE.gp");
 
   auto* bforce = bench->add_subcommand("force", "Force between sim frames against a 1 kHz reference (per force model)");
   palpate::BenchForceOptions fo;
@@ -215,7 +217,8 @@ int main(int argc, char** argv) {
   palpate::BenchSimOptions so;
   bsim->add_option("scene", bsim_scene, "Scene whose interaction is replayed, e.g. scenes/bunny_pull.json")->required();
   bsim->add_option("--json", so.json_path, "Write the rows as JSON");
-  bsim->add_option("--plot", so.plot_path, "Plot node error against ms per frame (log axes, Pareto front) as PNG");
+  bsim->add_option("--plot", so.plot_path, "Plot node error against ms per frame (log axes, Pareto front) "
+                 "with gnuplot: FILE.png, its data FILE.dat and script FILE.gp");
   bsim->add_option("--integrators", so.integrators, "Integrators to sweep (default: all)")->delimiter(',');
   bsim->add_option("--levels", so.levels, "Lattice levels to sweep (default: the scene's)")->delimiter(',')
       ->check(CLI::Range(1, palpate::kMaxGridLevels));
@@ -243,7 +246,8 @@ int main(int argc, char** argv) {
       ->check(palpate::finite_range(1.0 / 60.0, 3600.0));
   bscale->add_flag("!--no-full", sco.full_redraw, "Skip the full-redraw runs beside the cached-layer ones");
   bscale->add_option("--json", sco.json_path, "Write the rows as JSON");
-  bscale->add_option("--plot", sco.plot_path, "Plot ms per frame against triangles (log-log) as PNG");
+  bscale->add_option("--plot", sco.plot_path, "Plot ms per frame against triangles (log-log) with gnuplot: "
+                   "FILE.png, its data FILE.dat and script FILE.gp");
   bscale->add_flag("--quiet,-q", sco.quiet, "No progress lines");
 
   auto* bmat = bench->add_subcommand("material", "Model error against closed-form continuum references per lattice level, beside ms per frame");
@@ -315,23 +319,28 @@ int main(int argc, char** argv) {
   if (*bscale && bscale->get_option("scene")->count() == 0) bscale_scene = palpate::locate_default(bscale_scene);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
-  if (*bscale || *bmat) {
-    auto table = *bscale ? palpate::run_bench_scale(bscale_scene, sco) : palpate::run_bench_material(mo);
+  if (*bscale || *bmat || *bsim) {
+    // the table (and any JSON) first; the plot is drawn after, so a missing gnuplot loses neither
+    palpate::PlotSpec plot;
+    std::string plot_path;
+    palpate::Result<std::string> table = std::string();
+    if (*bscale) {
+      table = palpate::run_bench_scale(bscale_scene, sco, &plot);
+      plot_path = sco.plot_path;
+    } else if (*bmat) {
+      table = palpate::run_bench_material(mo);
+    } else if (so.box_cells.empty()) {
+      table = palpate::run_bench_sim(bsim_scene, so, &plot);
+      plot_path = so.plot_path;
+    } else {
+      table = palpate::run_bench_sim_box(bsim_scene, so);
+    }
     if (!table) {
       std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
       return 1;
     }
     std::fputs(table.value().c_str(), stdout);
-    return 0;
-  }
-  if (*bsim) {
-    auto table = so.box_cells.empty() ? palpate::run_bench_sim(bsim_scene, so) : palpate::run_bench_sim_box(bsim_scene, so);
-    if (!table) {
-      std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
-      return 1;
-    }
-    std::fputs(table.value().c_str(), stdout);
-    return 0;
+    return plot_path.empty() ? 0 : palpate::write_plot_and_report(plot, plot_path);
   }
   return 2;
 }

@@ -1,180 +1,329 @@
 #include "tools/plot.h"
 
-#include <algorithm>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <thread>
 
-#include "render/png_io.h"
-#include "tools/plot_font.h"
+#include "core/atomic_file.h"
+
+extern char** environ;
 
 namespace palpate {
 namespace {
 
-using Rgb = std::array<uint8_t, 3>;
+namespace fs = std::filesystem;
 
-class Canvas {
- public:
-  Canvas(int w, int h) : w_(w), h_(h), px_(static_cast<std::size_t>(w) * h * 4, 255) {}
-  void set(int x, int y, const Rgb& c) {
-    if (x < 0 || y < 0 || x >= w_ || y >= h_) return;
-    uint8_t* p = &px_[(static_cast<std::size_t>(y) * w_ + x) * 4];
-    p[0] = c[0];
-    p[1] = c[1];
-    p[2] = c[2];
-    p[3] = 255;
-  }
-  void rect(int x0, int y0, int x1, int y1, const Rgb& c) {
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) set(x, y, c);
-  }
-  // Bresenham line, `thick` pixels wide
-  void line(int x0, int y0, int x1, int y1, const Rgb& c, int thick = 1) {
-    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0), sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-    int err = dx + dy;
-    for (;;) {
-      rect(x0 - thick / 2, y0 - thick / 2, x0 + (thick - 1) / 2, y0 + (thick - 1) / 2, c);
-      if (x0 == x1 && y0 == y1) break;
-      const int e2 = 2 * err;
-      if (e2 >= dy) { err += dy; x0 += sx; }
-      if (e2 <= dx) { err += dx; y0 += sy; }
-    }
-  }
-  // text at (x, y) top-left, glyphs scaled by s; vertical draws bottom-to-top (rotated left)
-  void text(int x, int y, const std::string& s, const Rgb& c, int scale = 2, bool vertical = false) {
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      const auto g = plot_font::glyph(s[i]);
-      for (int r = 0; r < 7; ++r)
-        for (int col = 0; col < 5; ++col) {
-          if (!(g[r] & (0x10 >> col))) continue;
-          const int gx = static_cast<int>(i) * 6 + col, gy = r;
-          if (!vertical) rect(x + gx * scale, y + gy * scale, x + gx * scale + scale - 1, y + gy * scale + scale - 1, c);
-          else rect(x + gy * scale, y - gx * scale - scale + 1, x + gy * scale + scale - 1, y - gx * scale, c);
-        }
-    }
-  }
-  static int text_width(const std::string& s, int scale = 2) { return static_cast<int>(s.size()) * 6 * scale; }
-  const uint8_t* data() const { return px_.data(); }
-
- private:
-  int w_, h_;
-  std::vector<uint8_t> px_;
-};
-
-std::string tick_label(double v, bool log) {
+// Shortest text that reads back as the same double (what the JSON outputs print, too).
+std::string number(double v) {
   char buf[32];
-  if (log) std::snprintf(buf, sizeof buf, "1e%d", static_cast<int>(std::lround(v)));
-  else std::snprintf(buf, sizeof buf, "%g", v);
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+// One line of text: control characters become spaces.
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  return s;
+}
+
+// A gnuplot single-quoted string: no escapes are processed inside, a quote is written twice.
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : one_line(s)) {
+    q += c;
+    if (c == '\'') q += '\'';
+  }
+  return q + "'";
+}
+
+// A column name for the header: no spaces.
+std::string column(std::string s) {
+  for (char& c : s)
+    if (static_cast<unsigned char>(c) <= 0x20 || c == 0x7f) c = '_';
+  return s.empty() ? "_" : s;
+}
+
+bool row_ok(const PlotSpec& spec, const PlotSeries& s, std::size_t i) {
+  const double x = s.x[i], y = s.y[i];
+  if (!std::isfinite(x) || !std::isfinite(y)) return false;
+  if ((spec.log_x && x <= 0) || (spec.log_y && y <= 0)) return false;
+  return s.style != PlotStyle::kBoxes || (i < s.width.size() && std::isfinite(s.width[i]) && s.width[i] > 0);
+}
+
+std::size_t rows_of(const PlotSeries& s) { return std::min(s.x.size(), s.y.size()); }
+
+bool has_points(const PlotSpec& spec, const PlotSeries& s) {
+  for (std::size_t i = 0; i < rows_of(s); ++i)
+    if (row_ok(spec, s, i)) return true;
+  return false;
+}
+
+// gnuplot's error lines, short: the echo of the offending script line and its caret marker are dropped.
+std::string summarise_stderr(const std::string& text) {
+  std::vector<std::string> lines;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    lines.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  std::string out;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string& l = lines[i];
+    if (l.find_first_not_of(" \t\r") == std::string::npos) continue;
+    if (l.find_first_not_of(" \t^") == std::string::npos) continue;  // the caret marker
+    if (i + 1 < lines.size() && !lines[i + 1].empty() && lines[i + 1].find_first_not_of(" \t^") == std::string::npos)
+      continue;  // the echoed script line above a caret
+    if (!out.empty()) out += " / ";
+    out += one_line(l.substr(l.find_first_not_of(" \t")));
+  }
+  if (out.size() > 400) out = out.substr(0, 400) + " ...";
+  return out;
+}
+
+std::string seconds_text(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", s);
   return buf;
 }
 
 }  // namespace
 
-Status write_plot_png(const PlotSpec& spec, const std::string& path) {
-  // data range in axis units (log10 where asked)
-  auto ax = [](double v, bool log) { return log ? std::log10(v) : v; };
-  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (const auto& s : spec.series)
-    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-      if ((spec.log_x && !(s.x[i] > 0)) || (spec.log_y && !(s.y[i] > 0)) || !std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-      x0 = std::min(x0, ax(s.x[i], spec.log_x));
-      x1 = std::max(x1, ax(s.x[i], spec.log_x));
-      y0 = std::min(y0, ax(s.y[i], spec.log_y));
-      y1 = std::max(y1, ax(s.y[i], spec.log_y));
-    }
-  if (!std::isfinite(x0) || !std::isfinite(y0)) return make_error("plot '", path, "': no finite points to plot");
-  // whole decades on log axes, 5% padding on linear ones
-  auto widen = [](double* lo, double* hi, bool log) {
-    if (log) {
-      // a little room so points do not sit on the frame
-      *lo = std::floor(*lo - 0.05);
-      *hi = std::max(std::ceil(*hi + 0.05), *lo + 1.0);
-    } else {
-      const double pad = std::max(0.05 * (*hi - *lo), 1e-12);
-      *lo -= pad;
-      *hi += pad;
-    }
-  };
-  widen(&x0, &x1, spec.log_x);
-  widen(&y0, &y1, spec.log_y);
+Result<PlotPaths> plot_paths(const std::string& png_path) {
+  const fs::path p(png_path);
+  if (p.extension() != ".png" || p.stem().empty())
+    return make_error("plot '", png_path, "': name it FILE.png (FILE.dat and FILE.gp are written beside it)");
+  PlotPaths out;
+  out.png = png_path;
+  out.data = fs::path(p).replace_extension(".dat").string();
+  out.script = fs::path(p).replace_extension(".gp").string();
+  return out;
+}
 
-  Canvas c(spec.width, spec.height);
-  const int left = 110, right = spec.width - 30, top = 50, bottom = spec.height - 70;
-  auto px = [&](double v) { return left + static_cast<int>(std::lround((ax(v, spec.log_x) - x0) / (x1 - x0) * (right - left))); };
-  auto py = [&](double v) { return bottom - static_cast<int>(std::lround((ax(v, spec.log_y) - y0) / (y1 - y0) * (bottom - top))); };
-  const Rgb black{0, 0, 0}, grid{225, 225, 225}, minor{242, 242, 242};
-  // grid and ticks
-  auto ticks = [](double lo, double hi, bool log) {
-    std::vector<double> t;
-    const double step = log ? 1.0 : std::pow(10.0, std::floor(std::log10((hi - lo) / 4)));
-    for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9; v += step) t.push_back(v);
-    return t;
-  };
-  if (spec.log_x)
-    for (double d = x0; d < x1; d += 1.0)
-      for (int m = 2; m < 10; ++m) {
-        const int x = left + static_cast<int>(std::lround((d + std::log10(m) - x0) / (x1 - x0) * (right - left)));
-        c.line(x, top, x, bottom, minor);
+Status check_plot_targets(const std::string& png_path) {
+  if (auto st = check_output_target(png_path, "plot"); !st) return st;
+  auto paths = plot_paths(png_path);
+  if (!paths) return paths.error();
+  if (auto st = check_output_target(paths.value().data, "plot data"); !st) return st;
+  return check_output_target(paths.value().script, "plot script");
+}
+
+std::string plot_data_text(const PlotSpec& spec) {
+  std::string t = "# " + one_line(spec.title) + "\n";
+  if (!spec.what.empty()) t += "# " + one_line(spec.what) + "\n";
+  t += "# One block per series (gnuplot: index N), blocks separated by two blank lines.\n";
+  int block = 0;
+  for (const PlotSeries& s : spec.series) {
+    if (!has_points(spec, s)) continue;
+    t += "\n\n# series " + std::to_string(block++) + ": " + one_line(s.label) + "\n# columns: ";
+    t += column(spec.x_column);
+    t += ' ';
+    t += column(spec.y_column);
+    if (s.style == PlotStyle::kBoxes) t += " width";
+    for (const PlotColumn& c : s.extra) {
+      t += ' ';
+      t += column(c.name);
+    }
+    t += '\n';
+    for (std::size_t i = 0; i < rows_of(s); ++i) {
+      if (!row_ok(spec, s, i)) continue;
+      t += number(s.x[i]);
+      t += ' ';
+      t += number(s.y[i]);
+      if (s.style == PlotStyle::kBoxes) {
+        t += ' ';
+        t += number(s.width[i]);
       }
-  if (spec.log_y)
-    for (double d = y0; d < y1; d += 1.0)
-      for (int m = 2; m < 10; ++m) {
-        const int y = bottom - static_cast<int>(std::lround((d + std::log10(m) - y0) / (y1 - y0) * (bottom - top)));
-        c.line(left, y, right, y, minor);
+      for (const PlotColumn& c : s.extra) {
+        t += ' ';
+        t += i < c.values.size() ? number(c.values[i]) : std::string("NaN");
       }
-  for (double t : ticks(x0, x1, spec.log_x)) {
-    const int x = left + static_cast<int>(std::lround((t - x0) / (x1 - x0) * (right - left)));
-    c.line(x, top, x, bottom, grid);
-    c.line(x, bottom, x, bottom + 5, black);
-    const std::string l = tick_label(t, spec.log_x);
-    c.text(x - Canvas::text_width(l) / 2, bottom + 10, l, black);
-  }
-  for (double t : ticks(y0, y1, spec.log_y)) {
-    const int y = bottom - static_cast<int>(std::lround((t - y0) / (y1 - y0) * (bottom - top)));
-    c.line(left, y, right, y, grid);
-    c.line(left - 5, y, left, y, black);
-    const std::string l = tick_label(t, spec.log_y);
-    c.text(left - 10 - Canvas::text_width(l), y - 7, l, black);
-  }
-  c.line(left, top, left, bottom, black, 2);
-  c.line(left, bottom, right, bottom, black, 2);
-  c.text((left + right - Canvas::text_width(spec.x_label)) / 2, spec.height - 30, spec.x_label, black);
-  c.text(20, (top + bottom + Canvas::text_width(spec.y_label)) / 2, spec.y_label, black, 2, true);
-  c.text((spec.width - Canvas::text_width(spec.title)) / 2, 15, spec.title, black);
-  // data: lines first, markers on top
-  auto ok = [&](double x, double y) {
-    return std::isfinite(x) && std::isfinite(y) && (!spec.log_x || x > 0) && (!spec.log_y || y > 0);
-  };
-  for (const auto& s : spec.series) {
-    if (!s.line) continue;
-    int lx = 0, ly = 0;
-    bool have = false;
-    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-      if (!ok(s.x[i], s.y[i])) continue;
-      const int x = px(s.x[i]), y = py(s.y[i]);
-      if (have) c.line(lx, ly, x, y, s.rgb, 2);
-      lx = x;
-      ly = y;
-      have = true;
+      t += '\n';
     }
   }
-  for (const auto& s : spec.series) {
-    if (!s.points) continue;
-    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
-      if (ok(s.x[i], s.y[i])) c.rect(px(s.x[i]) - 4, py(s.y[i]) - 4, px(s.x[i]) + 4, py(s.y[i]) + 4, s.rgb);
+  return t;
+}
+
+std::string plot_script_text(const PlotSpec& spec, const std::string& data_name, const std::string& png_name) {
+  std::string t;
+  t += "# " + one_line(spec.title) + "\n";
+  if (!spec.what.empty()) t += "# " + one_line(spec.what) + "\n";
+  t += "# Drawn by palpate from " + one_line(data_name) + ". Restyle: edit this file, then run `gnuplot " +
+       one_line(fs::path(png_name).replace_extension(".gp").filename().string()) + "`.\n";
+  t += "# The data and the PNG are beside this script, wherever it is run from.\n";
+  t += "slash(s, i) = i < 1 ? 0 : (s[i:i] eq '/' ? i : slash(s, i - 1))\n";
+  t += "here = exists('ARG0') ? ARG0[1:slash(ARG0, strlen(ARG0))] : ''\n";
+  t += "data = here." + quoted(data_name) + "\n\n";
+  t += "set terminal pngcairo size " + std::to_string(spec.width) + "," + std::to_string(spec.height) +
+       " enhanced font 'DejaVu Sans,11' linewidth 1.3 background '#ffffff'\n";
+  t += "# palpate runs this with -e 'palpate_to_stdout = 1' and writes the PNG itself (atomically)\n";
+  t += "if (!exists('palpate_to_stdout')) { set output here." + quoted(png_name) + " }\n\n";
+  t += "set title " + quoted(spec.title) + " noenhanced font ',13'\n";
+  t += "set xlabel " + quoted(spec.x_label) + " noenhanced\n";
+  t += "set ylabel " + quoted(spec.y_label) + " noenhanced\n";
+  for (const auto& [axis, log] : {std::pair{"x", spec.log_x}, std::pair{"y", spec.log_y}}) {
+    if (log) t += std::string("set logscale ") + axis + " 10\nset format " + axis + " '10^{%L}'\n";
+    else t += std::string("set format ") + axis + " '%g'\n";
   }
-  // legend, bottom right (errors fall with cost, so that corner is usually empty)
-  int entries = 0;
-  for (const auto& s : spec.series) entries += !s.label.empty();
-  int ly = bottom - 10 - 22 * entries;
-  for (const auto& s : spec.series) {
-    if (s.label.empty()) continue;
-    const int lx = right - 20 - Canvas::text_width(s.label) - 30;
-    if (s.points) c.rect(lx + 6, ly + 3, lx + 14, ly + 11, s.rgb);
-    if (s.line) c.line(lx, ly + 7, lx + 20, ly + 7, s.rgb, 2);
-    c.text(lx + 28, ly, s.label, black);
-    ly += 22;
+  if (spec.x_min > 0) t += "set xrange [" + number(spec.x_min) + ":*]\n";
+  if (spec.y_min > 0) t += "set yrange [" + number(spec.y_min) + ":*]\n";
+  t += "set border 3 lw 1.2\nset tics nomirror out\n";
+  t += "set grid xtics ytics mxtics mytics back lt 1 lw 1 lc rgb '#d8d8d8', lt 1 lw 0.6 lc rgb '#efefef'\n";
+  if (spec.key_outside) t += "set key outside right top vertical Left reverse spacing 1.2 samplen 2 width -3\n";
+  else t += "set key " + spec.key + " opaque box lc rgb '#c0c0c0' spacing 1.15 samplen 2.5 width 1\n";
+  t += "set style fill transparent solid 0.3 border\n\n";
+  // bars and plain lines are drawn first, so markers sit on top of them
+  std::vector<std::string> under, over;
+  int block = 0;
+  for (const PlotSeries& s : spec.series) {
+    if (!has_points(spec, s)) continue;
+    std::string c = "data index " + std::to_string(block++);
+    const std::string colour = " lc rgb " + quoted(s.colour);
+    const std::string pt = " pt " + std::to_string(s.point_type);
+    const std::string dash = s.dashed ? " dt 2" : "";
+    switch (s.style) {
+      case PlotStyle::kPoints: c += " using 1:2 with points" + pt + " ps 1.1" + colour; break;
+      case PlotStyle::kLines: c += " using 1:2 with lines lw 1.8" + dash + colour; break;
+      case PlotStyle::kLinesPoints: c += " using 1:2 with linespoints lw 1.6" + dash + pt + " ps 1.2" + colour; break;
+      case PlotStyle::kBoxes: c += " using 1:2:3 with boxes" + colour; break;
+    }
+    c += s.label.empty() ? " notitle" : " title " + quoted(s.label) + " noenhanced";
+    (s.style == PlotStyle::kLines || s.style == PlotStyle::kBoxes ? under : over).push_back(c);
   }
-  return write_png(path, spec.width, spec.height, c.data());
+  std::vector<std::string> clauses = under;
+  clauses.insert(clauses.end(), over.begin(), over.end());
+  t += "plot ";
+  for (std::size_t i = 0; i < clauses.size(); ++i) t += (i ? ", \\\n     " : "") + clauses[i];
+  t += "\n";
+  return t;
+}
+
+Status render_with_gnuplot(const std::string& script_path, const std::string& png_path, double timeout_s) {
+  auto opened = AtomicFile::open(png_path, "plot");
+  if (!opened) return opened.error();
+  AtomicFile& out = opened.value();
+  auto fail = [&](const std::string& why) -> Status {
+    out.discard();
+    return make_error("plot '", png_path, "': ", why);
+  };
+  int err_pipe[2];
+  if (::pipe2(err_pipe, O_CLOEXEC) != 0) return fail(std::string("cannot make a pipe for gnuplot: ") + std::strerror(errno));
+  // gnuplot writes the PNG to its standard output, which is the temporary; its messages come back through the pipe
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&fa, fileno(out.stream()), 1);
+  posix_spawn_file_actions_adddup2(&fa, err_pipe[1], 2);
+  std::string a0 = "gnuplot", a1 = "-e", a2 = "palpate_to_stdout = 1", a3 = script_path;
+  char* argv[] = {a0.data(), a1.data(), a2.data(), a3.data(), nullptr};
+  pid_t pid = -1;
+  const int rc = ::posix_spawnp(&pid, "gnuplot", &fa, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  ::close(err_pipe[1]);
+  if (rc != 0) {
+    ::close(err_pipe[0]);
+    if (rc == ENOENT) return fail("gnuplot not found on PATH (install the Debian package gnuplot-nox)");
+    return fail(std::string("cannot run gnuplot: ") + std::strerror(rc));
+  }
+  // its messages until it closes stderr (it exits), or the deadline
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
+  auto ms_left = [&] {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+  };
+  std::string messages;
+  bool timed_out = false;
+  for (;;) {
+    const auto left = ms_left();
+    if (left <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{err_pipe[0], POLLIN, 0};
+    const int n = ::poll(&p, 1, static_cast<int>(std::min<int64_t>(left, 1000)));
+    if (n < 0 && errno == EINTR) continue;
+    if (n == 0) continue;
+    char buf[4096];
+    const ssize_t k = ::read(err_pipe[0], buf, sizeof buf);
+    if (k > 0) {
+      if (messages.size() < 65536) messages.append(buf, static_cast<std::size_t>(k));
+    } else if (k == 0 || errno != EINTR) {
+      break;
+    }
+  }
+  ::close(err_pipe[0]);
+  int status = 0;
+  while (!timed_out) {
+    const pid_t w = ::waitpid(pid, &status, WNOHANG);
+    if (w == pid || (w < 0 && errno != EINTR)) break;
+    if (ms_left() <= 0) timed_out = true;
+    else std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (timed_out) {
+    ::kill(pid, SIGKILL);
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return fail("gnuplot did not finish within " + seconds_text(timeout_s) + " s and was stopped");
+  }
+  const std::string said = summarise_stderr(messages);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    const std::string how = WIFEXITED(status) ? "exited with status " + std::to_string(WEXITSTATUS(status))
+                                              : "was killed by signal " + std::to_string(WTERMSIG(status));
+    return fail("gnuplot " + how + (said.empty() ? std::string() : ": " + said));
+  }
+  // what gnuplot wrote starts as a PNG (the temporary is write-only: read it through its name, never a link)
+  unsigned char sig[8] = {};
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  const int rfd = ::open(out.temp_path().c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  const ssize_t got = rfd >= 0 ? ::pread(rfd, sig, sizeof sig, 0) : -1;
+  if (rfd >= 0) ::close(rfd);
+  if (got != static_cast<ssize_t>(sizeof sig) || std::memcmp(sig, kPng, sizeof sig) != 0)
+    return fail("gnuplot exited without writing a PNG" + (said.empty() ? std::string() : ": " + said));
+  return out.commit();
+}
+
+Status write_plot(const PlotSpec& spec, const std::string& png_path) {
+  auto paths_r = plot_paths(png_path);
+  if (!paths_r) return paths_r.error();
+  const PlotPaths& paths = paths_r.value();
+  bool any = false;
+  for (const PlotSeries& s : spec.series) any = any || has_points(spec, s);
+  if (!any) return make_error("plot '", png_path, "': no finite points to plot");
+  if (auto st = write_file_atomic(paths.data, plot_data_text(spec), "plot data"); !st) return st;
+  const std::string data_name = fs::path(paths.data).filename().string();
+  const std::string png_name = fs::path(paths.png).filename().string();
+  if (auto st = write_file_atomic(paths.script, plot_script_text(spec, data_name, png_name), "plot script"); !st) return st;
+  if (auto st = render_with_gnuplot(paths.script, paths.png); !st)
+    return make_error(st.error().message, "; ", paths.data, " and ", paths.script,
+                      " are written: draw it later with `gnuplot ", paths.script, "`");
+  return Ok{};
+}
+
+int write_plot_and_report(const PlotSpec& spec, const std::string& png_path) {
+  if (auto st = write_plot(spec, png_path); !st) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
+    return 1;
+  }
+  const PlotPaths paths = plot_paths(png_path).value();
+  std::printf("plot     %s (drawn by gnuplot from %s and %s; restyle: edit %s, then run `gnuplot %s`)\n",
+              paths.png.c_str(), paths.data.c_str(), paths.script.c_str(), paths.script.c_str(), paths.script.c_str());
+  std::fflush(stdout);
+  return 0;
 }
 
 }  // namespace palpate
