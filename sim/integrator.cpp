@@ -12,7 +12,6 @@ namespace palpate {
 namespace {
 
 constexpr int kDefaultNewtonIterations = 1;
-constexpr int kDefaultLocalGlobalIterations = 10;
 constexpr int kStrainLimitSweeps = 4;
 
 // One explicit (eq. 8) or symplectic Euler substep.

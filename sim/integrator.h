@@ -37,6 +37,9 @@ struct StepReport {
   double max_strain = 0.0;  ///< largest |l - l0| / l0 after the step
 };
 
+/// Local/global iterations per substep when StepOptions::iterations is 0.
+inline constexpr int kDefaultLocalGlobalIterations = 10;
+
 /// A spring strained beyond this (l > 11 l0) is taken as divergence, not deformation.
 inline constexpr double kDivergedStrain = 10.0;
 
