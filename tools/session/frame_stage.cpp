@@ -35,6 +35,13 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
     cut_.emplace(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m);
 }
 
+void FrameStage::use_budget(BudgetClock* clock) {
+  if (scene_.lattice.budget_ms <= 0.0) return;
+  auto ladder = budget_ladder(step_options(scene_.lattice));
+  if (ladder.empty()) return;
+  budget_.emplace(scene_.lattice.budget_ms, std::move(ladder), clock);
+}
+
 void FrameStage::drain() {
   HapticSample s;
   while (samples_->try_pop(&s)) {
@@ -133,7 +140,11 @@ bool FrameStage::step_lattice_frame() {
     return false;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const StepReport rep = step_lattice(&*lattice_, step_opts_, step_dt_s_, f_ext_N_, &ws_);
+  const double c0 = cpu_clock_.now_ms();
+  if (budget_) budget_->step_begin();
+  const StepReport rep = step_lattice(&*lattice_, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, f_ext_N_, &ws_);
+  if (budget_) budget_->step_end();
+  stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
   ++stats_.frames_stepped;
   stats_.node_frames += static_cast<int64_t>(lattice_->num_nodes());
@@ -288,6 +299,8 @@ void FrameStage::render(int64_t index, bool block) {
 
 void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_clock_.now_ms();
+  frame_opts_ = budget_ ? &budget_->begin_frame() : nullptr;
   t_s_ = t_s;
   contact_this_frame_ = false;
   force_sum_N_.setZero();
@@ -317,6 +330,8 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   region_changed_ = false;
   publish_patch();
   stats_.sim_ms.push_back(ms_since(t0));
+  stats_.sim_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
+  if (budget_) budget_->end_frame();
   if (cutting) stats_.cutting_ms.push_back(stats_.sim_ms.back());
   else if (stats_.frames_cutting > 0) stats_.after_cut_ms.push_back(stats_.sim_ms.back());
   ++stats_.frames;
