@@ -155,6 +155,12 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
   return rep;
 }
 
+void prepare_step(const Lattice& lat, const StepOptions& opts, double dt_s, IntegratorWorkspace* ws) {
+  if (opts.kind != IntegratorKind::kLocalGlobal) return;
+  if (!ws->local_global) ws->local_global = std::make_unique<LocalGlobalSolver>();
+  ws->local_global->ready(lat, dt_s / substeps_for(lat, opts, dt_s, ws));
+}
+
 StepReport step_lattice(Lattice* lat, IntegratorKind kind, double dt_s, int max_substeps,
                         const std::vector<Vec3>& f_ext_N, IntegratorWorkspace* ws) {
   StepOptions o;

@@ -66,6 +66,10 @@ struct IntegratorWorkspace {
 StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, const std::vector<Vec3>& f_ext_N,
                         IntegratorWorkspace* ws);
 
+/// Builds what the next step_lattice() with these options would build first (local/global: its factorisation),
+/// so that cost is paid now; the lattice's state is not touched.
+void prepare_step(const Lattice& lat, const StepOptions& opts, double dt_s, IntegratorWorkspace* ws);
+
 /// Shorthand: automatic substeps (capped at max_substeps), default iterations, no strain limit.
 StepReport step_lattice(Lattice* lat, IntegratorKind kind, double dt_s, int max_substeps,
                         const std::vector<Vec3>& f_ext_N, IntegratorWorkspace* ws);

@@ -181,10 +181,14 @@ bool LocalGlobalSolver::downdate_removed(const Lattice& lat, double h_s) {
   return true;
 }
 
+bool LocalGlobalSolver::ready(const Lattice& lat, double h_s) {
+  if (lat.revision != revision_ || h_s != h_s_ || idx_.size() != lat.num_nodes())
+    if (!downdate_removed(lat, h_s)) prepare(lat, h_s);
+  return ok_;
+}
+
 int LocalGlobalSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int iterations) {
-  if (lat->revision != revision_ || h_s != h_s_ || idx_.size() != lat->num_nodes())
-    if (!downdate_removed(*lat, h_s)) prepare(*lat, h_s);
-  if (!ok_) return -1;
+  if (!ready(*lat, h_s)) return -1;
   const std::size_t n = lat->num_nodes();
   const double inv_h2 = 1.0 / (h_s * h_s), c_h = lat->damping_Ns_per_m / h_s;
   // constant part of the rhs: M y / h^2 with the inertial target y = x + h v + h^2 M^-1 f_ext,

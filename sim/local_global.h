@@ -38,6 +38,8 @@ class LocalGlobalSolver {
   /// Takes one substep h_s with `iterations` local/global iterations. f_ext_N (n, or empty) is held constant.
   /// Returns the iterations taken, or -1 when the factorisation failed (the lattice is left unchanged).
   int step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int iterations);
+  /// Factors (or downdates) the matrix for this lattice and substep unless it already is; false when that failed.
+  bool ready(const Lattice& lat, double h_s);
   /// Times the matrix was factored (for tests: once per lattice revision and substep).
   int factorizations() const { return factorizations_; }
   /// Times the matrix's pattern was analysed (for tests: once per free-node set and spring pattern).

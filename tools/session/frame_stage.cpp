@@ -31,8 +31,16 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   latest_.proxy_pos_m = latest_.tool_pos_m;
   stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
-  if (scene.mode == InteractionMode::kCut)
+  if (scene.mode == InteractionMode::kCut) {
     cut_.emplace(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m);
+    build_cut_lattice();
+  }
+}
+
+void FrameStage::set_step_dt(double dt_s) {
+  const bool changed = dt_s != step_dt_s_;
+  step_dt_s_ = dt_s;
+  if (changed && cut_ && lattice_) prepare_step(*lattice_, step_opts_, step_dt_s_, &ws_);
 }
 
 void FrameStage::use_budget(BudgetClock* clock) {
@@ -93,22 +101,26 @@ void FrameStage::build_lattice_at(const Vec3& p_m) {
   stats_.lattice_vertices = std::max(stats_.lattice_vertices, deformer_.num_bound_vertices());
 }
 
+void FrameStage::build_cut_lattice() {
+  // the blade may go anywhere and cuts must persist: one lattice over every solid cell, never moved
+  const int level = scene_.lattice.level;
+  const int n = model_.grid.cells_per_axis(level);
+  auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, {n / 2, n / 2, n / 2}, n));
+  if (!lat) return;
+  lattice_ = std::move(lat).value();
+  step_opts_ = step_options(scene_.lattice);
+  f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
+  floor_z_m_ = lattice_->rest_m.front().z();
+  for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
+  stats_.lattice_nodes = lattice_->num_nodes();
+  stats_.lattice_springs = lattice_->springs.size();
+  stats_.lattice_vertices = vertices_m_.size();
+  // the solver's factorisation too, before the first frame's deadline (the same one the first step would make)
+  prepare_step(*lattice_, step_opts_, step_dt_s_, &ws_);
+}
+
 bool FrameStage::cut_frame() {
-  if (!lattice_) {
-    // the blade may go anywhere and cuts must persist: one lattice over every solid cell, never moved
-    const int level = scene_.lattice.level;
-    const int n = model_.grid.cells_per_axis(level);
-    auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, {n / 2, n / 2, n / 2}, n));
-    if (!lat) return false;
-    lattice_ = std::move(lat).value();
-    step_opts_ = step_options(scene_.lattice);
-    f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
-    floor_z_m_ = lattice_->rest_m.front().z();
-    for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
-    stats_.lattice_nodes = lattice_->num_nodes();
-    stats_.lattice_springs = lattice_->springs.size();
-    stats_.lattice_vertices = vertices_m_.size();
-  }
+  if (!lattice_) return false;
   if (cut_->pending().empty()) return false;
   const CutReport rep = cut_->apply(&*lattice_, &vertices_m_);
   ++stats_.frames_cutting;

@@ -74,7 +74,7 @@ class FrameStage {
   /// pixels as the PNG writer, waiting for the encoder when frame() blocks on the writer, else dropping.
   void set_video(VideoWriter* video) { video_ = video; }
   /// Sets the lattice step per frame (default 1/60 s; a reference run steps at the servo rate).
-  void set_step_dt(double dt_s) { step_dt_s_ = dt_s; }
+  void set_step_dt(double dt_s);
   /// Keeps the scene's lattice.budget_ms with the frame's sim cost read from `clock` (must outlive the stage):
   /// each frame steps at the most accurate setting of the ladder predicted to hold the budget. No effect when
   /// the scene sets no budget or its integrator has nothing to trade.
@@ -111,7 +111,9 @@ class FrameStage {
   // the object's linearised response at the current contact, for the servo between frames
   void fill_contact_model(LocalModel* m);
   void publish_patch();
-  // cut mode: builds the whole-object lattice once, then applies the blade sweeps drained this frame
+  // cut mode: the whole-object lattice, built once with the stage, and its solver prepared
+  void build_cut_lattice();
+  // cut mode: applies the blade sweeps drained this frame
   bool cut_frame();
   void render(int64_t index, bool block);
 
