@@ -30,6 +30,11 @@ class DowndatableLLT : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> 
   /// scratch (A's size, all zero; left zero). False when A - v v^T is not positive definite: the factor is then
   /// partly updated and must be refactored.
   bool downdate(const int* rows, const double* vals, int count, std::vector<double>* w);
+  /// Entries a numeric factorisation in the analysed pattern updates (sum of squared column counts).
+  double factor_work() const;
+  /// Entries a downdate touches whose nonzero rows (A's numbering; -1 = none) are a and b: the column counts on
+  /// the elimination-tree path from the first of them.
+  double downdate_work(int a, int b) const;
 };
 
 /// Solver state for one lattice. Not copyable. Thread: the one stepping thread.
@@ -46,7 +51,9 @@ class LocalGlobalSolver {
   int analyses() const { return analyses_; }
   /// Springs taken out of the factor by downdates (for tests and reports).
   int64_t downdates() const { return downdates_; }
-  /// Above this many removed springs at once the matrix is refactored instead (downdates cost more then).
+  /// Above this many removed springs at once the matrix is refactored instead. Whatever the limit, a cut whose
+  /// downdates would touch more than 0.3 of the entries a numeric factorisation updates refactors (measured
+  /// break-even, local_global.cpp).
   void set_max_downdates(int n) { max_downdates_ = n; }
 
  private:
@@ -72,6 +79,7 @@ class LocalGlobalSolver {
   std::vector<double> mass_;
   double damping_ = 0.0;
   std::vector<double> w_scratch_;   // downdate vector (nf, zero between uses)
+  std::vector<int32_t> removed_;    // indices into springs_ of the springs a cut removed
   Eigen::MatrixX3d b0_, b_, x_;     // constant rhs part, rhs, solution (nf x 3)
 };
 
