@@ -194,6 +194,9 @@ void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
   r.number("rest_kinetic_J", &l.rest_kinetic_J, 0.0, 1.0);
   r.number("rest_force_N", &l.rest_force_N, 0.0, 1.0);
   r.boolean("follow_contact", &l.follow_contact);
+  r.number("budget_ms", &l.budget_ms, 0.0, 1e4);
+  if (err->empty() && l.budget_ms > 0.0 && l.integrator != IntegratorKind::kLocalGlobal)
+    r.fail(r.path("budget_ms"), "needs \"integrator\": \"local_global\" (the budget trades its iterations for time)");
   r.finish();
 }
 

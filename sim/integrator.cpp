@@ -12,7 +12,6 @@ namespace palpate {
 namespace {
 
 constexpr int kDefaultNewtonIterations = 1;
-constexpr int kDefaultLocalGlobalIterations = 10;
 constexpr int kStrainLimitSweeps = 4;
 
 // One explicit (eq. 8) or symplectic Euler substep.
@@ -154,6 +153,12 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
   rep.max_strain = rep.finite ? max_strain(*lat) : INFINITY;
   rep.diverged = !rep.finite || rep.max_strain > kDivergedStrain;
   return rep;
+}
+
+void prepare_step(const Lattice& lat, const StepOptions& opts, double dt_s, IntegratorWorkspace* ws) {
+  if (opts.kind != IntegratorKind::kLocalGlobal) return;
+  if (!ws->local_global) ws->local_global = std::make_unique<LocalGlobalSolver>();
+  ws->local_global->ready(lat, dt_s / substeps_for(lat, opts, dt_s, ws));
 }
 
 StepReport step_lattice(Lattice* lat, IntegratorKind kind, double dt_s, int max_substeps,

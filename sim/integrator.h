@@ -37,6 +37,9 @@ struct StepReport {
   double max_strain = 0.0;  ///< largest |l - l0| / l0 after the step
 };
 
+/// Local/global iterations per substep when StepOptions::iterations is 0.
+inline constexpr int kDefaultLocalGlobalIterations = 10;
+
 /// A spring strained beyond this (l > 11 l0) is taken as divergence, not deformation.
 inline constexpr double kDivergedStrain = 10.0;
 
@@ -62,6 +65,10 @@ struct IntegratorWorkspace {
 /// Fixed nodes stay at rest. Never throws; bad states are reported, not hidden.
 StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, const std::vector<Vec3>& f_ext_N,
                         IntegratorWorkspace* ws);
+
+/// Builds what the next step_lattice() with these options would build first (local/global: its factorisation),
+/// so that cost is paid now; the lattice's state is not touched.
+void prepare_step(const Lattice& lat, const StepOptions& opts, double dt_s, IntegratorWorkspace* ws);
 
 /// Shorthand: automatic substeps (capped at max_substeps), default iterations, no strain limit.
 StepReport step_lattice(Lattice* lat, IntegratorKind kind, double dt_s, int max_substeps,

@@ -6,7 +6,10 @@
 /// lattice revision and substep size. The symbolic analysis (fill-reducing ordering, elimination tree) is kept
 /// while the free nodes stay the same and every spring's entries are in the analysed pattern: a cut only removes
 /// springs, so it refactors numerically with zeros where they were; a new lattice is analysed again only when its
-/// pattern differs.
+/// pattern differs. Springs removed since the last factorisation (and nothing else changed) are taken out of the
+/// factor by rank-1 downdates instead: removing a spring of weight w between free nodes a and b changes the matrix by
+/// -w (e_a - e_b)(e_a - e_b)^T (-w e_a e_a^T when b is fixed), and each downdate only touches the factor's columns
+/// on the elimination-tree path from a and b to the root.
 
 #include <cstdint>
 #include <vector>
@@ -18,21 +21,48 @@
 
 namespace palpate {
 
+/// Eigen's simplicial LL^T with rank-1 downdates of its factor (same ordering and pattern; entries that become zero
+/// stay in the pattern).
+class DowndatableLLT : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> {
+ public:
+  /// Replaces the factor of A by that of A - v v^T, v = sum_k vals[k] e_{rows[k]} (rows in A's numbering, each an
+  /// ancestor-or-self of the smallest one in the elimination tree, as the two ends of a matrix entry are). w is
+  /// scratch (A's size, all zero; left zero). False when A - v v^T is not positive definite: the factor is then
+  /// partly updated and must be refactored.
+  bool downdate(const int* rows, const double* vals, int count, std::vector<double>* w);
+  /// Entries a numeric factorisation in the analysed pattern updates (sum of squared column counts).
+  double factor_work() const;
+  /// Entries a downdate touches whose nonzero rows (A's numbering; -1 = none) are a and b: the column counts on
+  /// the elimination-tree path from the first of them.
+  double downdate_work(int a, int b) const;
+};
+
 /// Solver state for one lattice. Not copyable. Thread: the one stepping thread.
 class LocalGlobalSolver {
  public:
   /// Takes one substep h_s with `iterations` local/global iterations. f_ext_N (n, or empty) is held constant.
   /// Returns the iterations taken, or -1 when the factorisation failed (the lattice is left unchanged).
   int step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int iterations);
+  /// Factors (or downdates) the matrix for this lattice and substep unless it already is; false when that failed.
+  bool ready(const Lattice& lat, double h_s);
   /// Times the matrix was factored (for tests: once per lattice revision and substep).
   int factorizations() const { return factorizations_; }
   /// Times the matrix's pattern was analysed (for tests: once per free-node set and spring pattern).
   int analyses() const { return analyses_; }
+  /// Springs taken out of the factor by downdates (for tests and reports).
+  int64_t downdates() const { return downdates_; }
+  /// Above this many removed springs at once the matrix is refactored instead. Whatever the limit, a cut whose
+  /// downdates would touch more than 0.3 of the entries a numeric factorisation updates refactors (measured
+  /// break-even, local_global.cpp).
+  void set_max_downdates(int n) { max_downdates_ = n; }
 
  private:
   using SpMat = Eigen::SparseMatrix<double>;
   bool prepare(const Lattice& lat, double h_s);
   bool fill_values(const Lattice& lat, double h_s);
+  // takes springs removed from the factored lattice out of the factor; false when a refactorisation is needed
+  bool downdate_removed(const Lattice& lat, double h_s);
+  void remember(const Lattice& lat);
 
   uint64_t revision_ = 0;
   double h_s_ = 0.0;
@@ -42,7 +72,14 @@ class LocalGlobalSolver {
   bool analysed_ = false;           // a_'s pattern is the one llt_ analysed
   std::vector<int32_t> idx_;        // row of each free node, -1 for fixed ones (n)
   SpMat a_;                         // the free-node matrix (nf x nf), both triangles
-  Eigen::SimplicialLLT<SpMat> llt_; // its factor
+  DowndatableLLT llt_;              // its factor
+  int64_t downdates_ = 0;
+  int max_downdates_ = 2000;
+  std::vector<Spring> springs_;     // the springs, masses and damping the factor holds
+  std::vector<double> mass_;
+  double damping_ = 0.0;
+  std::vector<double> w_scratch_;   // downdate vector (nf, zero between uses)
+  std::vector<int32_t> removed_;    // indices into springs_ of the springs a cut removed
   Eigen::MatrixX3d b0_, b_, x_;     // constant rhs part, rhs, solution (nf x 3)
 };
 

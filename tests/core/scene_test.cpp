@@ -103,6 +103,16 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "grid": {"levels": 3}, "lattice": {"level": 4}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "deeper than grid.levels");
 }
 
+TEST(Scene, FrameBudgetNeedsLocalGlobal) {
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "lattice": {"budget_ms": 8}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "lattice.budget_ms: needs \"integrator\": \"local_global\"");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "lattice": {"budget_ms": -1, "integrator": "local_global"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "lattice.budget_ms: -1 out of range");
+  auto r = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "lattice": {"budget_ms": 8, "integrator": "local_global"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_DOUBLE_EQ(r.value().lattice.budget_ms, 8.0);
+}
+
 TEST(Scene, ModelRelativeKeysParseAndAreCheckedNamingTheKey) {
   auto r = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_rel": [0.5, 0.5, 1.2]},
                           {"t_s": 1, "pos_rel": [0.5, 0.5, 0.5], "surface": true, "depth_m": 0.004},

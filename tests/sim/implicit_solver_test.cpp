@@ -121,11 +121,110 @@ TEST(ImplicitEuler, DampedOscillatorFollowsTheBackwardEulerRecurrence) {
   EXPECT_LT(std::abs(x), 0.4 * a);  // and it did decay
 }
 
-TEST(LocalGlobal, CutRefactorsInTheAnalysedPatternToTheSameStep) {
+TEST(LocalGlobal, DowndateGivesTheFactorOfTheMatrixWithoutTheSpring) {
+  // a lattice-like matrix: mass diagonal plus spring Laplacian of a 4^3 block (fill-in in the factor)
+  Lattice lat = make_block(4, 4, pull_spec());
+  const int n = static_cast<int>(lat.num_nodes());
+  auto assemble = [&](std::size_t skip_from, std::size_t skip_to) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i) t.emplace_back(i, i, 3.0 + 0.1 * (i % 7));
+    for (std::size_t k = 0; k < lat.springs.size(); ++k) {
+      if (k >= skip_from && k < skip_to) continue;
+      const Spring& s = lat.springs[k];
+      const double w = s.k_N_per_m * (1.0 + 0.01 * static_cast<double>(k % 5));
+      t.emplace_back(s.a, s.a, w);
+      t.emplace_back(s.b, s.b, w);
+      t.emplace_back(s.a, s.b, -w);
+      t.emplace_back(s.b, s.a, -w);
+    }
+    Eigen::SparseMatrix<double> m(n, n);
+    m.setFromTriplets(t.begin(), t.end());
+    return m;
+  };
+  const auto full = assemble(0, 0);
+  const auto cut = assemble(30, 70);
+  DowndatableLLT llt;
+  llt.compute(full);
+  ASSERT_EQ(llt.info(), Eigen::Success);
+  std::vector<double> w(static_cast<std::size_t>(n), 0.0);
+  for (std::size_t k = 30; k < 70; ++k) {
+    const Spring& s = lat.springs[k];
+    const double r = std::sqrt(s.k_N_per_m * (1.0 + 0.01 * static_cast<double>(k % 5)));
+    const int rows[2] = {s.a, s.b};
+    const double vals[2] = {r, -r};
+    ASSERT_TRUE(llt.downdate(rows, vals, 2, &w));
+  }
+  for (double x : w) ASSERT_EQ(x, 0.0);  // the scratch is left clean
+  // the downdated factor solves the cut matrix as a fresh factorisation does
+  Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(n, 3);
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> fresh(cut);
+  const Eigen::MatrixX3d x_down = llt.solve(b), x_fresh = fresh.solve(b);
+  EXPECT_LT((x_down - x_fresh).norm(), 1e-12 * x_fresh.norm());
+  EXPECT_LT((cut * x_down - b).norm(), 1e-12 * b.norm());
+  // and it no longer solves the full one
+  EXPECT_GT((full * x_down - b).norm(), 1e-3 * b.norm());
+  // taking out more than a diagonal holds leaves no positive definite matrix: refused
+  const int row = 5;
+  const double too_much = 2.0 * std::sqrt(cut.coeff(row, row));
+  EXPECT_FALSE(llt.downdate(&row, &too_much, 1, &w));
+  for (double x : w) ASSERT_EQ(x, 0.0);
+}
+
+TEST(LocalGlobal, CutDowndatesTheFactorToTheSameStep) {
   Lattice lat = disturbed_block();
   LocalGlobalSolver kept;
   ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
-  // a cut: springs removed, the lattice touched; the kept solver refactors without a new analysis
+  // a cut: springs removed, the lattice touched; the kept solver downdates its factor, one spring at a time
+  // (four springs with a free end, taken out keeping the order as cut_springs does)
+  std::vector<Spring> kept_springs;
+  int64_t in_matrix = 0;
+  for (const Spring& sp : lat.springs) {
+    const bool free_end = !(lat.fixed[sp.a] && lat.fixed[sp.b]);
+    if (free_end && in_matrix < 4 && (sp.a % 7 == 3)) ++in_matrix;
+    else kept_springs.push_back(sp);
+  }
+  ASSERT_EQ(in_matrix, 4);
+  lat.springs = kept_springs;
+  lat.touch();
+  Lattice fresh_lat = lat;
+  LocalGlobalSolver fresh;
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  ASSERT_EQ(fresh.step(&fresh_lat, 1.0 / 60.0, {}, 5), 5);
+  EXPECT_EQ(kept.analyses(), 1);
+  EXPECT_EQ(kept.factorizations(), 1);
+  EXPECT_EQ(kept.downdates(), in_matrix);
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    ASSERT_LT((lat.x_m[i] - fresh_lat.x_m[i]).norm(), 1e-12 * lat.cell_m) << "node " << i;
+  // a change that is not a removal (a stiffer spring) refactors
+  lat.springs[3].k_N_per_m *= 2.0;
+  lat.touch();
+  fresh_lat = lat;
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  ASSERT_EQ(LocalGlobalSolver().step(&fresh_lat, 1.0 / 60.0, {}, 5), 5);
+  EXPECT_EQ(kept.factorizations(), 2);
+  EXPECT_EQ(kept.downdates(), in_matrix);
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    ASSERT_LT((lat.x_m[i] - fresh_lat.x_m[i]).norm(), 1e-12 * lat.cell_m) << "node " << i;
+}
+
+TEST(LocalGlobal, CutDearerToDowndateThanToRefactorRefactors) {
+  Lattice lat = disturbed_block();
+  LocalGlobalSolver kept;
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  // 30 of this small lattice's springs: their downdate paths touch more than 0.3 of a factorisation's entries
+  lat.springs.erase(lat.springs.begin() + 10, lat.springs.begin() + 40);
+  lat.touch();
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  EXPECT_EQ(kept.factorizations(), 2);
+  EXPECT_EQ(kept.downdates(), 0);
+}
+
+TEST(LocalGlobal, CutPastTheDowndateLimitRefactorsInTheAnalysedPatternToTheSameStep) {
+  Lattice lat = disturbed_block();
+  LocalGlobalSolver kept;
+  kept.set_max_downdates(10);
+  ASSERT_EQ(kept.step(&lat, 1.0 / 60.0, {}, 5), 5);
+  // 30 springs removed, more than the limit: a numeric refactorisation without a new analysis
   lat.springs.erase(lat.springs.begin() + 10, lat.springs.begin() + 40);
   lat.touch();
   Lattice fresh_lat = lat;
@@ -134,6 +233,7 @@ TEST(LocalGlobal, CutRefactorsInTheAnalysedPatternToTheSameStep) {
   ASSERT_EQ(fresh.step(&fresh_lat, 1.0 / 60.0, {}, 5), 5);
   EXPECT_EQ(kept.analyses(), 1);
   EXPECT_EQ(kept.factorizations(), 2);
+  EXPECT_EQ(kept.downdates(), 0);
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     ASSERT_LT((lat.x_m[i] - fresh_lat.x_m[i]).norm(), 1e-12 * lat.cell_m) << "node " << i;
   // a new step size refactors in the same pattern too

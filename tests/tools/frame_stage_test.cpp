@@ -75,5 +75,70 @@ TEST(FrameStage, NormalsKeptOnlyWhereTheRegionReachesEqualTheWholeMeshs) {
   EXPECT_GT(stage.stats().max_displacement_m, 1e-4);
 }
 
+// A clock that advances by a fixed step at every reading: each mark of a frame costs that much.
+class SteppingClock final : public BudgetClock {
+ public:
+  explicit SteppingClock(double step_ms) : step_ms_(step_ms) {}
+  double now_ms() override { return t_ms_ += step_ms_; }
+
+ private:
+  double step_ms_;
+  double t_ms_ = 0.0;
+};
+
+// Runs the box pressed for 40 frames with local_global; returns the stage's state hash.
+std::string pressed_box(const Scene& scene, const Model& model, BudgetClock* clock, FrameStats* stats,
+                        std::vector<int64_t>* frames_at) {
+  SpscQueue<HapticSample> samples(4096);
+  TripleBuffer<LocalModel> local;
+  FrameStage stage(scene, model, &samples, &local, nullptr, nullptr, nullptr);
+  if (clock) stage.use_budget(clock);
+  Vec3 c = Vec3::Zero();
+  const int32_t tri = top_triangle_near(model.rest, 0.0, 0.0, &c);
+  int64_t tick = 0;
+  for (int f = 0; f < 40; ++f) {
+    for (int k = 0; k < 16; ++k) {
+      HapticSample s;
+      s.tick = tick++;
+      s.tool_pos_m = c - Vec3(0, 0, 0.002);
+      s.proxy_pos_m = c;
+      s.contact = ContactState::kTouch;
+      s.contact_tri = tri;
+      s.contact_bary = Vec3::Constant(1.0 / 3.0);
+      s.force_N = Vec3(0, 0, 0.6);
+      EXPECT_TRUE(samples.try_push(s));
+    }
+    stage.frame(f, f / 60.0, true);
+  }
+  *stats = stage.stats();
+  if (stage.budget()) *frames_at = stage.budget()->frames_at();
+  return stage.state_hash();
+}
+
+TEST(FrameStage, BudgetStepsWithTheSettingItsClockAllows) {
+  std::string json = kBox;
+  const std::string key = "\"fix_floor\": true";
+  json.replace(json.find(key), key.size(), key + ", \"integrator\": \"local_global\", \"budget_ms\": 8");
+  const Scene scene = parse_scene(json, "box.json").value();
+  const Model model = load_model(scene).value();
+  FrameStats plain, idle, loaded;
+  std::vector<int64_t> at_idle, at_loaded, none;
+  const std::string h_plain = pressed_box(scene, model, nullptr, &plain, &none);
+  EXPECT_TRUE(none.empty());  // no clock, no budget
+  // a clock that hardly moves: every frame holds 8 ms at the scene's 10 iterations, the same run as without
+  SteppingClock cheap(0.01);
+  EXPECT_EQ(pressed_box(scene, model, &cheap, &idle, &at_idle), h_plain);
+  ASSERT_EQ(at_idle.size(), 6u);
+  EXPECT_EQ(at_idle[0], 40);
+  // 5 ms a reading (4 readings a stepped frame): the step alone costs 5 ms, its frame 15 ms; every rung predicts
+  // more than 8 ms, so after the first frame the cheapest (1 iteration) runs, and the run differs
+  SteppingClock dear(5.0);
+  EXPECT_NE(pressed_box(scene, model, &dear, &loaded, &at_loaded), h_plain);
+  ASSERT_EQ(at_loaded.size(), 6u);
+  EXPECT_EQ(at_loaded[0], 1);
+  EXPECT_EQ(at_loaded[5], 39);
+  EXPECT_EQ(loaded.frames_stepped, plain.frames_stepped);
+}
+
 }  // namespace
 }  // namespace palpate

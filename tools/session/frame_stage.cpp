@@ -31,8 +31,23 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   latest_.proxy_pos_m = latest_.tool_pos_m;
   stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
-  if (scene.mode == InteractionMode::kCut)
+  if (scene.mode == InteractionMode::kCut) {
     cut_.emplace(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m);
+    build_cut_lattice();
+  }
+}
+
+void FrameStage::set_step_dt(double dt_s) {
+  const bool changed = dt_s != step_dt_s_;
+  step_dt_s_ = dt_s;
+  if (changed && cut_ && lattice_) prepare_step(*lattice_, step_opts_, step_dt_s_, &ws_);
+}
+
+void FrameStage::use_budget(BudgetClock* clock) {
+  if (scene_.lattice.budget_ms <= 0.0) return;
+  auto ladder = budget_ladder(step_options(scene_.lattice));
+  if (ladder.empty()) return;
+  budget_.emplace(scene_.lattice.budget_ms, std::move(ladder), clock);
 }
 
 void FrameStage::drain() {
@@ -86,22 +101,26 @@ void FrameStage::build_lattice_at(const Vec3& p_m) {
   stats_.lattice_vertices = std::max(stats_.lattice_vertices, deformer_.num_bound_vertices());
 }
 
+void FrameStage::build_cut_lattice() {
+  // the blade may go anywhere and cuts must persist: one lattice over every solid cell, never moved
+  const int level = scene_.lattice.level;
+  const int n = model_.grid.cells_per_axis(level);
+  auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, {n / 2, n / 2, n / 2}, n));
+  if (!lat) return;
+  lattice_ = std::move(lat).value();
+  step_opts_ = step_options(scene_.lattice);
+  f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
+  floor_z_m_ = lattice_->rest_m.front().z();
+  for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
+  stats_.lattice_nodes = lattice_->num_nodes();
+  stats_.lattice_springs = lattice_->springs.size();
+  stats_.lattice_vertices = vertices_m_.size();
+  // the solver's factorisation too, before the first frame's deadline (the same one the first step would make)
+  prepare_step(*lattice_, step_opts_, step_dt_s_, &ws_);
+}
+
 bool FrameStage::cut_frame() {
-  if (!lattice_) {
-    // the blade may go anywhere and cuts must persist: one lattice over every solid cell, never moved
-    const int level = scene_.lattice.level;
-    const int n = model_.grid.cells_per_axis(level);
-    auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, {n / 2, n / 2, n / 2}, n));
-    if (!lat) return false;
-    lattice_ = std::move(lat).value();
-    step_opts_ = step_options(scene_.lattice);
-    f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
-    floor_z_m_ = lattice_->rest_m.front().z();
-    for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
-    stats_.lattice_nodes = lattice_->num_nodes();
-    stats_.lattice_springs = lattice_->springs.size();
-    stats_.lattice_vertices = vertices_m_.size();
-  }
+  if (!lattice_) return false;
   if (cut_->pending().empty()) return false;
   const CutReport rep = cut_->apply(&*lattice_, &vertices_m_);
   ++stats_.frames_cutting;
@@ -133,7 +152,11 @@ bool FrameStage::step_lattice_frame() {
     return false;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const StepReport rep = step_lattice(&*lattice_, step_opts_, step_dt_s_, f_ext_N_, &ws_);
+  const double c0 = cpu_clock_.now_ms();
+  if (budget_) budget_->step_begin();
+  const StepReport rep = step_lattice(&*lattice_, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, f_ext_N_, &ws_);
+  if (budget_) budget_->step_end();
+  stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
   ++stats_.frames_stepped;
   stats_.node_frames += static_cast<int64_t>(lattice_->num_nodes());
@@ -288,6 +311,8 @@ void FrameStage::render(int64_t index, bool block) {
 
 void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_clock_.now_ms();
+  frame_opts_ = budget_ ? &budget_->begin_frame() : nullptr;
   t_s_ = t_s;
   contact_this_frame_ = false;
   force_sum_N_.setZero();
@@ -317,6 +342,8 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   region_changed_ = false;
   publish_patch();
   stats_.sim_ms.push_back(ms_since(t0));
+  stats_.sim_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
+  if (budget_) budget_->end_frame();
   if (cutting) stats_.cutting_ms.push_back(stats_.sim_ms.back());
   else if (stats_.frames_cutting > 0) stats_.after_cut_ms.push_back(stats_.sim_ms.back());
   ++stats_.frames;

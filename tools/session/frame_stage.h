@@ -19,6 +19,7 @@
 #include "render/video_writer.h"
 #include "sim/cut_model.h"
 #include "sim/deformer.h"
+#include "sim/frame_budget.h"
 #include "sim/integrator.h"
 #include "sim/lattice.h"
 #include "tools/session/haptic_log.h"
@@ -41,6 +42,8 @@ struct FrameStats {
   int max_substeps = 0;             ///< most substeps in one frame
   std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< largest region simulated in a frame
   std::vector<double> step_ms;      ///< per stepped frame: the integrator step alone
+  std::vector<double> sim_cpu_ms;   ///< per frame: sim_ms in the sim thread's CPU time (unaffected by other load)
+  std::vector<double> step_cpu_ms;  ///< per stepped frame: step_ms in CPU time
   int64_t frames_stepped = 0;       ///< frames whose lattice was stepped
   int64_t frames_resting = 0;       ///< frames skipped because the lattice was at rest
   int64_t node_frames = 0, spring_frames = 0, vertex_frames = 0;  ///< sums over frames of what was simulated
@@ -71,7 +74,13 @@ class FrameStage {
   /// pixels as the PNG writer, waiting for the encoder when frame() blocks on the writer, else dropping.
   void set_video(VideoWriter* video) { video_ = video; }
   /// Sets the lattice step per frame (default 1/60 s; a reference run steps at the servo rate).
-  void set_step_dt(double dt_s) { step_dt_s_ = dt_s; }
+  void set_step_dt(double dt_s);
+  /// Keeps the scene's lattice.budget_ms with the frame's sim cost read from `clock` (must outlive the stage):
+  /// each frame steps at the most accurate setting of the ladder predicted to hold the budget. No effect when
+  /// the scene sets no budget or its integrator has nothing to trade.
+  void use_budget(BudgetClock* clock);
+  /// The budget controller, when one runs.
+  const FrameBudget* budget() const { return budget_ ? &*budget_ : nullptr; }
   /// Drains and logs samples left after the last frame.
   void drain_remaining();
   /// 16-hex-digit hash of lattice state and deformed mesh.
@@ -102,7 +111,9 @@ class FrameStage {
   // the object's linearised response at the current contact, for the servo between frames
   void fill_contact_model(LocalModel* m);
   void publish_patch();
-  // cut mode: builds the whole-object lattice once, then applies the blade sweeps drained this frame
+  // cut mode: the whole-object lattice, built once with the stage, and its solver prepared
+  void build_cut_lattice();
+  // cut mode: applies the blade sweeps drained this frame
   bool cut_frame();
   void render(int64_t index, bool block);
 
@@ -121,6 +132,9 @@ class FrameStage {
   MeshDeformer deformer_;
   IntegratorWorkspace ws_;
   StepOptions step_opts_;            // from the scene, fixed for the run
+  std::optional<FrameBudget> budget_;  // lattice.budget_ms: picks the step options of each frame
+  const StepOptions* frame_opts_ = nullptr;  // this frame's options (the budget's), else step_opts_
+  ThreadCpuClock cpu_clock_;         // for the CPU-time figures
   CellCoord region_center_;          // contact cell the region was built around
   bool resting_ = false;             // the lattice is at rest: not stepped until a force acts
   std::vector<Vec3> rest_scratch_;   // forces for the rest check (n)

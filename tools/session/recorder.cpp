@@ -24,6 +24,7 @@
 #include "haptics/servo_runner.h"
 #include "tools/session/contact_report.h"
 #include "tools/session/device_factory.h"
+#include "tools/session/budget_report.h"
 #include "tools/session/frame_stage.h"
 #include "tools/session/lockstep.h"
 #include "tools/session/material_report.h"
@@ -148,8 +149,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
   Servo servo(sp, &device, &samples, local_model.get());
+  WallClock budget_clock;  // realtime frames keep lattice.budget_ms in wall time (lockstep ones have no deadline)
   FrameStage stage(scene, model, &samples, local_model.get(), renderer.get(), writer.get(), &log);
   stage.set_step_dt(rates.frame_period_s());
+  if (!lockstep) stage.use_budget(&budget_clock);
   stage.set_video(video.writer.get());
 
   const int64_t frames = rates.frames(scene.duration_s);
@@ -262,6 +265,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                 {"rt", {{"memory_locked", memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
                         {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};
   j["sim"] = {{"ms", ms_json(fst.sim_ms)},
+              {"cpu_ms", ms_json(fst.sim_cpu_ms)},
               {"integrator", integrator_name(scene.lattice.integrator)},
               {"max_substeps", fst.max_substeps},
               {"nodes", fst.lattice_nodes},
@@ -271,12 +275,14 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                                   {"springs", static_cast<double>(fst.spring_frames) / std::max<int64_t>(1, fst.frames)},
                                   {"vertices", static_cast<double>(fst.vertex_frames) / std::max<int64_t>(1, fst.frames)}}},
               {"step_ms", ms_json(fst.step_ms)},
+              {"step_cpu_ms", ms_json(fst.step_cpu_ms)},
               {"frames_stepped", fst.frames_stepped},
               {"frames_resting", fst.frames_resting},
               {"region_moves", fst.region_moves},
               {"divergence_events", fst.divergence_events},
               {"frame_latency_us", hist_json(frame_latency)},
               {"frames_late", frames_late}};
+  if (scene.lattice.budget_ms > 0.0) j["budget"] = budget_summary(scene, stage, lockstep);
   if (scene.mode == InteractionMode::kCut) {
     const CutModel* cut = stage.cut_model();
     j["cut"] = {{"frames_cutting", fst.frames_cutting},

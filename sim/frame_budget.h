@@ -1,0 +1,111 @@
+#pragma once
+/// A frame budget the sim keeps (opt-in `lattice.budget_ms`): a ladder of step settings from the scene's own
+/// (most accurate) down to the cheapest, and a controller that picks, before each frame, the most accurate setting
+/// whose predicted cost holds the budget. The prediction comes only from what was measured this run: the part of
+/// the frame the setting does not change (drain, cut, deform, normals, patch), and the step's cost per unit of work
+/// of the setting that ran, both as running estimates that rise at once with a dearer frame and fall back gradually.
+/// Costs are read from a clock the caller supplies, so the controller's decisions can be driven exactly in tests.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/integrator.h"
+
+namespace palpate {
+
+/// Where frame costs are read from, in milliseconds. Thread: the caller's.
+class BudgetClock {
+ public:
+  virtual ~BudgetClock() = default;
+  /// Current time in ms (any origin; only differences are used).
+  virtual double now_ms() = 0;
+};
+
+/// The wall clock (std::chrono::steady_clock): a realtime frame's deadline is in wall time.
+class WallClock final : public BudgetClock {
+ public:
+  double now_ms() override;
+};
+
+/// The calling thread's CPU time (CLOCK_THREAD_CPUTIME_ID): what a frame costs whatever else the machine runs.
+class ThreadCpuClock final : public BudgetClock {
+ public:
+  double now_ms() override;
+};
+
+/// One rung of the ladder. Plain data.
+struct BudgetSetting {
+  StepOptions opts;            ///< how to step at this rung
+  double work_units = 1.0;     ///< relative step cost (local/global: iterations + kLocalGlobalFixedUnits)
+  double error_node_rms_cell = -1.0;  ///< time-integration error of this setting against RK4 (see error_source); < 0 unknown
+};
+
+/// The fixed part of a local/global step in units of one iteration (the constant right-hand side and the state
+/// update): bench sim --box 8 on bunny_cut's material measured 0.57 ms CPU at 1 iteration and 3.97 ms at 10.
+inline constexpr double kLocalGlobalFixedUnits = 0.5;
+
+/// Node error rms / cell of local_global at `iterations` (one substep a frame) against an RK4 reference on a box of
+/// bunny_cut's material, as measured once by the command in kBudgetErrorSource (the table the code carries; other
+/// materials and loads carry other errors). < 0 when the table has no such row.
+double bunny_cut_local_global_error(int iterations);
+
+/// Where the errors in the ladder come from (for the summary).
+inline constexpr const char* kBudgetErrorSource =
+    "palpate bench sim scenes/bunny_cut.json --box 8 --integrators local_global --iterations 10 6 4 3 2 1: node rms / "
+    "cell against rk4 x64 substeps, 729-node box of bunny_cut's k, m, c under a 0.3 N pull, measured once (a table "
+    "in the code; other materials and loads differ)";
+
+/// The ladder for a scene's step options: the scene's setting first, then local_global at fewer iterations
+/// (6, 4, 3, 2, 1 below the scene's). Empty when the integrator has nothing to trade (only local_global has).
+std::vector<BudgetSetting> budget_ladder(const StepOptions& scene_opts);
+
+/// The controller. Deterministic given the clock's readings. Thread: the sim thread.
+class FrameBudget {
+ public:
+  /// budget_ms > 0; ladder not empty (most accurate first); clock must outlive this.
+  FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock);
+
+  /// Marks the start of a frame and returns the setting to step it with.
+  const StepOptions& begin_frame();
+  /// Marks the start and end of the lattice step within the frame (a frame that does not step marks neither).
+  void step_begin();
+  void step_end();
+  /// Marks the end of the frame: its costs update the estimates and choose the next frame's setting.
+  void end_frame();
+
+  /// Index of the rung the current (or next) frame runs at.
+  int current() const { return current_; }
+  const std::vector<BudgetSetting>& ladder() const { return ladder_; }
+  /// Frames run at each rung.
+  const std::vector<int64_t>& frames_at() const { return frames_at_; }
+  /// Frames whose measured cost exceeded the budget.
+  int64_t frames_over() const { return frames_over_; }
+  /// Rung changes.
+  int64_t changes() const { return changes_; }
+  /// Predicted cost in ms of a frame at rung i under the current estimates (for tests and reports).
+  double predicted_ms(int i) const;
+  double budget_ms() const { return budget_ms_; }
+
+  /// A better rung is taken only when predicted within this fraction of the budget, and only after this many
+  /// frames at the current one (no flapping between two rungs).
+  static constexpr double kUpFraction = 0.8;
+  static constexpr int kHoldFrames = 10;
+  /// Weight of a new cheaper measurement in the running estimates (a dearer one replaces them at once).
+  static constexpr double kFallRate = 0.2;
+
+ private:
+  double budget_ms_;
+  std::vector<BudgetSetting> ladder_;
+  BudgetClock* clock_;
+  int current_ = 0;
+  int held_ = 0;
+  double t_frame_ = 0.0, t_step_ = 0.0, step_ms_ = 0.0;
+  bool stepped_ = false;
+  double other_ms_ = -1.0;     // estimate of the frame without the step (< 0: none yet)
+  double unit_ms_ = -1.0;      // estimate of the step per work unit (< 0: none yet)
+  std::vector<int64_t> frames_at_;
+  int64_t frames_over_ = 0, changes_ = 0;
+};
+
+}  // namespace palpate

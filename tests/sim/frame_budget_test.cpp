@@ -1,0 +1,120 @@
+// The frame budget controller driven by an injected clock: frame costs are made up exactly (a fixed part plus a
+// cost per unit of the step's work), so each decision can be checked against the budget arithmetic.
+
+#include <gtest/gtest.h>
+
+#include "sim/frame_budget.h"
+
+namespace palpate {
+namespace {
+
+class FakeClock final : public BudgetClock {
+ public:
+  double now_ms() override { return t_ms; }
+  double t_ms = 1000.0;
+};
+
+StepOptions local_global(int iterations) {
+  StepOptions o;
+  o.kind = IntegratorKind::kLocalGlobal;
+  o.iterations = iterations;
+  return o;
+}
+
+// One frame whose step costs ms_per_unit per work unit of the rung it runs at, plus other_ms around it.
+// Returns the iterations it ran with.
+int run_frame(FrameBudget* b, FakeClock* c, double other_ms, double ms_per_unit) {
+  const StepOptions& o = b->begin_frame();
+  const double units = b->ladder()[static_cast<std::size_t>(b->current())].work_units;
+  c->t_ms += 0.5 * other_ms;
+  b->step_begin();
+  c->t_ms += ms_per_unit * units;
+  b->step_end();
+  c->t_ms += 0.5 * other_ms;
+  const int iterations = o.iterations;
+  b->end_frame();
+  return iterations;
+}
+
+TEST(FrameBudget, LadderGoesFromTheScenesIterationsDown) {
+  auto iters = [](const std::vector<BudgetSetting>& l) {
+    std::vector<int> v;
+    for (const auto& s : l) v.push_back(s.opts.iterations);
+    return v;
+  };
+  EXPECT_EQ(iters(budget_ladder(local_global(0))), (std::vector<int>{10, 6, 4, 3, 2, 1}));
+  EXPECT_EQ(iters(budget_ladder(local_global(4))), (std::vector<int>{4, 3, 2, 1}));
+  EXPECT_EQ(iters(budget_ladder(local_global(1))), (std::vector<int>{1}));
+  StepOptions s;
+  s.kind = IntegratorKind::kSymplecticEuler;
+  EXPECT_TRUE(budget_ladder(s).empty());
+  // work units: iterations plus the fixed part; cheaper down the ladder; errors from the measured table
+  const auto l = budget_ladder(local_global(0));
+  EXPECT_DOUBLE_EQ(l[0].work_units, 10.0 + kLocalGlobalFixedUnits);
+  for (std::size_t i = 1; i < l.size(); ++i) {
+    EXPECT_LT(l[i].work_units, l[i - 1].work_units);
+    EXPECT_GT(l[i].error_node_rms_cell, 0.0);
+    EXPECT_GE(l[i].error_node_rms_cell, l[i - 1].error_node_rms_cell);
+  }
+}
+
+TEST(FrameBudget, KeepsTheScenesSettingWhileItHoldsTheBudget) {
+  FakeClock clock;
+  FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
+  for (int f = 0; f < 50; ++f) EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3), 10) << "frame " << f;  // 4.15 ms
+  EXPECT_EQ(b.changes(), 0);
+  EXPECT_EQ(b.frames_over(), 0);
+  EXPECT_EQ(b.frames_at()[0], 50);
+  EXPECT_NEAR(b.predicted_ms(0), 1.0 + 0.3 * 10.5, 1e-9);
+}
+
+TEST(FrameBudget, DegradesWhenTheCostExceedsTheBudgetAndComesBackWhenTheLoadDrops) {
+  FakeClock clock;
+  FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
+  // heavy load: 1 ms a unit makes 10 iterations cost 11.5 ms; 6 iterations (6.5 units) 7.5 ms hold 8 ms
+  EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.0), 10);
+  EXPECT_EQ(b.frames_over(), 1);
+  for (int f = 0; f < 30; ++f) EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.0), 6) << "frame " << f;
+  EXPECT_EQ(b.frames_over(), 1);
+  // heavier: 1.8 ms a unit; 6 iterations cost 12.7 ms, 4 iterations would cost 9.1, 3 iterations (3.5 units)
+  // 7.3 ms are the best that hold
+  EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.8), 6);
+  EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.8), 3);
+  // the load drops to 0.3 ms a unit: the estimate falls gradually; back to 10 iterations once 1 + 10.5 u <= 6.4
+  // (u <= 0.514, which the estimate 0.3 + (1.8 - 0.3) 0.8^k first reaches at k = 9) and not before the hold
+  std::vector<int> ran;
+  for (int f = 0; f < 40; ++f) ran.push_back(run_frame(&b, &clock, 1.0, 0.3));
+  for (int f = 0; f < FrameBudget::kHoldFrames - 1; ++f) EXPECT_EQ(ran[f], 3) << "frame " << f;
+  EXPECT_EQ(ran.back(), 10);
+  int first_back = -1;
+  for (int f = 0; f < 40 && first_back < 0; ++f)
+    if (ran[f] == 10) first_back = f;
+  EXPECT_EQ(first_back, 9);  // after the 9th cheap frame: k = 9, and 10 frames held at 3 iterations
+  for (int f = first_back; f < 40; ++f) EXPECT_EQ(ran[f], 10);
+  EXPECT_EQ(b.changes(), 3);
+  EXPECT_EQ(b.frames_over(), 2);
+}
+
+TEST(FrameBudget, AFrameWhoseFixedPartAloneExceedsTheBudgetTakesTheCheapestSetting) {
+  FakeClock clock;
+  FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
+  run_frame(&b, &clock, 9.0, 0.1);
+  EXPECT_EQ(b.current(), static_cast<int>(b.ladder().size()) - 1);
+  EXPECT_EQ(run_frame(&b, &clock, 9.0, 0.1), 1);
+}
+
+TEST(FrameBudget, FramesThatDoNotStepKeepTheStepEstimate) {
+  FakeClock clock;
+  FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
+  run_frame(&b, &clock, 1.0, 0.5);
+  const double before = b.predicted_ms(0);
+  for (int f = 0; f < 5; ++f) {
+    b.begin_frame();
+    clock.t_ms += 1.0;
+    b.end_frame();
+  }
+  EXPECT_DOUBLE_EQ(b.predicted_ms(0), before);
+}
+
+}  // namespace
+}  // namespace palpate
