@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Palpate builds and tests with, when any is missing.
 # FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
+# cpp-httplib serves the live view (record --serve); Chromium runs its page headless in the `browser` tests.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
@@ -11,6 +12,8 @@ packages=(
   assimp-testmodels
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
   ffmpeg
+  libcpp-httplib-dev
+  chromium
 )
 
 missing=()
