@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -64,6 +65,15 @@ bool encode_png(int width, int height, const uint8_t* rgba, std::string* out) {
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   return true;
+}
+
+// The server's threads run at nice 10: when the cores are short, the recording's threads (nice 0, the servo
+// real-time) go first and the view gets fewer frames. Per thread (Linux nice values are per thread).
+void lower_priority_once() {
+  thread_local bool lowered = false;
+  if (lowered) return;
+  lowered = true;
+  ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 10);
 }
 
 int64_t int_param(const httplib::Request& req, const char* key, int64_t fallback) {
@@ -161,6 +171,7 @@ struct LiveServer::Impl {
   }
 
   void frame(const httplib::Request& req, httplib::Response& res) {
+    lower_priority_once();
     const int64_t after = int_param(req, "after", -1);
     const int64_t deadline = monotonic_ns() + kLongPoll_ns;
     int64_t index = -1;
@@ -183,6 +194,7 @@ struct LiveServer::Impl {
   }
 
   void stats(const httplib::Request& req, httplib::Response& res) {
+    lower_priority_once();
     collect();
     int64_t since = int_param(req, "since", 0);
     nlohmann::json j;
@@ -229,6 +241,7 @@ struct LiveServer::Impl {
   }
 
   void collect_loop() {
+    lower_priority_once();
     std::unique_lock<std::mutex> lock(stop_mutex);
     while (!stopping.load()) {
       lock.unlock();
