@@ -127,7 +127,7 @@ function plot(id, title, unit, lines, fixedMax) {
   for (let i = 0; i <= 4; ++i) {
     const y = ymax * i / 4;
     g.beginPath(); g.moveTo(L, Y(y)); g.lineTo(W - R, Y(y)); g.stroke();
-    g.fillText(y.toPrecision(3), 2, Y(y) + 4);
+    g.fillText(String(Number(y.toPrecision(3))), 2, Y(y) + 4);
   }
   g.fillText(t0.toFixed(1) + " s", L, H - 4);
   g.fillText(t1.toFixed(1) + " s", W - R - 40, H - 4);
@@ -150,9 +150,9 @@ function plot(id, title, unit, lines, fixedMax) {
 }
 
 function drawPlots() {
-  live.forcePoints = plot("plot-force", "device force", "N", [{ y: s.force, color: "#d62728", name: "max", digits: 2 }]);
+  live.forcePoints = plot("plot-force", "device force (largest per frame)", "N", [{ y: s.force, color: "#d62728", name: "now", digits: 2 }]);
   plot("plot-contact", "contact (0 free, 1 touch, 2 grab, 3 cut)", "", [{ y: s.contact, color: "#2ca02c", name: "now", digits: 0 }], 3);
-  plot("plot-wake", "servo wake latency (worst per frame)", "\u00b5s", [{ y: s.wake, color: "#1f77b4", name: "max", digits: 0 }]);
+  plot("plot-wake", "servo wake latency (worst per frame)", "\u00b5s", [{ y: s.wake, color: "#1f77b4", name: "now", digits: 0 }]);
   plot("plot-frame", "frame work / start late", "ms", [{ y: s.work, color: "#9467bd", name: "work", digits: 1 },
                                                         { y: s.late, color: "#ff7f0e", name: "late", digits: 1 }]);
 }
