@@ -23,6 +23,7 @@ struct HapticSample {
   uint32_t buttons = 0;                ///< device buttons
   uint8_t input_rejected = 0;          ///< 1 when the device reading was rejected this tick
   Vec3 blade_axis = Vec3::UnitZ();     ///< cut: unit direction of the blade edge from the tip (tool_pos_m) to the handle
+  float wake_latency_us = 0.0f;        ///< realtime: how late the servo thread woke for this tick (0 on a virtual clock)
 };
 
 }  // namespace palpate

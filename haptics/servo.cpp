@@ -232,6 +232,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   s.buttons = pose.buttons;
   s.input_rejected = rejected ? 1 : 0;
   s.blade_axis = axis;
+  s.wake_latency_us = wake_latency_us_;
   if (!samples_->try_push(s)) ++counters_.dropped_samples;
   last_ = s;
   counters_.max_force_N = std::max(counters_.max_force_N, force.norm());

@@ -55,6 +55,9 @@ class Servo {
   /// One tick at scene time t_s. Thread: servo. Never allocates, locks, logs, throws or blocks.
   void tick(int64_t tick_index, double t_s) noexcept;
 
+  /// How late the thread woke for the next tick (reported in its sample). Thread: servo.
+  void set_wake_latency_ns(int64_t ns) noexcept { wake_latency_us_ = static_cast<float>(ns) * 1e-3f; }
+
   /// Counters so far.
   const ServoCounters& counters() const noexcept { return counters_; }
   /// The last sample produced.
@@ -95,6 +98,7 @@ class Servo {
   PassivityGuard guard_;
   Vec3 held_force_N_ = Vec3::Zero();  // kHoldFrame: force of the last frame
   int64_t held_frame_ = -2;           // kHoldFrame: frame it was computed on
+  float wake_latency_us_ = 0.0f;  // set by the runner before each tick
   double ramp_start_s_ = 0.0;  // force scale ramps 0 -> 1 from here
   bool ramp_pending_ = true;   // restart the ramp at the next good reading
 };

@@ -44,6 +44,7 @@ void ServoRunner::run() noexcept {
     int64_t woke_ns = monotonic_ns();
     while (woke_ns < next_ns) woke_ns = monotonic_ns();
     timing_.wake_latency.add(woke_ns - next_ns);
+    servo_->set_wake_latency_ns(woke_ns - next_ns);
     servo_->tick(tick, static_cast<double>(tick) * static_cast<double>(period_ns_) * 1e-9);
     const int64_t done_ns = monotonic_ns();
     timing_.compute.add(done_ns - woke_ns);

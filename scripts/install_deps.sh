@@ -3,6 +3,7 @@
 # FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
 # capsh (libcap2-bin) lets a test run the servo without the right to lock memory.
 # gnuplot-nox draws the benchmarks' --plot figures (pngcairo) from the data and script palpate writes.
+# cpp-httplib serves the live view (record --serve); Chromium runs its page headless in the `browser` tests.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
@@ -14,6 +15,8 @@ packages=(
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
   ffmpeg libcap2-bin
   gnuplot-nox
+  libcpp-httplib-dev
+  chromium
 )
 
 missing=()

@@ -17,6 +17,8 @@
 #include "tools/plot.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/frame_stage.h"
+#include "tools/session/live_feed.h"
+#include "tools/session/live_server.h"
 #include "tools/session/model.h"
 #include "tools/session/recorder.h"
 
@@ -33,6 +35,8 @@ struct LoopRun {
   LatencyHistogram frame_latency;
   int64_t frames_late = 0, frames_dropped = 0;
   int64_t ticks = 0;
+  bool live = false;             // the live view was served to a client during the run
+  int64_t live_frames_sent = 0;  // frames the client received
 };
 
 // The servo alone: a real device driver and the real surface patch of the scene, nothing else running
@@ -69,9 +73,10 @@ Status run_servo_alone(const Scene& scene, const BenchLoopOptions& o, int spin_u
   return Ok{};
 }
 
-Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, LoopRun* out) {
+Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, bool live, LoopRun* out) {
   out->rate_hz = rate_hz;
-  out->load = o.load;
+  out->load = live ? o.load + "+live" : o.load;
+  out->live = live;
   out->spin_us = o.spin_us >= 0 ? o.spin_us : default_spin_us(rate_hz);
   BenchLoopOptions oo = o;
   oo.rate_hz = rate_hz;
@@ -86,7 +91,22 @@ Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, Lo
   ro.servo_rate_hz = rate_hz;
   ro.spin_us = out->spin_us;
   ro.fifo_priority = o.priority;
+  std::unique_ptr<LiveFeed> feed;
+  std::unique_ptr<LiveServer> server;
+  std::unique_ptr<LivePageClient> client;
+  if (live) {
+    feed = std::make_unique<LiveFeed>(scene.render.width, scene.render.height, o.scene, "realtime");
+    server = std::make_unique<LiveServer>(feed.get());
+    if (auto st = server->start(ServeAddress{"127.0.0.1", 0}); !st) return st.error();
+    client = std::make_unique<LivePageClient>(server->port());
+    ro.live = feed.get();
+  }
   auto r = record_scene(scene, ro);
+  client.reset();
+  if (server) {
+    server->stop();
+    out->live_frames_sent = server->frames_sent();
+  }
   std::error_code ec;
   fs::remove_all(ro.out_dir, ec);
   if (!r) return r.error();
@@ -117,16 +137,19 @@ nlohmann::json to_json(const LoopRun& r) {
           {"frame_latency_us", {{"p50", r.frame_latency.quantile_us(0.5)}, {"p99", r.frame_latency.quantile_us(0.99)},
                                 {"max", r.frame_latency.max_us()}}},
           {"frames_late", r.frames_late},
-          {"frames_dropped", r.frames_dropped}};
+          {"frames_dropped", r.frames_dropped},
+          {"live", r.live},
+          {"live_frames_sent", r.live_frames_sent}};
 }
 
 void print_row(const LoopRun& r) {
   const auto& w = r.timing.wake_latency;
-  std::printf("%8.0f %-7s %5d %8lld %7.0f %7.0f %7.0f %9.1f %9lld %8.0f %8.0f %6lld %6lld\n", r.rate_hz, r.load.c_str(),
+  std::printf("%8.0f %-11s %5d %8lld %7.0f %7.0f %7.0f %9.1f %9lld %8.0f %8.0f %6lld %6lld\n", r.rate_hz, r.load.c_str(),
               r.spin_us, static_cast<long long>(r.ticks), w.quantile_us(0.5), w.quantile_us(0.99), w.quantile_us(0.999),
               w.max_us(), static_cast<long long>(r.timing.overruns), r.timing.compute.quantile_us(0.5),
               r.timing.compute.quantile_us(0.99), static_cast<long long>(r.frames_late),
               static_cast<long long>(r.frames_dropped));
+  if (r.live) std::printf("         (live view: %lld frames sent to the client)\n", static_cast<long long>(r.live_frames_sent));
   std::fflush(stdout);
 }
 
@@ -147,19 +170,26 @@ int run_bench_loop(const BenchLoopOptions& o) {
   }
   std::vector<double> rates = o.sweep ? std::vector<double>{1000, 2000, 5000, 10000} : std::vector<double>{o.rate_hz};
   std::printf("servo loop: scene %s, %.1f s per run, load %s\n", o.scene.c_str(), o.seconds, o.load.c_str());
-  std::printf("%8s %-7s %5s %8s %7s %7s %7s %9s %9s %8s %8s %6s %6s\n", "rate_hz", "load", "spin", "ticks", "p50_us",
+  std::printf("%8s %-11s %5s %8s %7s %7s %7s %9s %9s %8s %8s %6s %6s\n", "rate_hz", "load", "spin", "ticks", "p50_us",
               "p99_us", "p999_us", "max_us", "overruns", "cmp_p50", "cmp_p99", "f_late", "f_drop");
   std::vector<LoopRun> runs;
   double best_rate = 0;
+  if (o.live && o.load != "record") {
+    std::fprintf(stderr, "palpate: bench loop: --live needs --load record (the live view shows rendered frames)\n");
+    return 2;
+  }
   for (double rate : rates) {
-    LoopRun r;
-    if (auto st = run_one(scene.value(), o, rate, &r); !st) {
-      std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
-      return 1;
+    // with --live: the same run without, then with the live view, side by side
+    for (const bool live : o.live ? std::vector<bool>{false, true} : std::vector<bool>{false}) {
+      LoopRun r;
+      if (auto st = run_one(scene.value(), o, rate, live, &r); !st) {
+        std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
+        return 1;
+      }
+      print_row(r);
+      if (r.timing.overruns == 0 && !live) best_rate = std::max(best_rate, rate);
+      runs.push_back(r);
     }
-    print_row(r);
-    if (r.timing.overruns == 0) best_rate = std::max(best_rate, rate);
-    runs.push_back(r);
   }
   if (o.sweep) std::printf("highest rate with no overruns: %.0f Hz\n", best_rate);
   if (!runs.front().timing.rt.fifo)
@@ -196,7 +226,7 @@ int run_bench_loop(const BenchLoopOptions& o) {
       PlotSeries ser;
       const auto& w = runs[r].timing.wake_latency;
       ser.label = std::to_string(static_cast<int>(runs[r].rate_hz)) + " Hz, spin " + std::to_string(runs[r].spin_us) +
-                  " µs (p99 " + std::to_string(static_cast<int>(w.quantile_us(0.99))) + " µs";
+                  " µs" + (runs[r].live ? ", live view" : "") + " (p99 " + std::to_string(static_cast<int>(w.quantile_us(0.99))) + " µs";
       if (w.overflow() > 0) ser.label += ", " + std::to_string(w.overflow()) + " past 2 ms not drawn";
       ser.label += ")";
       ser.colour = colours[r % colours.size()];

@@ -15,6 +15,8 @@ struct BenchLoopOptions {
   int spin_us = -1;                              ///< -1 = the recorder's default
   int priority = 80;                             ///< SCHED_FIFO priority, 0 = normal scheduling
   bool sweep = false;                            ///< try 1, 2, 5, 10 kHz and report the highest without overruns
+  bool live = false;                             ///< record load: each run again with the live view served and a
+                                                 ///< client fetching frames and figures as its page does
   std::string json_path;                         ///< write JSON here when set
   std::string plot_path;                         ///< draw the wake-latency histogram here when set
 };

@@ -1,7 +1,11 @@
 // palpate: record touch/pull demos headless, inspect meshes.
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <thread>
 #include <fstream>
 #include <map>
 #include <string>
@@ -24,6 +28,8 @@
 #include "tools/plot.h"
 #include "tools/scene_command.h"
 #include "tools/session/device_factory.h"
+#include "tools/session/live_feed.h"
+#include "tools/session/live_server.h"
 #include "tools/session/material_report.h"
 #include "tools/session/model.h"
 #include "tools/session/recorder.h"
@@ -31,8 +37,26 @@
 
 namespace {
 
+volatile std::sig_atomic_t g_interrupted = 0;
+
+// Keeps the live view up after the run for linger_s seconds, or until Ctrl-C / SIGTERM.
+void linger(const palpate::LiveServer& server, double linger_s) {
+  std::fprintf(stderr, "palpate: live view: the run is over; serving its last frame at %s for %.0f s (Ctrl-C ends)\n",
+               server.url().c_str(), linger_s);
+  auto on_signal = [](int) { g_interrupted = 1; };
+  struct sigaction sa {}, old_int {}, old_term {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &old_int);
+  sigaction(SIGTERM, &sa, &old_term);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(linger_s);
+  while (!g_interrupted && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+}
+
 int run_record(const std::string& scene_path, palpate::RecordOptions opt, const std::string& mode, bool realtime_flags,
-               bool want_video) {
+               bool want_video, const std::string& serve, double serve_linger_s) {
   auto scene = palpate::load_scene(scene_path);
   if (!scene) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
@@ -61,6 +85,26 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   const bool video_after = run_mode == palpate::RunMode::kRealtime && opt.video_optional && !opt.video_path.empty();
   const std::string video_after_path = video_after ? opt.video_path : std::string();
   if (video_after) opt.video_path.clear();
+  // the live view listens before anything is recorded: an address in use leaves no output behind
+  std::unique_ptr<palpate::LiveFeed> feed;
+  std::unique_ptr<palpate::LiveServer> server;
+  if (!serve.empty()) {
+    auto address = palpate::parse_serve_address(serve);
+    if (!address) {
+      std::fprintf(stderr, "palpate: %s\n", address.error().message.c_str());
+      return 2;
+    }
+    feed = std::make_unique<palpate::LiveFeed>(scene.value().render.width, scene.value().render.height, scene_path,
+                                               run_mode == palpate::RunMode::kRealtime ? "realtime" : "lockstep");
+    if (serve_linger_s > 0.0) feed->keep_frames();
+    server = std::make_unique<palpate::LiveServer>(feed.get());
+    if (auto st = server->start(address.value()); !st) {
+      std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
+      return 2;
+    }
+    std::fprintf(stderr, "palpate: live view at %s\n", server->url().c_str());
+    opt.live = feed.get();
+  }
   auto res = palpate::record_scene(scene.value(), opt);
   if (!res) {
     std::fprintf(stderr, "palpate: %s\n", res.error().message.c_str());
@@ -94,6 +138,9 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   std::printf("summary  %s\n", r.summary_path.c_str());
   if (!r.state_hash.empty()) std::printf("state_hash %s\n", r.state_hash.c_str());
   if (!r.no_contact.empty()) std::fprintf(stderr, "palpate: warning: %s\n", r.no_contact.c_str());
+  std::fflush(stdout);
+  if (server && serve_linger_s > 0.0) linger(*server, serve_linger_s);
+  if (server) server->stop();
   // divergence is never silent: the outputs stay, the exit status says they hold a reset lattice
   if (r.nan_events > 0 || r.divergence_events > 0) {
     std::fprintf(stderr, "palpate: scene '%s': the lattice diverged: nan_events %lld, divergence_events %lld (see %s)\n",
@@ -152,6 +199,14 @@ int main(int argc, char** argv) {
                   "writable, a missing encoder is then an error instead of a warning)")
       ->expected(0, 1);
   rec->add_flag("--no-video", no_video, "No MP4, frames/*.png only");
+  std::string serve;
+  double serve_linger_s = 0.0;
+  rec->add_option("--serve", serve,
+                  "Live view in a browser while recording: serve it on [ADDR:]PORT (ADDR default 127.0.0.1; PORT 0 = any "
+                  "free port); the URL is printed on stderr");
+  rec->add_option("--serve-linger", serve_linger_s,
+                  "With --serve: keep the live view (last frame, final figures) up this many seconds after the run")
+      ->check(palpate::finite_range(0.0, 86400.0));
 
   auto* vid = app.add_subcommand("video", "Make the MP4 (H.264, yuv420p) of a recording from its frames/frame_*.png");
   std::string vid_folder, vid_out;
@@ -203,6 +258,9 @@ int main(int argc, char** argv) {
   bloop->add_option("--priority", lo.priority, "SCHED_FIFO priority, 0 = normal scheduling")->check(CLI::Range(0, 99))
       ->capture_default_str();
   bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate without overruns");
+  bloop->add_flag("--live", lo.live,
+                  "With --load record: each run again with the live view served and a client fetching it as the page "
+                  "does (rows side by side)");
   bloop->add_option("--json", lo.json_path, "Write the figures (with the latency histogram) as JSON");
   bloop->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log-log) with gnuplot: FILE.png, "
                   "its data FILE.dat and script FILE.gp");
@@ -283,7 +341,11 @@ int main(int argc, char** argv) {
     if (video_given && no_render) std::fprintf(stderr, "palpate: warning: --video needs frames; --no-render records none\n");
     const bool want_video = !no_video && !no_render;
     const bool realtime_flags = rec->get_option("--spin-us")->count() > 0 || rec->get_option("--priority")->count() > 0;
-    return run_record(scene_path, opt, mode, realtime_flags, want_video);
+    if (serve_linger_s > 0.0 && serve.empty()) {
+      std::fprintf(stderr, "palpate: --serve-linger needs --serve\n");
+      return 2;
+    }
+    return run_record(scene_path, opt, mode, realtime_flags, want_video, serve, serve_linger_s);
   }
   if (*vid) {
     auto made = palpate::make_recording_video(vid_folder, vid_out, vid_fps);

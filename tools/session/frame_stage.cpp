@@ -54,6 +54,7 @@ void FrameStage::drain() {
   HapticSample s;
   while (samples_->try_pop(&s)) {
     if (log_) log_->append(s);
+    if (live_) live_->add_sample(s);
     ++stats_.samples;
     ++frame_samples_;
     force_sum_N_ += s.force_N;
@@ -301,6 +302,7 @@ void FrameStage::render(int64_t index, bool block) {
   stats_.frames_layered += renderer_->last_draw_layered() ? 1 : 0;
   // the video gets its own copy: its frame index is the scene's, so a skipped frame holds the last one shown
   if (video_) video_->submit(index, buf, block);
+  if (live_) live_->offer_frame(index, buf);
   // files are numbered in the order written, so a realtime run's skipped frames leave no gap in the sequence;
   // written_frames says which scene frame each file shows
   writer_->submit(static_cast<int>(stats_.frames_rendered), buf);
@@ -347,7 +349,11 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   if (cutting) stats_.cutting_ms.push_back(stats_.sim_ms.back());
   else if (stats_.frames_cutting > 0) stats_.after_cut_ms.push_back(stats_.sim_ms.back());
   ++stats_.frames;
+  const std::size_t rendered = stats_.render_ms.size();
   render(index, block_on_writer);
+  if (live_)
+    live_->end_frame(index, t_s, stats_.sim_ms.back() + (stats_.render_ms.size() > rendered ? stats_.render_ms.back() : 0.0),
+                     stats_.frames, writer_ ? writer_->frames_written() : 0, stats_.frames_dropped);
 }
 
 std::string FrameStage::state_hash() const {

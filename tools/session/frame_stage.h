@@ -23,6 +23,7 @@
 #include "sim/integrator.h"
 #include "sim/lattice.h"
 #include "tools/session/haptic_log.h"
+#include "tools/session/live_feed.h"
 #include "tools/session/model.h"
 
 namespace palpate {
@@ -73,6 +74,9 @@ class FrameStage {
   /// Also encodes every rendered frame into `video` (may be null; must outlive the stage); it gets the same
   /// pixels as the PNG writer, waiting for the encoder when frame() blocks on the writer, else dropping.
   void set_video(VideoWriter* video) { video_ = video; }
+  /// Also publishes every frame's pixels, samples and figures to a live view (may be null; must outlive the
+  /// stage); it never waits for the view's readers.
+  void set_live(LiveFeed* live) { live_ = live; }
   /// Sets the lattice step per frame (default 1/60 s; a reference run steps at the servo rate).
   void set_step_dt(double dt_s);
   /// Keeps the scene's lattice.budget_ms with the frame's sim cost read from `clock` (must outlive the stage):
@@ -124,6 +128,7 @@ class FrameStage {
   Renderer* renderer_;
   PngWriter* writer_;
   VideoWriter* video_ = nullptr;
+  LiveFeed* live_ = nullptr;
   HapticLog* log_;
 
   std::optional<Lattice> lattice_;

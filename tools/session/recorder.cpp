@@ -26,6 +26,7 @@
 #include "tools/session/device_factory.h"
 #include "tools/session/budget_report.h"
 #include "tools/session/frame_stage.h"
+#include "tools/session/live_feed.h"
 #include "tools/session/lockstep.h"
 #include "tools/session/material_report.h"
 #include "tools/session/model.h"
@@ -154,6 +155,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   stage.set_step_dt(rates.frame_period_s());
   if (!lockstep) stage.use_budget(&budget_clock);
   stage.set_video(video.writer.get());
+  stage.set_live(opt.live);
 
   const int64_t frames = rates.frames(scene.duration_s);
   Progress progress(opt.quiet, scene.name, scene.duration_s);
@@ -200,9 +202,11 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
       sleep_until_ns(deadline);
       const int64_t late = monotonic_ns() - deadline;
       frame_latency.add(late);
+      if (opt.live) opt.live->set_frame_late_ns(late);
       // a frame a whole period late is skipped (counted), so the loop catches up with the wall clock
       if (late > static_cast<int64_t>(frame_ns)) {
         ++frames_late;
+        if (opt.live) opt.live->frame_skipped();
         continue;
       }
       stage.frame(f, static_cast<double>(f) * rates.frame_period_s(), false);
@@ -322,7 +326,23 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   res.nan_events = fst.nan_events;
   res.divergence_events = fst.divergence_events;
   res.no_contact = no_contact;
-  if (auto st = write_file_atomic(res.summary_path, res.summary_json, "summary"); !st) return st.error();
+  const Status summary_status = write_file_atomic(res.summary_path, res.summary_json, "summary");
+  if (opt.live) {
+    // the live view ends on the figures summary.json holds
+    LiveFigures f;
+    f.frames = fst.frames;
+    f.frames_written = res.frames_written;
+    f.frames_dropped = fst.frames_dropped;
+    f.frames_late = frames_late;
+    f.servo_ticks = sc.ticks;
+    f.overruns = timing.overruns;
+    f.servo_p50_us = timing.wake_latency.quantile_us(0.5);
+    f.servo_p99_us = timing.wake_latency.quantile_us(0.99);
+    f.t_s = scene.duration_s;
+    f.max_force_N = sc.max_force_N;
+    opt.live->finish(f);
+  }
+  if (!summary_status) return summary_status.error();
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());
   if (!video_status) return video_status.error();

@@ -11,6 +11,8 @@
 
 namespace palpate {
 
+class LiveFeed;
+
 /// Sim/render frames per (scene-)second.
 inline constexpr double kDefaultFrameRate_hz = 60.0;
 
@@ -32,6 +34,7 @@ struct RecordOptions {
   bool lock_memory = true;       ///< realtime: mlockall before starting
   std::string video_path;        ///< MP4 of the rendered frames (H.264, yuv420p, frame rate); empty = none
   bool video_optional = false;   ///< a video that cannot be made is a warning (video on by default), not an error
+  LiveFeed* live = nullptr;      ///< live view fed by the sim thread while recording (null = none); finished at the end
 };
 
 /// What a finished recording reports (also written to summary.json).

@@ -1,0 +1,299 @@
+// The live view in a real browser: `palpate record --serve` runs a realtime recording as a second process, headless
+// Chromium opens its page, and the test reads what the page saw through the DevTools protocol (over a pipe): the
+// picture on its canvas changes while the run goes on, the force plot has points, and the figures the page and
+// /stats.json end on are those of summary.json.
+#include <gtest/gtest.h>
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/cli_run.h"
+#include "support/fixtures.h"
+
+namespace palpate {
+namespace {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// Starts argv[0] (looked up on PATH) with stdout and stderr into log_path; fd_in / fd_out (when >= 0) become the
+// child's fds 3 and 4. Returns the pid, -1 on failure.
+pid_t spawn(const std::vector<std::string>& argv, const std::string& log_path, int fd_in = -1, int fd_out = -1) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  const int log = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  ::dup2(log, 1);
+  ::dup2(log, 2);
+  // moved out of the way first, so that dup2 onto 3 and 4 cannot close one of them
+  const int in = fd_in >= 0 ? ::fcntl(fd_in, F_DUPFD, 10) : -1;
+  const int out = fd_out >= 0 ? ::fcntl(fd_out, F_DUPFD, 10) : -1;
+  if (in >= 0) ::dup2(in, 3);
+  if (out >= 0) ::dup2(out, 4);
+  ::execvp(args[0], args.data());
+  std::_Exit(127);
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in, nullptr, false);
+}
+
+// GET path from 127.0.0.1:port (Connection: close); the body, empty on failure
+std::string http_get(int port, const std::string& path) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  const timeval limit{30, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
+  sockaddr_in sa{};
+  sa.sin_family = AF_INET;
+  sa.sin_port = htons(static_cast<uint16_t>(port));
+  sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  std::string out;
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&sa), sizeof sa) == 0) {
+    const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+    if (::send(fd, req.data(), req.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(req.size())) {
+      char buf[65536];
+      for (ssize_t n; (n = ::recv(fd, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));
+    }
+  }
+  ::close(fd);
+  const auto body = out.find("\r\n\r\n");
+  return body == std::string::npos ? std::string() : out.substr(body + 4);
+}
+
+// Headless Chromium driven through the DevTools protocol on a pipe (JSON messages ended by a NUL byte).
+class Browser {
+ public:
+  bool launch(const std::string& url, const std::string& dir) {
+    int to[2], from[2];
+    if (::pipe2(to, O_CLOEXEC) != 0 || ::pipe2(from, O_CLOEXEC) != 0) return false;
+    pid_ = spawn({"chromium", "--headless=new", "--no-sandbox", "--disable-gpu", "--remote-debugging-pipe",
+                  "--no-first-run", "--window-size=1200,1000", "--user-data-dir=" + dir + "/profile", url},
+                 dir + "/chromium.log", to[0], from[1]);
+    ::close(to[0]);
+    ::close(from[1]);
+    write_fd_ = to[1];
+    read_fd_ = from[0];
+    return pid_ > 0;
+  }
+
+  ~Browser() {
+    if (pid_ <= 0) return;
+    call("Browser.close", nlohmann::json::object(), false, 5);
+    for (int i = 0; i < 100; ++i) {
+      if (::waitpid(pid_, nullptr, WNOHANG) == pid_) {
+        pid_ = -1;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+    ::close(write_fd_);
+    ::close(read_fd_);
+  }
+
+  // a command's result (the "result" object), or null after timeout_s or on an error reply
+  nlohmann::json call(const std::string& method, const nlohmann::json& params, bool on_page, int timeout_s = 30) {
+    const int id = next_id_++;
+    nlohmann::json msg = {{"id", id}, {"method", method}, {"params", params}};
+    if (on_page) msg["sessionId"] = session_;
+    const std::string text = msg.dump() + std::string(1, '\0');
+    if (::write(write_fd_, text.data(), text.size()) != static_cast<ssize_t>(text.size())) return nullptr;
+    const auto end = Clock::now() + std::chrono::seconds(timeout_s);
+    for (;;) {
+      for (std::size_t z; (z = buf_.find('\0')) != std::string::npos;) {
+        const auto reply = nlohmann::json::parse(buf_.substr(0, z), nullptr, false);
+        buf_.erase(0, z + 1);
+        if (!reply.is_discarded() && reply.value("id", -1) == id)
+          return reply.contains("result") ? reply["result"] : nlohmann::json(nullptr);
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now()).count();
+      if (left <= 0) return nullptr;
+      pollfd p{read_fd_, POLLIN, 0};
+      if (::poll(&p, 1, static_cast<int>(left)) <= 0) continue;
+      char chunk[65536];
+      const ssize_t n = ::read(read_fd_, chunk, sizeof chunk);
+      if (n <= 0) return nullptr;
+      buf_.append(chunk, static_cast<std::size_t>(n));
+    }
+  }
+
+  // attaches to the page showing `url`
+  bool attach(const std::string& url) {
+    const auto end = Clock::now() + std::chrono::seconds(60);
+    while (Clock::now() < end) {
+      const auto targets = call("Target.getTargets", nlohmann::json::object(), false);
+      if (targets.is_object())
+        for (const auto& t : targets["targetInfos"])
+          if (t.value("type", "") == "page" && t.value("url", "") == url) {
+            const auto a = call("Target.attachToTarget", {{"targetId", t["targetId"]}, {"flatten", true}}, false);
+            if (!a.is_object()) return false;
+            session_ = a.value("sessionId", "");
+            return !session_.empty();
+          }
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    return false;
+  }
+
+  // the value of a JavaScript expression in the page (null when it failed)
+  nlohmann::json eval(const std::string& expression) {
+    const auto r = call("Runtime.evaluate", {{"expression", expression}, {"returnByValue", true}}, true);
+    if (!r.is_object() || r.contains("exceptionDetails") || !r["result"].contains("value")) return nullptr;
+    return r["result"]["value"];
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int write_fd_ = -1, read_fd_ = -1;
+  int next_id_ = 1;
+  std::string session_;
+  std::string buf_;
+};
+
+// what the page saw, and a hash of the picture on its canvas
+const char* kPageState = R"JS(JSON.stringify((() => {
+  const c = document.getElementById("view");
+  const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+  let h = 0;
+  for (let i = 0; i < d.length; i += 4) h = (Math.imul(h, 31) + d[i] + 7 * d[i + 1] + 13 * d[i + 2]) >>> 0;
+  return { drawn: live.framesDrawn, frame: live.lastFrame, force_points: live.forcePoints, finished: live.finished,
+           hash: h, stats: live.stats };
+})()))JS";
+
+// A realtime recording the tool moves through all along: the cube pressed and released every second.
+std::string moving_scene(const std::string& dir, double duration_s) {
+  auto j = read_json(test::source_path("scenes/cube_press.json"));
+  j["name"] = "cube_press_cycles";
+  j["duration_s"] = duration_s;
+  j["trajectory"] = nlohmann::json::array();
+  for (int k = 0; k <= static_cast<int>(duration_s * 2) + 2; ++k)
+    j["trajectory"].push_back({{"t_s", 0.5 * k}, {"pos_m", {0.004, 0.004, k % 2 == 0 ? 0.045 : 0.012}}});
+  const std::string path = dir + "/cube_press_cycles.json";
+  std::ofstream(path) << j.dump(2);
+  return path;
+}
+
+TEST(LiveBrowser, PageShowsTheRecordingWhileItRunsAndEndsOnItsSummary) {
+  ASSERT_EQ(test::shell("command -v chromium").code, 0)
+      << "chromium is not installed: the browser test needs it (scripts/install_deps.sh installs it)";
+  const std::string dir = test::fresh_dir("live_browser");
+  fs::create_directories(dir);
+  const std::string out = dir + "/rec";
+  const std::string scene = moving_scene(dir, 10.0);
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const std::string palpate = std::string(bin ? bin : "build/bin") + "/palpate";
+  const std::string log = dir + "/record.log";
+  const pid_t rec = spawn({palpate, "record", scene, "--mode", "realtime", "--serve", "127.0.0.1:0", "--serve-linger",
+                           "120", "--no-video", "--quiet", "--out", out},
+                          log);
+  ASSERT_GT(rec, 0);
+  struct Reap {
+    pid_t pid;
+    ~Reap() {
+      if (pid > 0 && ::waitpid(pid, nullptr, WNOHANG) == 0) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, nullptr, 0);
+      }
+    }
+  } reap{rec};
+
+  // the URL is printed on stderr at start
+  std::string url;
+  for (auto end = Clock::now() + std::chrono::seconds(60); url.empty() && Clock::now() < end;) {
+    const std::string text = slurp(log);
+    const auto at = text.find("live view at http://127.0.0.1:");
+    if (at != std::string::npos) url = text.substr(at + 13, text.find('\n', at) - at - 13);
+    else std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_FALSE(url.empty()) << slurp(log);
+  const int port = std::stoi(url.substr(url.rfind(':') + 1));
+
+  Browser browser;
+  ASSERT_TRUE(browser.launch(url, dir));
+  ASSERT_TRUE(browser.attach(url)) << slurp(dir + "/chromium.log");
+
+  // watch the page until it says the recording finished
+  std::set<uint32_t> hashes_while_running;
+  int64_t first_frame = -1, last_frame_running = -1;
+  nlohmann::json state;
+  for (auto end = Clock::now() + std::chrono::seconds(180); Clock::now() < end;) {
+    const auto v = browser.eval(kPageState);
+    if (v.is_string()) {
+      state = nlohmann::json::parse(v.get<std::string>(), nullptr, false);
+      if (state.is_object() && state["finished"].get<bool>()) break;
+      if (state.is_object() && state["drawn"].get<int64_t>() > 0) {
+        hashes_while_running.insert(state["hash"].get<uint32_t>());
+        if (first_frame < 0) first_frame = state["frame"].get<int64_t>();
+        last_frame_running = state["frame"].get<int64_t>();
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+  ASSERT_TRUE(state.is_object() && state["finished"].get<bool>()) << state.dump() << "\n" << slurp(log);
+
+  // the picture changed while the run went on, from frames received one after another
+  EXPECT_GE(hashes_while_running.size(), 2u) << "the canvas showed one picture only";
+  EXPECT_GT(last_frame_running, first_frame);
+  EXPECT_GE(state["drawn"].get<int64_t>(), 3) << state.dump();
+  // the force plot has points
+  EXPECT_GT(state["force_points"].get<int64_t>(), 0) << state.dump();
+
+  // the figures the page and /stats.json end on are those of summary.json
+  const auto summary = read_json(out + "/summary.json");
+  ASSERT_FALSE(summary.is_discarded());
+  const auto stats = nlohmann::json::parse(http_get(port, "/stats.json"), nullptr, false);
+  ASSERT_TRUE(stats.is_object());
+  for (const auto& shown : {stats, state["stats"]}) {
+    EXPECT_TRUE(shown["finished"].get<bool>());
+    EXPECT_EQ(shown["frames_written"], summary["frames_written"]);
+    EXPECT_EQ(shown["frames_dropped"], summary["frames_dropped"]);
+    EXPECT_EQ(shown["frames_late"], summary["sim"]["frames_late"]);
+    EXPECT_EQ(shown["servo"]["ticks"], summary["servo_ticks"]);
+    EXPECT_EQ(shown["servo"]["overruns"], summary["servo"]["overruns"]);
+    EXPECT_EQ(shown["servo"]["p50_us"], summary["servo"]["latency_us"]["p50"]);
+    EXPECT_EQ(shown["servo"]["p99_us"], summary["servo"]["latency_us"]["p99"]);
+    EXPECT_EQ(shown["max_force_N"], summary["max_force_N"]);
+  }
+  EXPECT_EQ(summary["frames_written"].get<int64_t>(), static_cast<int64_t>(std::distance(
+      fs::directory_iterator(out + "/frames"), fs::directory_iterator{})));
+
+  // the lingering server ends on SIGTERM, and the recording's exit status is a success
+  ::kill(rec, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(rec, &status, 0), rec);
+  reap.pid = -1;
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp(log);
+}
+
+}  // namespace
+}  // namespace palpate
