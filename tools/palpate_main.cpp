@@ -139,8 +139,9 @@ int main(int argc, char** argv) {
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
       ->check(CLI::Range(0, 99));
   rec->add_option("--servo-rate", opt.servo_rate_hz,
-                  "Servo rate in Hz (lockstep: ticks per scene-second); device, servo period and passivity follow it")
-      ->check(palpate::finite_range(100.0, 20000.0))->capture_default_str();
+                  "Servo rate in Hz (lockstep: ticks per scene-second; default: the scene's servo.rate_hz, 1000); "
+                  "device, servo period, passivity guard and the coupling's passivity bound 2b/T follow it")
+      ->check(palpate::finite_range(palpate::kMinServoRate_hz, palpate::kMaxServoRate_hz));
 
   // video on by default: it costs the sim thread one frame copy (the encoder has its own thread); see README
   std::string video_path;

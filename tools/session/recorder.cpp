@@ -109,7 +109,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
-  const Rates rates{opt.servo_rate_hz, kDefaultFrameRate_hz};
+  const bool rate_given = opt.servo_rate_hz > 0.0;
+  const Rates rates{rate_given ? opt.servo_rate_hz : scene.servo_rate_hz, kDefaultFrameRate_hz};
   auto device_r = make_device(scene, opt.device, rates.servo_hz);
   if (!device_r) return device_r.error();
   // an explicit video path that can never be written fails before any output exists
@@ -147,6 +148,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
 
   Device& device = *device_r.value();
   const ServoParams sp = servo_params_for(scene, device.specs(), rates.servo_hz);
+  const CouplingLimit coupling = coupling_limit(scene, device.specs(), rates.servo_hz);
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
   Servo servo(sp, &device, &samples, local_model.get());
@@ -246,8 +248,16 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["dropped_samples"] = sc.dropped_samples;
   j["rejected_inputs"] = sc.rejected_inputs;
   j["no_readings"] = sc.no_readings;
+  // the coupling used and the limit that set it: the scene's ask, a stiffness limit, or the passivity bound
+  // 2b/T at this rate (b the device's damping)
   j["coupling"] = {{"stiffness_N_per_m", sp.coupling_N_per_m},
                    {"capped", sp.coupling_N_per_m < scene.device.coupling_N_per_m},
+                   {"bound", coupling.bound},
+                   {"limits_N_per_m", {{"scene", coupling.scene_N_per_m},
+                                       {"scene_max", coupling.scene_max_N_per_m},
+                                       {"device_max", coupling.device_max_N_per_m},
+                                       {"passivity", coupling.passivity_max_N_per_m}}},
+                   {"device_damping_Ns_per_m", coupling.damping_Ns_per_m},
                    {"passivity", sp.passivity},
                    {"passivity_activations", sc.passivity_activations},
                    {"passivity_dissipated_J", sc.passivity_dissipated_J},
@@ -260,6 +270,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                 {"first_overrun_ticks", std::vector<int64_t>(timing.first_overrun_ticks.begin(),
                                                              timing.first_overrun_ticks.begin() + timing.overrun_ticks_recorded)},
                 {"rate_hz", rates.servo_hz},
+                {"rate_from", rate_given ? "--servo-rate" : "scene"},
                 {"spin_us", lockstep ? 0 : (opt.spin_us >= 0 ? opt.spin_us : default_spin_us(rates.servo_hz))},
                 {"rt", {{"memory_locked", memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
                         {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};

@@ -24,8 +24,9 @@ struct RecordOptions {
   bool render = true;            ///< false: no GL, no frames (sim and haptics only)
   bool full_redraw = false;      ///< draw the whole mesh every frame (no cached static layer; same pixels)
   std::string device;            ///< device override ("scripted", ...); empty = the scene's driver
-  double servo_rate_hz = 1000.0; ///< servo ticks per second (lockstep: per scene-second); device, servo period,
-                                 ///< passivity guard and velocity estimate all follow it
+  double servo_rate_hz = 0.0;    ///< > 0 overrides the scene's servo.rate_hz: servo ticks per second (lockstep: per
+                                 ///< scene-second); device, servo period, passivity guard and bound, and velocity
+                                 ///< estimate all follow it
   int spin_us = -1;              ///< realtime: spin this long before each servo deadline; -1 = default_spin_us(rate)
   int fifo_priority = 80;        ///< realtime: SCHED_FIFO priority for the servo, 0 = normal scheduling
   int servo_cpu = -1;            ///< realtime: CPU to pin the servo to, -1 = the last allowed CPU
