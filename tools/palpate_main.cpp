@@ -201,7 +201,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000));
   bloop->add_option("--priority", lo.priority, "SCHED_FIFO priority, 0 = normal scheduling")->check(CLI::Range(0, 99))
       ->capture_default_str();
-  bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate without overruns");
+  bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate such that it and every lower rate had no overruns");
   bloop->add_option("--json", lo.json_path, "Write the figures (with the latency histogram) as JSON");
   bloop->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log count) as PNG");
 

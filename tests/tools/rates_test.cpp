@@ -10,6 +10,7 @@
 
 #include "core/scene.h"
 #include "support/fixtures.h"
+#include "tools/bench_loop.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/lockstep.h"
 #include "tools/session/recorder.h"
@@ -128,6 +129,14 @@ TEST(Rates, RecordingsAt500HzAnd2kHzTickAtTheirRateAndFollowTheSameHand) {
     EXPECT_LT(worst_z, 1e-4) << rate << " Hz: handle path differs by " << worst_z << " m";
     EXPECT_LT(worst_f, 0.03) << rate << " Hz: force differs by " << worst_f << " N";
   }
+}
+
+TEST(Rates, SweepNamesTheHighestRateBelowWhichNothingOverran) {
+  const std::vector<double> rates{1000, 2000, 5000, 10000};
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {0, 0, 0, 0}), 10000.0);
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {0, 0, 3, 0}), 2000.0);  // a clean 10 kHz above an overrun is luck
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {0, 1, 0, 0}), 1000.0);
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {2, 0, 0, 0}), 0.0);
 }
 
 TEST(Rates, SceneServoRateIsUsedAndTheCommandLineOverridesIt) {
