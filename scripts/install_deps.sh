@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Palpate builds and tests with, when any is missing.
-# FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
+# libdeflate compresses the PNG frames. FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev
+  libeigen3-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev libdeflate-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev

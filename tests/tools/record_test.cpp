@@ -41,6 +41,14 @@ TEST(Record, CubePressWritesThirtyFramesThatChangeWhereTheToolPresses) {
   ASSERT_TRUE(first && last);
   ASSERT_EQ(first.value().width, scene.render.width);
   ASSERT_EQ(first.value().height, scene.render.height);
+  // the renderer's frames are opaque: stored as 8-bit RGB (IHDR colour type 2)
+  for (const char* name : {"frame_00000.png", "frame_00029.png"}) {
+    std::ifstream png(frames / name, std::ios::binary);
+    char head[26] = {};
+    png.read(head, sizeof head);
+    EXPECT_EQ(std::string(head + 12, 4), "IHDR");
+    EXPECT_EQ(head[25], 2) << name;
+  }
 
   const auto summary = read_json(r.value().summary_path);
   EXPECT_GT(summary["max_displacement_m"].get<double>(), 1e-4);
