@@ -123,6 +123,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   std::unique_ptr<GlContext> gl;
   std::unique_ptr<Renderer> renderer;
   std::unique_ptr<PngWriter> writer;
+  PngWriterConfig png;
+  png.threads = opt.png_threads > 0 ? opt.png_threads : lockstep ? kLockstepPngThreads : 1;
+  png.codec = opt.png_codec;
+  png.keep_alpha = opt.png_keep_alpha;
   if (opt.render) {
     auto ctx = create_gl_context(scene.render.width, scene.render.height, scene.render.backend);
     if (!ctx) return ctx.error();
@@ -135,7 +139,9 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                                           Camera::framing(box.min_m, box.max_m,
                                                           static_cast<double>(scene.render.width) / scene.render.height));
     renderer->set_layered(!opt.full_redraw);
-    writer = std::make_unique<PngWriter>(frames_dir, scene.render.width, scene.render.height, 6);
+    // lockstep: two encoder threads use the core the single sim/render thread leaves idle; realtime: one, so
+    // the servo's core is not contended by a second encoder
+    writer = std::make_unique<PngWriter>(frames_dir, scene.render.width, scene.render.height, 6, png);
   }
   auto video_r = open_recording_video(opt.render ? opt.video_path : "", opt.video_optional, scene.render.width,
                                       scene.render.height, static_cast<int>(std::lround(rates.frame_hz)));
@@ -306,7 +312,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                  {"width", scene.render.width}, {"height", scene.render.height},
                  {"frames_layered", fst.frames_layered}, {"layer_builds", renderer ? renderer->layer_builds() : 0}};
   j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
-              {"write_errors", writer ? writer->write_errors() : 0}};
+              {"write_errors", writer ? writer->write_errors() : 0},
+              {"threads", png.threads},
+              {"codec", png.codec == PngCodec::kZlib ? "zlib" : "libdeflate"},
+              {"keep_alpha", png.keep_alpha}};
   // realtime: which scene frame each file shows (files are numbered without gaps; lockstep: file i is frame i)
   if (!lockstep) j["frames_scene_index"] = fst.written_frames;
   j["video"] = video_json(video, opt.render ? "off: no video path (--no-video)" : "no frames (--no-render)");

@@ -8,11 +8,14 @@
 #include "core/result.h"
 #include "core/scene.h"
 #include "haptics/servo_runner.h"
+#include "render/png_io.h"
 
 namespace palpate {
 
 /// Sim/render frames per (scene-)second.
 inline constexpr double kDefaultFrameRate_hz = 60.0;
+/// PNG encoder threads of a lockstep recording (realtime recordings use one).
+inline constexpr int kLockstepPngThreads = 2;
 
 /// How to run a recording (command-line overrides of the scene).
 struct RecordOptions {
@@ -33,6 +36,9 @@ struct RecordOptions {
   bool lock_memory = true;       ///< realtime: mlockall before starting
   std::string video_path;        ///< MP4 of the rendered frames (H.264, yuv420p, frame rate); empty = none
   bool video_optional = false;   ///< a video that cannot be made is a warning (video on by default), not an error
+  int png_threads = 0;           ///< PNG encoder threads; 0 = kLockstepPngThreads in lockstep, 1 in realtime
+  PngCodec png_codec = PngCodec::kLibdeflate;  ///< the frames' compressor (comparisons: bench png --record)
+  bool png_keep_alpha = false;   ///< RGBA frames even when opaque (comparisons: the format before RGB frames)
 };
 
 /// What a finished recording reports (also written to summary.json).
