@@ -17,6 +17,7 @@
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
 #include "tools/bench_material.h"
+#include "tools/bench_png.h"
 #include "tools/bench_scale.h"
 #include "tools/bench_sim.h"
 #include "tools/cli_checks.h"
@@ -257,6 +258,18 @@ int main(int argc, char** argv) {
   bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(CLI::Range(1.0, 1e12))->capture_default_str();
   bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
 
+  auto* bpng = bench->add_subcommand("png", "PNG encoders side by side on a recording's frames (ms per frame, size, lossless check)");
+  palpate::BenchPngOptions po;
+  bpng->add_option("folder", po.folder, "Recording folder (frames/frame_*.png), e.g. out/bunny_pull (default with "
+                   "--record: the last recording made)");
+  bpng->add_option("--record", po.record, "Also record this lockstep scene with each frame writer (zlib RGBA / RGB, "
+                   "libdeflate RGB, 1 and 2 threads) in turn, --reps times: wall per scene-second and state hashes");
+  bpng->add_option("--out,-o", po.out_dir, "Folder for the --record recordings")->capture_default_str();
+  bpng->add_option("--frames", po.frames, "Frames used, spread over the recording")->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  bpng->add_option("--reps", po.repetitions, "Passes over the frames")->check(CLI::Range(1, 1000))->capture_default_str();
+  bpng->add_option("--json", po.json_path, "Write the rows as JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -310,8 +323,10 @@ int main(int argc, char** argv) {
   }
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
-  if (*bscale || *bmat) {
-    auto table = *bscale ? palpate::run_bench_scale(bscale_scene, sco) : palpate::run_bench_material(mo);
+  if (*bscale || *bmat || *bpng) {
+    auto table = *bscale ? palpate::run_bench_scale(bscale_scene, sco)
+                 : *bmat ? palpate::run_bench_material(mo)
+                         : palpate::run_bench_png(po);
     if (!table) {
       std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
       return 1;
