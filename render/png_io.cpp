@@ -115,10 +115,10 @@ bool alpha_opaque(const uint8_t* rgba, std::size_t pixels) {
 
 PngEncoder::PngEncoder(PngCodec codec, int level) : codec_(codec) {
   if (codec_ == PngCodec::kLibdeflate) {
-    level_ = std::clamp(level, 1, 12);
+    level_ = level == 0 ? 2 : std::clamp(level, 1, 12);
     compressor_ = libdeflate_alloc_compressor(level_);
   } else {
-    level_ = std::clamp(level, 1, 9);
+    level_ = level == 0 ? 1 : std::clamp(level, 1, 9);
   }
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// `palpate bench png`: PNG encoders side by side on a recording's own frames — libpng + zlib as RGBA (the
 /// format before RGB frames) and as RGB, and libdeflate as RGB — each frame decoded back and compared; with
-/// --record, whole lockstep recordings with each frame-writing configuration in turn (wall per scene-second).
+/// --record, whole lockstep recordings (with their default MP4) with each frame-writing configuration in turn
+/// (wall per scene-second).
 
 #include <string>
 
