@@ -124,6 +124,9 @@ Status compare_recordings(const BenchPngOptions& o, std::string* out, std::strin
 
 Result<std::string> run_bench_png(const BenchPngOptions& o_in) {
   BenchPngOptions o = o_in;
+  // the output is checked before minutes of recording: never a device or a link replaced at the end
+  if (!o.json_path.empty())
+    if (auto st = check_output_target(o.json_path, "bench json"); !st) return st.error();
   std::string out;
   if (!o.record.empty()) {
     std::string folder;
@@ -131,8 +134,6 @@ Result<std::string> run_bench_png(const BenchPngOptions& o_in) {
     if (o.folder.empty()) o.folder = folder;
   }
   if (o.folder.empty()) return make_error("bench png: give a recording folder or --record SCENE");
-  if (!o.json_path.empty())
-    if (auto st = check_output_target(o.json_path, "bench json"); !st) return st.error();
   fs::path dir = fs::path(o.folder) / "frames";
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) dir = o.folder;
