@@ -27,7 +27,7 @@ AtomicFile::~AtomicFile() { discard(); }
 
 AtomicFile::AtomicFile(AtomicFile&& o) noexcept
     : path_(std::move(o.path_)), what_(std::move(o.what_)), suffix_(std::move(o.suffix_)), f_(std::exchange(o.f_, nullptr)),
-      error_(std::move(o.error_)) {}
+      error_(std::move(o.error_)), synced_(std::exchange(o.synced_, false)) {}
 
 AtomicFile& AtomicFile::operator=(AtomicFile&& o) noexcept {
   if (this != &o) {
@@ -37,6 +37,7 @@ AtomicFile& AtomicFile::operator=(AtomicFile&& o) noexcept {
     suffix_ = std::move(o.suffix_);
     f_ = std::exchange(o.f_, nullptr);
     error_ = std::move(o.error_);
+    synced_ = std::exchange(o.synced_, false);
   }
   return *this;
 }
@@ -73,7 +74,7 @@ void AtomicFile::fail(const std::string& cause) {
   if (error_.empty()) error_ = cause.empty() ? "write failed" : cause;
 }
 
-Status AtomicFile::commit(bool keep_partial) {
+Status AtomicFile::sync() {
   if (!f_) return make_error(what_, " '", path_, "': ", error_.empty() ? "not open" : error_);
   // the data reaches the disk (and ENOSPC shows up) at flush, fsync and close
   if (std::fflush(f_) != 0) fail(std::strerror(errno));
@@ -81,6 +82,17 @@ Status AtomicFile::commit(bool keep_partial) {
   if (error_.empty() && ::fsync(fileno(f_)) != 0) fail(std::strerror(errno));
   if (std::fclose(f_) != 0) fail(std::strerror(errno));
   f_ = nullptr;
+  synced_ = true;
+  if (!error_.empty()) return make_error(what_, " '", path_, "': ", error_);
+  return Ok{};
+}
+
+Status AtomicFile::commit(bool keep_partial) {
+  if (!synced_) {
+    if (!f_) return make_error(what_, " '", path_, "': ", error_.empty() ? "not open" : error_);
+    (void)sync();  // its failure is in error_
+  }
+  synced_ = false;
   const std::string tmp = temp_path();
   if (error_.empty()) {
     if (auto st = check_output_target(path_, what_); !st) {
@@ -97,9 +109,10 @@ Status AtomicFile::commit(bool keep_partial) {
 }
 
 void AtomicFile::discard() {
-  if (!f_) return;
-  std::fclose(f_);
+  if (!f_ && !synced_) return;
+  if (f_) std::fclose(f_);
   f_ = nullptr;
+  synced_ = false;
   ::unlink(temp_path().c_str());
 }
 

@@ -37,7 +37,11 @@ class AtomicFile {
   /// True while no write failed.
   bool good() const { return error_.empty() && f_ != nullptr; }
 
-  /// Flushes, fsyncs and closes the temporary, checks the final path again and renames. On failure the
+  /// Flushes, fsyncs and closes the temporary without renaming it (commit() then only renames), so several
+  /// files can reach the disk in parallel and still appear under their final names in a chosen order. Errors
+  /// as commit's; after a failure commit() reports it again and removes the temporary.
+  Status sync();
+  /// Flushes, fsyncs and closes the temporary (unless sync() did), checks the final path again and renames. On failure the
   /// temporary is removed unless keep_partial (then the error says where the partial data is).
   Status commit(bool keep_partial = false);
   /// Closes and removes the temporary without touching the final path.
@@ -52,6 +56,7 @@ class AtomicFile {
   std::string path_, what_, suffix_;
   std::FILE* f_ = nullptr;
   std::string error_;
+  bool synced_ = false;  // sync() closed the temporary; commit() renames it
 };
 
 /// Writes `bytes` to `path` through an AtomicFile; errors as AtomicFile's.

@@ -28,11 +28,14 @@ inline constexpr int64_t kMaxImagePixels = int64_t{4096} * 4096;
 inline constexpr int kMaxSubsteps = 100000;
 /// Most Newton or local/global iterations per step.
 inline constexpr int kMaxIterations = 1000;
+/// Servo rates a scene (servo.rate_hz) or --servo-rate may ask for, Hz.
+inline constexpr double kMinServoRate_hz = 100.0;
+inline constexpr double kMaxServoRate_hz = 20000.0;
 
 /// The limits above as a few lines of text, for --help.
 inline constexpr const char* kLimitsHelp =
     "Limits: scene file 16 MiB, mesh file 512 MiB, replay log 256 MiB; 100000 keyframes; 4194304 triangles (after mesh.subdivisions); grid.levels 8 "
     "(2097152 cells); lattice 65536 nodes and 1048576 springs (estimated from the scene and its grid before "
-    "anything is built); frames 4096 x 4096 pixels; 100000 substeps; 1000 iterations.";
+    "anything is built); frames 4096 x 4096 pixels; 100000 substeps; 1000 iterations; servo rate 100..20000 Hz.";
 
 }  // namespace palpate

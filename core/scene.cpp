@@ -232,6 +232,7 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.number("tool_radius_m", &d.tool_radius_m, 1e-5, 1.0);
   r.number("workspace_half_m", &d.workspace_half_m, 1e-3, 100.0);
   r.number("max_stiffness_N_per_m", &d.max_stiffness_N_per_m, 1.0, 1e5);
+  r.number("damping_Ns_per_m", &d.damping_Ns_per_m, 0.0, 1e3);
   r.boolean("passivity", &d.passivity);
   r.number("ramp_s", &d.ramp_s, 0.0, 10.0);
   r.finish();
@@ -400,6 +401,12 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
     r.number("grab_radius_m", &s.grab_radius_m, 0.0, 10.0);
     r.number("blade_length_m", &s.blade_length_m, 1e-4, 10.0);
     r.number("cut_resistance_Ns_per_m", &s.cut_resistance_Ns_per_m, 0.0, 1e4);
+    r.finish();
+  }
+  const Json& servo = top.object("servo");
+  if (!servo.is_null()) {
+    ObjectReader r(servo, "servo.", &err);
+    r.number("rate_hz", &s.servo_rate_hz, kMinServoRate_hz, kMaxServoRate_hz);
     r.finish();
   }
   read_trajectory(top, &s, &err);

@@ -67,6 +67,8 @@ struct DeviceSpec {
   double tool_radius_m = 0.003;             ///< drawn tool sphere radius
   double workspace_half_m = 0.5;            ///< poses outside this cube around the origin are rejected
   double max_stiffness_N_per_m = 700.0;     ///< highest stable rendered stiffness; caps coupling_N_per_m
+  double damping_Ns_per_m = 2.0;            ///< the device's own viscous damping at the handle (shm, plugin, replay;
+                                            ///< the scripted device's is the hand's): b of the passivity bound 2b/T
   bool passivity = true;                    ///< energy-based passivity observer/controller on the coupling
   double ramp_s = 0.2;                      ///< force ramp-in at start and after a reset
 };
@@ -117,6 +119,7 @@ struct Scene {
   RenderSpec render;
   RunMode run_mode = RunMode::kLockstep;
   double duration_s = 1.0;
+  double servo_rate_hz = 1000.0;    ///< servo ticks per (scene-)second (key servo.rate_hz; --servo-rate overrides)
 };
 
 /// Parses JSON text; `path` names the scene in errors ("scene 'x.json': lattice.level 9 out of range [1, 8]").

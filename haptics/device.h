@@ -17,6 +17,7 @@ struct DeviceSpecs {
   double max_stiffness_N_per_m = 700.0;   ///< highest stable rendered stiffness
   double workspace_half_m = 0.5;          ///< poses outside this cube around the origin are rejected
   double rate_hz = 1000.0;                ///< native servo rate
+  double damping_Ns_per_m = 2.0;          ///< physical viscous damping at the handle (b of the passivity bound)
 };
 
 /// One reading of the device.

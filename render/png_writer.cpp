@@ -3,14 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <string_view>
 #include <utility>
 
+#include "core/atomic_file.h"
 #include "render/png_io.h"
 
 namespace palpate {
 
-PngWriter::PngWriter(std::string dir, int width, int height, int pool_size)
-    : dir_(std::move(dir)), width_(std::max(width, 1)), height_(std::max(height, 1)) {
+PngWriter::PngWriter(std::string dir, int width, int height, int pool_size, const PngWriterConfig& config)
+    : dir_(std::move(dir)), width_(std::max(width, 1)), height_(std::max(height, 1)), config_(config) {
   const auto n = static_cast<std::size_t>(std::max(pool_size, 1));
   const std::size_t bytes = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * 4;
   pool_.resize(n);
@@ -21,7 +23,7 @@ PngWriter::PngWriter(std::string dir, int width, int height, int pool_size)
   }
   queue_.resize(n);
   png_ms_.reserve(1024);
-  thread_ = std::thread([this] { run(); });
+  for (int i = 0; i < std::max(config_.threads, 1); ++i) threads_.emplace_back([this] { run(); });
 }
 
 PngWriter::~PngWriter() { finish(); }
@@ -49,7 +51,7 @@ void PngWriter::submit(int index, uint8_t* buffer) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!stopping_) {
       // at most pool_size buffers are out, so the ring never overflows
-      queue_[(queue_head_ + queue_size_) % queue_.size()] = Job{index, buffer};
+      queue_[(queue_head_ + queue_size_) % queue_.size()] = Job{index, buffer, next_seq_++};
       ++queue_size_;
       job_ready_.notify_one();
       return;
@@ -66,9 +68,10 @@ void PngWriter::finish() {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
   }
-  job_ready_.notify_one();
+  job_ready_.notify_all();
   buffer_free_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  for (auto& t : threads_)
+    if (t.joinable()) t.join();
 }
 
 std::string PngWriter::first_error() const {
@@ -83,6 +86,8 @@ void PngWriter::record_error(const std::string& message) {
 }
 
 void PngWriter::run() {
+  PngEncoder encoder(config_.codec);  // this thread's compressor and buffers
+  encoder.set_keep_alpha(config_.keep_alpha);
   char name[32];
   for (;;) {
     Job job;
@@ -96,20 +101,38 @@ void PngWriter::run() {
       --queue_size_;
     }
     std::snprintf(name, sizeof name, "frame_%05d.png", job.index);
+    const std::string path = dir_ + "/" + name;
     const auto start = std::chrono::steady_clock::now();
-    Status written = write_png(dir_ + "/" + name, width_, height_, job.buffer);
-    const std::chrono::duration<double, std::milli> elapsed = std::chrono::steady_clock::now() - start;
-    if (written.ok()) {
-      png_ms_.push_back(elapsed.count());
-      frames_written_.fetch_add(1, std::memory_order_relaxed);
-    } else {
-      record_error(written.error().message);
-    }
+    Status written = encoder.encode(width_, height_, job.buffer, path);
+    // the pixels are in the encoder's output now: the buffer goes back to the producer before the disk work
     {
       std::lock_guard<std::mutex> lock(mutex_);
       free_.push_back(job.buffer);
     }
     buffer_free_.notify_one();
+    Result<AtomicFile> file = written.ok() ? AtomicFile::open(path, "png") : Result<AtomicFile>(written.error());
+    if (file) {
+      const auto& bytes = encoder.bytes();
+      file.value().write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+      written = file.value().sync();
+    } else {
+      written = file.error();
+    }
+    const std::chrono::duration<double, std::milli> elapsed = std::chrono::steady_clock::now() - start;
+    // renames in submission order: a frame appears only after every frame before it
+    std::unique_lock<std::mutex> turn(rename_mutex_);
+    rename_turn_.wait(turn, [&] { return next_rename_ == job.seq; });
+    if (written.ok()) written = file.value().commit();
+    if (written.ok()) {
+      png_ms_.push_back(elapsed.count());
+      frames_written_.fetch_add(1, std::memory_order_relaxed);
+    } else {
+      if (file) file.value().discard();
+      record_error(written.error().message);
+    }
+    ++next_rename_;
+    turn.unlock();
+    rename_turn_.notify_all();
   }
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-/// PngWriter: a background thread that writes rendered frames as numbered PNG files.
+/// PngWriter: background threads that write rendered frames as numbered PNG files.
 
 #include <atomic>
 #include <condition_variable>
@@ -9,15 +9,27 @@
 #include <thread>
 #include <vector>
 
+#include "render/png_io.h"
+
 namespace palpate {
 
-/// A writer thread with a fixed pool of frame buffers (allocated in the constructor only); not copyable.
-/// Frames are written as <dir>/frame_%05d.png in the order submitted; the directory must exist.
+/// How a PngWriter encodes.
+struct PngWriterConfig {
+  int threads = 1;                        ///< encoder threads (at least 1)
+  PngCodec codec = PngCodec::kLibdeflate; ///< compressor of the image data
+  bool keep_alpha = false;                ///< RGBA even for opaque frames (the format before RGB frames)
+};
+
+/// Encoder threads with a fixed pool of frame buffers (allocated in the constructor only); not copyable.
+/// Frames are written as <dir>/frame_%05d.png; the directory must exist. With several threads, frames are
+/// encoded and written (to a temporary, fsynced) in parallel, each thread taking the next frame queued, and
+/// renamed to their final names strictly in the order submitted: the folder only ever holds a complete, gapless
+/// prefix of the sequence. A buffer is free again as soon as its frame is encoded.
 /// Thread: acquire/submit/finish from one producer thread; the counters from any thread.
 class PngWriter {
  public:
-  /// Allocates pool_size (at least 1) buffers of width*height*4 bytes and starts the writer thread.
-  PngWriter(std::string dir, int width, int height, int pool_size);
+  /// Allocates pool_size (at least 1) buffers of width*height*4 bytes and starts config.threads encoder threads.
+  PngWriter(std::string dir, int width, int height, int pool_size, const PngWriterConfig& config = {});
   PngWriter(const PngWriter&) = delete;
   PngWriter& operator=(const PngWriter&) = delete;
   /// Finishes (drains the queue) and joins.
@@ -29,7 +41,7 @@ class PngWriter {
   /// Queues an acquired buffer for writing as frame `index`; after finish() the frame is dropped and counted
   /// as a write error.
   void submit(int index, uint8_t* buffer);
-  /// Writes everything queued and joins the thread; idempotent.
+  /// Writes everything queued and joins the threads; idempotent.
   void finish();
 
   /// Frames written successfully so far.
@@ -38,13 +50,14 @@ class PngWriter {
   int write_errors() const { return write_errors_.load(std::memory_order_relaxed); }
   /// The first error message, empty when none.
   std::string first_error() const;
-  /// Milliseconds spent encoding and writing each written frame, in order; valid after finish().
+  /// Milliseconds spent encoding and writing each written frame (on its thread), in order; valid after finish().
   const std::vector<double>& png_ms() const { return png_ms_; }
 
  private:
   struct Job {
     int index = 0;
     uint8_t* buffer = nullptr;
+    int64_t seq = 0;  // submission order
   };
 
   void run();
@@ -53,6 +66,7 @@ class PngWriter {
   const std::string dir_;
   const int width_;
   const int height_;
+  const PngWriterConfig config_;
   std::vector<std::vector<uint8_t>> pool_;  // frame buffers (pool_size x w*h*4)
 
   mutable std::mutex mutex_;
@@ -65,11 +79,17 @@ class PngWriter {
   bool stopping_ = false;
   std::string first_error_;
 
+  int64_t next_seq_ = 0;                 // seq of the next job submitted
+
+  std::mutex rename_mutex_;
+  std::condition_variable rename_turn_;  // threads wait for the frames before theirs to be renamed
+  int64_t next_rename_ = 0;              // seq whose turn it is
+
   std::atomic<int> frames_written_{0};
   std::atomic<int> write_errors_{0};
-  std::vector<double> png_ms_;  // written by the writer thread, read after join
+  std::vector<double> png_ms_;  // written in rename order under rename_mutex_, read after join
   bool finished_ = false;       // producer side only
-  std::thread thread_;
+  std::vector<std::thread> threads_;
 };
 
 }  // namespace palpate

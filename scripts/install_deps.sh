@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Palpate builds and tests with, when any is missing.
-# FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe programs are used by the tests only.
+# libdeflate compresses the PNG frames. FFmpeg's libraries encode the MP4 of a recording; the ffmpeg/ffprobe
+# programs are used by the tests only.
 # capsh (libcap2-bin) lets a test run the servo without the right to lock memory.
 # gnuplot-nox draws the benchmarks' --plot figures (pngcairo) from the data and script palpate writes.
 # cpp-httplib serves the live view (record --serve); Chromium runs its page headless in the `browser` tests.
@@ -9,7 +10,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev
+  libeigen3-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev libdeflate-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev

@@ -155,6 +155,15 @@ void print_row(const LoopRun& r) {
 
 }  // namespace
 
+double highest_clean_rate(const std::vector<double>& rates_hz, const std::vector<long long>& overruns) {
+  double best = 0.0;
+  for (std::size_t i = 0; i < rates_hz.size() && i < overruns.size(); ++i) {
+    if (overruns[i] != 0) break;
+    best = rates_hz[i];
+  }
+  return best;
+}
+
 int run_bench_loop(const BenchLoopOptions& o) {
   // outputs are checked before the runs: never a device or a link replaced after minutes of measuring
   Status targets = o.json_path.empty() ? Status(Ok{}) : check_output_target(o.json_path, "bench json");
@@ -173,7 +182,7 @@ int run_bench_loop(const BenchLoopOptions& o) {
   std::printf("%8s %-11s %5s %8s %7s %7s %7s %9s %9s %8s %8s %6s %6s\n", "rate_hz", "load", "spin", "ticks", "p50_us",
               "p99_us", "p999_us", "max_us", "overruns", "cmp_p50", "cmp_p99", "f_late", "f_drop");
   std::vector<LoopRun> runs;
-  double best_rate = 0;
+  std::vector<long long> overruns;  // per rate, of the run without the live view
   if (o.live && o.load != "record") {
     std::fprintf(stderr, "palpate: bench loop: --live needs --load record (the live view shows rendered frames)\n");
     return 2;
@@ -187,11 +196,15 @@ int run_bench_loop(const BenchLoopOptions& o) {
         return 1;
       }
       print_row(r);
-      if (r.timing.overruns == 0 && !live) best_rate = std::max(best_rate, rate);
+      if (!live) overruns.push_back(static_cast<long long>(r.timing.overruns));
       runs.push_back(r);
     }
   }
-  if (o.sweep) std::printf("highest rate with no overruns: %.0f Hz\n", best_rate);
+  const double best_rate = highest_clean_rate(rates, overruns);
+  if (o.sweep) {
+    if (best_rate > 0.0) std::printf("highest rate with no overruns at it and every lower rate: %.0f Hz\n", best_rate);
+    else std::printf("highest rate with no overruns at it and every lower rate: none (%.0f Hz overran)\n", rates.front());
+  }
   if (!runs.front().timing.rt.fifo)
     std::printf("note: SCHED_FIFO was refused (%s); figures are for normal scheduling\n",
                 runs.front().timing.rt.refused.c_str());
@@ -200,7 +213,7 @@ int run_bench_loop(const BenchLoopOptions& o) {
     j["scene"] = o.scene;
     j["runs"] = nlohmann::json::array();
     for (const auto& r : runs) j["runs"].push_back(to_json(r));
-    if (o.sweep) j["highest_rate_without_overruns_hz"] = best_rate;
+    if (o.sweep) j["highest_rate_clean_up_to_hz"] = best_rate;
     if (auto st = write_file_atomic(o.json_path, j.dump(2) + "\n", "bench json"); !st) {
       std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
       return 1;

@@ -21,6 +21,11 @@ struct BenchLoopOptions {
   std::string plot_path;                         ///< draw the wake-latency histogram here when set
 };
 
+/// The sweep's verdict: the highest of `rates_hz` (ascending) such that it and every lower rate ran with zero
+/// overruns (`overruns[i]` at `rates_hz[i]`); 0 when the lowest rate already overran. A clean rate above one that
+/// overran does not count: that run was lucky, not the machine able.
+double highest_clean_rate(const std::vector<double>& rates_hz, const std::vector<long long>& overruns);
+
 /// Runs the benchmark, prints a table; returns the process exit code (errors on stderr).
 int run_bench_loop(const BenchLoopOptions& options);
 

@@ -21,6 +21,7 @@
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
 #include "tools/bench_material.h"
+#include "tools/bench_png.h"
 #include "tools/bench_scale.h"
 #include "tools/bench_sim.h"
 #include "tools/cli_checks.h"
@@ -188,8 +189,9 @@ int main(int argc, char** argv) {
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
       ->check(CLI::Range(0, 99));
   rec->add_option("--servo-rate", opt.servo_rate_hz,
-                  "Servo rate in Hz (lockstep: ticks per scene-second); device, servo period and passivity follow it")
-      ->check(palpate::finite_range(100.0, 20000.0))->capture_default_str();
+                  "Servo rate in Hz (lockstep: ticks per scene-second; default: the scene's servo.rate_hz, 1000); "
+                  "device, servo period, passivity guard and the coupling's passivity bound 2b/T follow it")
+      ->check(palpate::finite_range(palpate::kMinServoRate_hz, palpate::kMaxServoRate_hz));
 
   // video on by default: it costs the sim thread one frame copy (the encoder has its own thread); see README
   std::string video_path;
@@ -257,7 +259,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000));
   bloop->add_option("--priority", lo.priority, "SCHED_FIFO priority, 0 = normal scheduling")->check(CLI::Range(0, 99))
       ->capture_default_str();
-  bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate without overruns");
+  bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate such that it and every lower rate had no overruns");
   bloop->add_flag("--live", lo.live,
                   "With --load record: each run again with the live view served and a client fetching it as the page "
                   "does (rows side by side)");
@@ -318,6 +320,18 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 6))->capture_default_str();
   bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(CLI::Range(1.0, 1e12))->capture_default_str();
   bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
+
+  auto* bpng = bench->add_subcommand("png", "PNG encoders side by side on a recording's frames (ms per frame, size, lossless check)");
+  palpate::BenchPngOptions po;
+  bpng->add_option("folder", po.folder, "Recording folder (frames/frame_*.png), e.g. out/bunny_pull (default with "
+                   "--record: the last recording made)");
+  bpng->add_option("--record", po.record, "Also record this lockstep scene with each frame writer (zlib RGBA / RGB, "
+                   "libdeflate RGB, 1 and 2 threads) in turn, --reps times: wall per scene-second and state hashes");
+  bpng->add_option("--out,-o", po.out_dir, "Folder for the --record recordings")->capture_default_str();
+  bpng->add_option("--frames", po.frames, "Frames used, spread over the recording")->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  bpng->add_option("--reps", po.repetitions, "Passes over the frames")->check(CLI::Range(1, 1000))->capture_default_str();
+  bpng->add_option("--json", po.json_path, "Write the rows as JSON");
 
   try {
     app.parse(argc, argv);
@@ -381,7 +395,7 @@ int main(int argc, char** argv) {
   if (*bscale && bscale->get_option("scene")->count() == 0) bscale_scene = palpate::locate_default(bscale_scene);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
-  if (*bscale || *bmat || *bsim) {
+  if (*bscale || *bmat || *bsim || *bpng) {
     // the table (and any JSON) first; the plot is drawn after, so a missing gnuplot loses neither
     palpate::PlotSpec plot;
     std::string plot_path;
@@ -391,6 +405,8 @@ int main(int argc, char** argv) {
       plot_path = sco.plot_path;
     } else if (*bmat) {
       table = palpate::run_bench_material(mo);
+    } else if (*bpng) {
+      table = palpate::run_bench_png(po);
     } else if (so.box_cells.empty()) {
       table = palpate::run_bench_sim(bsim_scene, so, &plot);
       plot_path = so.plot_path;

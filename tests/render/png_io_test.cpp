@@ -1,7 +1,9 @@
 #include "render/png_io.h"
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -53,6 +55,91 @@ TEST(PngIo, SmoothImageRoundTripsAndOverwrites) {
   EXPECT_EQ(image.value().rgba, rgba);
   // fast settings still compress a smooth image well
   EXPECT_LT(std::filesystem::file_size(path), rgba.size() / 4);
+}
+
+uint32_t be32(const uint8_t* p) {
+  return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
+}
+
+// Walks the chunks of a PNG: signature, IHDR first, CRC-32 of each chunk (checked with zlib's crc32, not the
+// encoder's), IEND last. Returns the chunk types in order; the colour type in *colour_type.
+std::vector<std::string> chunks_of(const std::vector<uint8_t>& png, int* colour_type) {
+  static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::vector<std::string> types;
+  if (png.size() < 8 || !std::equal(sig, sig + 8, png.begin())) {
+    ADD_FAILURE() << "no PNG signature";
+    return types;
+  }
+  std::size_t at = 8;
+  while (at + 12 <= png.size()) {
+    const uint32_t len = be32(&png[at]);
+    if (at + 12 + len > png.size()) {
+      ADD_FAILURE() << "chunk runs past the end";
+      break;
+    }
+    types.emplace_back(reinterpret_cast<const char*>(&png[at + 4]), 4);
+    const uLong crc = crc32(crc32(0L, Z_NULL, 0), &png[at + 4], 4 + len);
+    EXPECT_EQ(crc, be32(&png[at + 8 + len])) << "CRC of chunk " << types.back();
+    if (types.back() == "IHDR") *colour_type = png[at + 8 + 9];
+    at += 12 + len;
+  }
+  EXPECT_EQ(at, png.size()) << "bytes after the last chunk";
+  return types;
+}
+
+TEST(PngIo, OpaqueFramesAreStoredAsRgbAndReadBackAsTheSameRgba) {
+  for (PngCodec codec : {PngCodec::kZlib, PngCodec::kLibdeflate}) {
+    PngEncoder enc(codec);
+    for (const auto& [w, h] : {std::pair{1, 1}, std::pair{37, 19}, std::pair{640, 48}}) {
+      auto rgba = random_rgba(w, h, static_cast<unsigned>(w + 7 * h));
+      for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;
+      ASSERT_TRUE(enc.encode(w, h, rgba.data(), "opaque").ok());
+      int colour = -1;
+      const auto chunks = chunks_of(enc.bytes(), &colour);
+      ASSERT_GE(chunks.size(), 3u);
+      EXPECT_EQ(chunks.front(), "IHDR");
+      EXPECT_EQ(chunks.back(), "IEND");
+      for (std::size_t c = 1; c + 1 < chunks.size(); ++c) EXPECT_EQ(chunks[c], "IDAT");
+      if (codec == PngCodec::kLibdeflate) {
+        EXPECT_EQ(chunks.size(), 3u) << "one IDAT";
+      }
+      EXPECT_EQ(colour, 2) << "RGB";
+      EXPECT_TRUE(enc.last_rgb());
+      auto back = decode_png(enc.bytes().data(), enc.bytes().size(), "opaque");
+      ASSERT_TRUE(back.ok()) << back.error().message;
+      EXPECT_EQ(back.value().rgba, rgba) << w << "x" << h;
+      // one pixel not quite opaque: the alpha channel is kept, and still exact
+      rgba[rgba.size() - 1] = 254;
+      ASSERT_TRUE(enc.encode(w, h, rgba.data(), "translucent").ok());
+      EXPECT_EQ((chunks_of(enc.bytes(), &colour), colour), 6) << "RGBA";
+      EXPECT_FALSE(enc.last_rgb());
+      back = decode_png(enc.bytes().data(), enc.bytes().size(), "translucent");
+      ASSERT_TRUE(back.ok()) << back.error().message;
+      EXPECT_EQ(back.value().rgba, rgba) << w << "x" << h;
+    }
+  }
+}
+
+TEST(PngIo, LibdeflateAndZlibGiveTheSamePixelsAndTheFileReadsBack) {
+  // a smooth opaque image with flat areas (like a rendered frame) through both codecs, to files and back
+  test::ScratchDir dir("png_codecs");
+  const int w = 320, h = 240;
+  std::vector<uint8_t> rgba(w * h * 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      uint8_t* p = &rgba[(y * w + x) * 4];
+      const bool disc = (x - 160) * (x - 160) + (y - 120) * (y - 120) < 80 * 80;
+      p[0] = disc ? uint8_t(x) : 40, p[1] = disc ? uint8_t(y) : 40, p[2] = disc ? 200 : 48, p[3] = 255;
+    }
+  for (PngCodec codec : {PngCodec::kZlib, PngCodec::kLibdeflate}) {
+    PngEncoder enc(codec);
+    const std::string path = dir.file(codec == PngCodec::kZlib ? "zlib.png" : "deflate.png");
+    ASSERT_TRUE(write_png(path, w, h, rgba.data(), &enc).ok());
+    auto image = read_png(path);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    EXPECT_EQ(image.value().rgba, rgba);
+    EXPECT_LT(std::filesystem::file_size(path), rgba.size() / 8);
+  }
 }
 
 TEST(PngIo, WriteIntoMissingDirectoryNamesThePathAndLeavesNoFile) {

@@ -2,8 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/inotify.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <random>
 
 #include "render/png_io.h"
 #include "render_test_util.h"
@@ -60,6 +65,58 @@ TEST(PngWriter, WritesNumberedFramesInOrder) {
   }
   EXPECT_FALSE(std::filesystem::exists(frame_path(dir, 0)));
   EXPECT_FALSE(std::filesystem::exists(frame_path(dir, kFrames + 1)));
+}
+
+// Frames alternate between noise (slow to compress) and flat (fast), so with two threads a flat frame is ready
+// long before the noisy frame before it: the writer must still rename them in order. inotify reports every
+// rename into the folder in the order the kernel made them.
+TEST(PngWriter, ParallelEncodersRenameFramesInSubmissionOrder) {
+  constexpr int kW2 = 640, kH2 = 480, kFrames = 16;
+  test::ScratchDir dir("png_writer_par");
+  const int fd = inotify_init1(IN_NONBLOCK);
+  ASSERT_GE(fd, 0);
+  ASSERT_GE(inotify_add_watch(fd, dir.str().c_str(), IN_MOVED_TO), 0);
+  std::vector<std::vector<uint8_t>> expected;
+  std::mt19937 rng(5);
+  {
+    PngWriterConfig config;
+    config.threads = 2;
+    PngWriter writer(dir.str(), kW2, kH2, 4, config);
+    for (int i = 0; i < kFrames; ++i) {
+      std::vector<uint8_t> img(static_cast<std::size_t>(kW2) * kH2 * 4, 255);
+      if (i % 2 == 0)
+        for (std::size_t k = 0; k < img.size(); ++k) img[k] = (k % 4 == 3) ? 255 : static_cast<uint8_t>(rng());
+      uint8_t* buffer = writer.acquire(true);
+      ASSERT_NE(buffer, nullptr);
+      std::copy(img.begin(), img.end(), buffer);
+      writer.submit(i, buffer);
+      expected.push_back(std::move(img));
+    }
+    writer.finish();
+    EXPECT_EQ(writer.frames_written(), kFrames);
+    EXPECT_EQ(writer.write_errors(), 0) << writer.first_error();
+    EXPECT_EQ(writer.png_ms().size(), static_cast<std::size_t>(kFrames));
+  }
+  std::vector<std::string> renamed;
+  alignas(inotify_event) char events[16384];
+  for (;;) {
+    const ssize_t n = read(fd, events, sizeof events);
+    if (n <= 0) break;
+    for (ssize_t at = 0; at < n;) {
+      const auto* e = reinterpret_cast<const inotify_event*>(events + at);
+      if (e->len > 0) renamed.emplace_back(e->name);
+      at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+    }
+  }
+  close(fd);
+  std::vector<std::string> in_order;
+  for (int i = 0; i < kFrames; ++i) in_order.push_back(std::filesystem::path(frame_path(dir, i)).filename().string());
+  EXPECT_EQ(renamed, in_order);
+  for (int i = 0; i < kFrames; ++i) {
+    auto image = read_png(frame_path(dir, i));
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    EXPECT_EQ(image.value().rgba, expected[static_cast<std::size_t>(i)]) << "frame " << i;
+  }
 }
 
 TEST(PngWriter, AcquireWithoutBlockingReturnsNullWhenPoolIsExhausted) {

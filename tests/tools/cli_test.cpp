@@ -189,6 +189,32 @@ TEST(Cli, BenchScaleRefusesAnOutputThatIsNotAFile) {
   expect_error(palpate("bench scale --max-subdivisions 0 --duration 0.1 -q --json /dev/null"), "/dev/null");
 }
 
+TEST(Cli, BenchPngComparesEncodersOnARecordingsFramesAndChecksThemLossless) {
+  const std::string rec = tmp("png_rec");
+  fs::remove_all(rec);
+  const CliRun made = palpate("record scenes/cube_press.json --duration 0.2 -q --no-video --out " + rec);
+  ASSERT_EQ(made.code, 0) << made.out;
+  const std::string json = tmp("png.json");
+  const CliRun r = palpate("bench png " + rec + " --frames 6 --reps 1 --json " + json);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream f(json);
+  const auto j = nlohmann::json::parse(f);
+  EXPECT_EQ(j["frames"].get<int>(), 6);
+  ASSERT_EQ(j["rows"].size(), 5u);
+  for (const auto& row : j["rows"]) {
+    EXPECT_TRUE(row["lossless"].get<bool>()) << row["encoder"];
+    EXPECT_GT(row["cpu_p50_ms"].get<double>(), 0.0);
+  }
+  // RGB and libdeflate both shrink the frames against the RGBA + zlib baseline (row 0)
+  EXPECT_LT(j["rows"][1]["kB_per_frame"].get<double>(), j["rows"][0]["kB_per_frame"].get<double>());
+  EXPECT_LT(j["rows"][3]["kB_per_frame"].get<double>(), j["rows"][1]["kB_per_frame"].get<double>());
+  // no frames, or an output that is not a file: an error naming it, before any work
+  const std::string empty = tmp("png_empty");
+  fs::create_directories(empty);
+  expect_error(palpate("bench png " + empty), "no frames/frame_*.png");
+  expect_error(palpate("bench png " + rec + " --json /dev/null"), "/dev/null");
+}
+
 TEST(Cli, BenchSimNamesAnUnknownIntegratorOnBothPaths) {
   expect_error(palpate("bench sim scenes/bunny_pull.json --integrators verlet -q"), "unknown integrator 'verlet'");
   expect_error(palpate("bench sim scenes/bunny_pull.json --box 2 --integrators verlet -q"), "unknown integrator 'verlet'");

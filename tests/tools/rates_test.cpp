@@ -10,6 +10,7 @@
 
 #include "core/scene.h"
 #include "support/fixtures.h"
+#include "tools/bench_loop.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/lockstep.h"
 #include "tools/session/recorder.h"
@@ -127,6 +128,69 @@ TEST(Rates, RecordingsAt500HzAnd2kHzTickAtTheirRateAndFollowTheSameHand) {
     // (measured: 36 um and 8 mN at 500 Hz; a servo left at a 1 ms period gives 109 mN there)
     EXPECT_LT(worst_z, 1e-4) << rate << " Hz: handle path differs by " << worst_z << " m";
     EXPECT_LT(worst_f, 0.03) << rate << " Hz: force differs by " << worst_f << " N";
+  }
+}
+
+TEST(Rates, SweepNamesTheHighestRateBelowWhichNothingOverran) {
+  const std::vector<double> rates{1000, 2000, 5000, 10000};
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {0, 0, 0, 0}), 10000.0);
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {0, 0, 3, 0}), 2000.0);  // a clean 10 kHz above an overrun is luck
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {0, 1, 0, 0}), 1000.0);
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {2, 0, 0, 0}), 0.0);
+}
+
+TEST(Rates, SceneServoRateIsUsedAndTheCommandLineOverridesIt) {
+  Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  EXPECT_DOUBLE_EQ(scene.servo_rate_hz, 1000.0);  // no "servo" object: the default
+  scene.servo_rate_hz = 2000.0;
+  scene.duration_s = 0.1;
+  RecordOptions opt;
+  opt.quiet = true;
+  opt.render = false;
+  opt.out_dir = test::fresh_dir("rate_scene");
+  auto a = record_scene(scene, opt);
+  ASSERT_TRUE(a) << a.error().message;
+  auto ja = nlohmann::json::parse(a.value().summary_json);
+  EXPECT_EQ(ja["servo"]["rate_hz"].get<double>(), 2000.0);
+  EXPECT_EQ(ja["servo"]["rate_from"], "scene");
+  EXPECT_EQ(ja["servo_ticks"].get<int64_t>(), 200);
+  opt.out_dir = test::fresh_dir("rate_flag");
+  opt.servo_rate_hz = 500.0;
+  auto b = record_scene(scene, opt);
+  ASSERT_TRUE(b) << b.error().message;
+  auto jb = nlohmann::json::parse(b.value().summary_json);
+  EXPECT_EQ(jb["servo"]["rate_hz"].get<double>(), 500.0);
+  EXPECT_EQ(jb["servo"]["rate_from"], "--servo-rate");
+  EXPECT_EQ(jb["servo_ticks"].get<int64_t>(), 50);
+}
+
+TEST(Rates, SummarySaysWhichLimitSetTheCoupling) {
+  // cube_press asks for 300 N/m under a 700 N/m limit; the scripted hand's 6 Ns/m allows 2b/T/2 = 6000 N/m at 1 kHz
+  Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  scene.duration_s = 0.05;
+  scene.device.coupling_N_per_m = 20000.0;
+  scene.device.max_stiffness_N_per_m = 1e5;
+  RecordOptions opt;
+  opt.quiet = true;
+  opt.render = false;
+  for (double rate : {1000.0, 10000.0}) {
+    opt.out_dir = test::fresh_dir("rate_cap_" + std::to_string(static_cast<int>(rate)));
+    opt.servo_rate_hz = rate;
+    auto r = record_scene(scene, opt);
+    ASSERT_TRUE(r) << r.error().message;
+    const auto c = nlohmann::json::parse(r.value().summary_json)["coupling"];
+    const double passive = CouplingLimit::kPassivityShare * 2.0 * scene.hand.damping_Ns_per_m * rate;
+    EXPECT_DOUBLE_EQ(c["limits_N_per_m"]["passivity"].get<double>(), passive) << rate;
+    EXPECT_DOUBLE_EQ(c["device_damping_Ns_per_m"].get<double>(), scene.hand.damping_Ns_per_m);
+    if (rate == 1000.0) {
+      EXPECT_DOUBLE_EQ(c["stiffness_N_per_m"].get<double>(), passive);
+      EXPECT_EQ(c["bound"], "passivity 2b/T");
+      EXPECT_TRUE(c["capped"].get<bool>());
+    } else {
+      EXPECT_DOUBLE_EQ(c["stiffness_N_per_m"].get<double>(), 20000.0);
+      EXPECT_EQ(c["bound"], "scene coupling_N_per_m");
+      EXPECT_FALSE(c["capped"].get<bool>());
+    }
   }
 }
 

@@ -41,6 +41,14 @@ TEST(Record, CubePressWritesThirtyFramesThatChangeWhereTheToolPresses) {
   ASSERT_TRUE(first && last);
   ASSERT_EQ(first.value().width, scene.render.width);
   ASSERT_EQ(first.value().height, scene.render.height);
+  // the renderer's frames are opaque: stored as 8-bit RGB (IHDR colour type 2), two encoder threads in lockstep
+  for (const char* name : {"frame_00000.png", "frame_00029.png"}) {
+    std::ifstream png(frames / name, std::ios::binary);
+    char head[26] = {};
+    png.read(head, sizeof head);
+    EXPECT_EQ(std::string(head + 12, 4), "IHDR");
+    EXPECT_EQ(head[25], 2) << name;
+  }
 
   const auto summary = read_json(r.value().summary_path);
   EXPECT_GT(summary["max_displacement_m"].get<double>(), 1e-4);
@@ -48,6 +56,7 @@ TEST(Record, CubePressWritesThirtyFramesThatChangeWhereTheToolPresses) {
   EXPECT_EQ(summary["frames_written"].get<int>(), 30);
   EXPECT_EQ(summary["servo_ticks"].get<int>(), 500);
   EXPECT_EQ(summary["nan_events"].get<int>(), 0);
+  EXPECT_EQ(summary["png"]["threads"].get<int>(), kLockstepPngThreads);
 
   // changed pixels: there are some, and they sit in the image column above the press point
   const auto& a = first.value().rgba;

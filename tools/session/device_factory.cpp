@@ -4,9 +4,10 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -94,6 +95,8 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   specs.max_stiffness_N_per_m = scene.device.max_stiffness_N_per_m;
   specs.workspace_half_m = scene.device.workspace_half_m;
   specs.rate_hz = rate_hz;
+  // the scripted handle is held by the emulated hand: its damping is the hand's
+  specs.damping_Ns_per_m = driver == "scripted" ? scene.hand.damping_Ns_per_m : scene.device.damping_Ns_per_m;
   // model-relative keys are resolved where the model is loaded (resolve_relative_keys); never played as zeros
   if (driver == DeviceDriver::kScripted || driver == DeviceDriver::kPlugin)
     for (std::size_t i = 0; i < scene.trajectory.size(); ++i)
@@ -158,12 +161,35 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
   return f.commit();
 }
 
+CouplingLimit coupling_limit(const Scene& scene, const DeviceSpecs& device, double rate_hz) {
+  CouplingLimit c;
+  c.scene_N_per_m = scene.device.coupling_N_per_m;
+  c.scene_max_N_per_m = scene.device.max_stiffness_N_per_m;
+  c.device_max_N_per_m = device.max_stiffness_N_per_m;
+  c.damping_Ns_per_m = device.damping_Ns_per_m;
+  c.rate_hz = rate_hz;
+  // K < 2 b / T with T = 1 / rate
+  c.passivity_max_N_per_m = CouplingLimit::kPassivityShare * 2.0 * device.damping_Ns_per_m * rate_hz;
+  const std::pair<double, const char*> limits[] = {{c.scene_N_per_m, "scene coupling_N_per_m"},
+                                                   {c.scene_max_N_per_m, "scene device.max_stiffness_N_per_m"},
+                                                   {c.device_max_N_per_m, "device max_stiffness_N_per_m"},
+                                                   {c.passivity_max_N_per_m, "passivity 2b/T"}};
+  c.stiffness_N_per_m = limits[0].first;
+  c.bound = limits[0].second;
+  for (const auto& [value, name] : limits)
+    if (value < c.stiffness_N_per_m) {
+      c.stiffness_N_per_m = value;
+      c.bound = name;
+    }
+  return c;
+}
+
 ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, double rate_hz) {
   ServoParams sp;
   sp.mode = scene.mode;
-  // the coupling never renders more stiffness than the device can display stably, by the scene's word or its own
-  sp.coupling_N_per_m = std::min({scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m,
-                                  device.max_stiffness_N_per_m});
+  // the coupling never renders more stiffness than the device can display stably, by the scene's word, its own,
+  // or the passivity bound at this rate
+  sp.coupling_N_per_m = coupling_limit(scene, device, rate_hz).stiffness_N_per_m;
   sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
   sp.passivity = scene.device.passivity;
   sp.ramp_s = scene.device.ramp_s;

@@ -111,7 +111,8 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
-  const Rates rates{opt.servo_rate_hz, kDefaultFrameRate_hz};
+  const bool rate_given = opt.servo_rate_hz > 0.0;
+  const Rates rates{rate_given ? opt.servo_rate_hz : scene.servo_rate_hz, kDefaultFrameRate_hz};
   auto device_r = make_device(scene, opt.device, rates.servo_hz);
   if (!device_r) return device_r.error();
   // an explicit video path that can never be written fails before any output exists
@@ -124,6 +125,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   std::unique_ptr<GlContext> gl;
   std::unique_ptr<Renderer> renderer;
   std::unique_ptr<PngWriter> writer;
+  PngWriterConfig png;
+  png.threads = opt.png_threads > 0 ? opt.png_threads : lockstep ? kLockstepPngThreads : 1;
+  png.codec = opt.png_codec;
+  png.keep_alpha = opt.png_keep_alpha;
   if (opt.render) {
     auto ctx = create_gl_context(scene.render.width, scene.render.height, scene.render.backend);
     if (!ctx) return ctx.error();
@@ -134,7 +139,9 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                                           Camera::framing(box.min_m, box.max_m,
                                                           static_cast<double>(scene.render.width) / scene.render.height));
     renderer->set_layered(!opt.full_redraw);
-    writer = std::make_unique<PngWriter>(frames_dir, scene.render.width, scene.render.height, 6);
+    // lockstep: two encoder threads use the core the single sim/render thread leaves idle; realtime: one, so
+    // the servo's core is not contended by a second encoder
+    writer = std::make_unique<PngWriter>(frames_dir, scene.render.width, scene.render.height, 6, png);
   }
   auto video_r = open_recording_video(opt.render ? opt.video_path : "", opt.video_optional, scene.render.width,
                                       scene.render.height, static_cast<int>(std::lround(rates.frame_hz)));
@@ -147,6 +154,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
 
   Device& device = *device_r.value();
   const ServoParams sp = servo_params_for(scene, device.specs(), rates.servo_hz);
+  const CouplingLimit coupling = coupling_limit(scene, device.specs(), rates.servo_hz);
   SpscQueue<HapticSample> samples(8192);
   auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
   Servo servo(sp, &device, &samples, local_model.get());
@@ -251,8 +259,16 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["dropped_samples"] = sc.dropped_samples;
   j["rejected_inputs"] = sc.rejected_inputs;
   j["no_readings"] = sc.no_readings;
+  // the coupling used and the limit that set it: the scene's ask, a stiffness limit, or the passivity bound
+  // 2b/T at this rate (b the device's damping)
   j["coupling"] = {{"stiffness_N_per_m", sp.coupling_N_per_m},
                    {"capped", sp.coupling_N_per_m < scene.device.coupling_N_per_m},
+                   {"bound", coupling.bound},
+                   {"limits_N_per_m", {{"scene", coupling.scene_N_per_m},
+                                       {"scene_max", coupling.scene_max_N_per_m},
+                                       {"device_max", coupling.device_max_N_per_m},
+                                       {"passivity", coupling.passivity_max_N_per_m}}},
+                   {"device_damping_Ns_per_m", coupling.damping_Ns_per_m},
                    {"passivity", sp.passivity},
                    {"passivity_activations", sc.passivity_activations},
                    {"passivity_dissipated_J", sc.passivity_dissipated_J},
@@ -265,6 +281,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                 {"first_overrun_ticks", std::vector<int64_t>(timing.first_overrun_ticks.begin(),
                                                              timing.first_overrun_ticks.begin() + timing.overrun_ticks_recorded)},
                 {"rate_hz", rates.servo_hz},
+                {"rate_from", rate_given ? "--servo-rate" : "scene"},
                 {"spin_us", lockstep ? 0 : (opt.spin_us >= 0 ? opt.spin_us : default_spin_us(rates.servo_hz))},
                 {"rt", {{"memory_locked", memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
                         {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};
@@ -303,7 +320,10 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                  {"width", scene.render.width}, {"height", scene.render.height},
                  {"frames_layered", fst.frames_layered}, {"layer_builds", renderer ? renderer->layer_builds() : 0}};
   j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
-              {"write_errors", writer ? writer->write_errors() : 0}};
+              {"write_errors", writer ? writer->write_errors() : 0},
+              {"threads", png.threads},
+              {"codec", png.codec == PngCodec::kZlib ? "zlib" : "libdeflate"},
+              {"keep_alpha", png.keep_alpha}};
   // realtime: which scene frame each file shows (files are numbered without gaps; lockstep: file i is frame i)
   if (!lockstep) j["frames_scene_index"] = fst.written_frames;
   j["video"] = video_json(video, opt.render ? "off: no video path (--no-video)" : "no frames (--no-render)");

@@ -8,6 +8,7 @@
 #include "core/result.h"
 #include "core/scene.h"
 #include "haptics/servo_runner.h"
+#include "render/png_io.h"
 
 namespace palpate {
 
@@ -15,6 +16,8 @@ class LiveFeed;
 
 /// Sim/render frames per (scene-)second.
 inline constexpr double kDefaultFrameRate_hz = 60.0;
+/// PNG encoder threads of a lockstep recording (realtime recordings use one).
+inline constexpr int kLockstepPngThreads = 2;
 
 /// How to run a recording (command-line overrides of the scene).
 struct RecordOptions {
@@ -26,8 +29,9 @@ struct RecordOptions {
   bool render = true;            ///< false: no GL, no frames (sim and haptics only)
   bool full_redraw = false;      ///< draw the whole mesh every frame (no cached static layer; same pixels)
   std::string device;            ///< device override ("scripted", ...); empty = the scene's driver
-  double servo_rate_hz = 1000.0; ///< servo ticks per second (lockstep: per scene-second); device, servo period,
-                                 ///< passivity guard and velocity estimate all follow it
+  double servo_rate_hz = 0.0;    ///< > 0 overrides the scene's servo.rate_hz: servo ticks per second (lockstep: per
+                                 ///< scene-second); device, servo period, passivity guard and bound, and velocity
+                                 ///< estimate all follow it
   int spin_us = -1;              ///< realtime: spin this long before each servo deadline; -1 = default_spin_us(rate)
   int fifo_priority = 80;        ///< realtime: SCHED_FIFO priority for the servo, 0 = normal scheduling
   int servo_cpu = -1;            ///< realtime: CPU to pin the servo to, -1 = the last allowed CPU
@@ -35,6 +39,9 @@ struct RecordOptions {
   std::string video_path;        ///< MP4 of the rendered frames (H.264, yuv420p, frame rate); empty = none
   bool video_optional = false;   ///< a video that cannot be made is a warning (video on by default), not an error
   LiveFeed* live = nullptr;      ///< live view fed by the sim thread while recording (null = none); finished at the end
+  int png_threads = 0;           ///< PNG encoder threads; 0 = kLockstepPngThreads in lockstep, 1 in realtime
+  PngCodec png_codec = PngCodec::kLibdeflate;  ///< the frames' compressor (comparisons: bench png --record)
+  bool png_keep_alpha = false;   ///< RGBA frames even when opaque (comparisons: the format before RGB frames)
 };
 
 /// What a finished recording reports (also written to summary.json).
