@@ -27,7 +27,7 @@ struct SettleOptions {
 struct SettleReport {
   int frames = 0;                   ///< frames stepped until at rest
   int64_t substeps = 0;             ///< integrator substeps over them
-  double ms_per_frame_p50 = 0.0;    ///< wall time of one frame (median)
+  double ms_per_frame_p50 = 0.0;    ///< thread CPU time of one frame (median; wall time swings with other load)
   double residual_rel = 0.0;        ///< force imbalance at the end, over the largest nodal load
 };
 

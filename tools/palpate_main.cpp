@@ -16,7 +16,7 @@
 #include "sim/stability.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
-#include "tools/bench_material.h"
+#include "tools/bench_model.h"
 #include "tools/bench_scale.h"
 #include "tools/bench_sim.h"
 #include "tools/cli_checks.h"
@@ -245,16 +245,21 @@ int main(int argc, char** argv) {
   bscale->add_option("--plot", sco.plot_path, "Plot ms per frame against triangles (log-log) as PNG");
   bscale->add_flag("--quiet,-q", sco.quiet, "No progress lines");
 
-  auto* bmat = bench->add_subcommand("material", "Model error against closed-form continuum references per lattice level, beside ms per frame");
-  palpate::BenchMaterialOptions mo;
-  bmat->add_option("--compression-levels", mo.compression_levels, "Levels of the compression cube")->delimiter(',')
-      ->check(CLI::Range(1, 6))->capture_default_str();
-  bmat->add_option("--cantilever-levels", mo.cantilever_levels, "Levels of the cantilever (>= 4)")->delimiter(',')
-      ->check(CLI::Range(4, 8))->capture_default_str();
-  bmat->add_option("--hertz-levels", mo.hertz_levels, "Levels of the Hertz indentation block")->delimiter(',')
-      ->check(CLI::Range(2, 6))->capture_default_str();
-  bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(CLI::Range(1.0, 1e12))->capture_default_str();
+  auto* bmat = bench->add_subcommand("model", "Model error against closed-form continuum references per lattice level, "
+                                              "each run to rest by the simulation, beside ms per frame");
+  bmat->alias("material");
+  palpate::BenchModelOptions mo;
+  std::string mo_integrator = palpate::integrator_name(mo.integrator);
+  bmat->add_option("--levels", mo.levels, "Lattice levels (the cantilever runs from 4)")->delimiter(',')
+      ->check(CLI::Range(2, 7))->capture_default_str();
+  bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(palpate::finite_range(1.0, 1e12))->capture_default_str();
+  bmat->add_option("--damping", mo.stiffness_damping_s, "Rayleigh beta in s (how fast the runs come to rest)")
+      ->check(palpate::finite_range(0.0, 10.0))->capture_default_str();
+  bmat->add_option("--references", mo.references, "Which references: compression, cantilever, hertz")->delimiter(',')
+      ->capture_default_str();
+  bmat->add_option("--integrator", mo_integrator, "Integrator that steps every run to rest")->capture_default_str();
   bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
+  bmat->add_option("--plot", mo.plot_path, "Plot force error against ms per frame (log-log) as PNG");
 
   try {
     app.parse(argc, argv);
@@ -309,8 +314,13 @@ int main(int argc, char** argv) {
   }
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
+  if (*bmat && !palpate::integrator_from_name(mo_integrator, &mo.integrator)) {
+    std::fprintf(stderr, "palpate: bench model: --integrator '%s' is not one of: explicit_euler, symplectic_euler, "
+                 "implicit_euler, local_global, rk4\n", mo_integrator.c_str());
+    return 2;
+  }
   if (*bscale || *bmat) {
-    auto table = *bscale ? palpate::run_bench_scale(bscale_scene, sco) : palpate::run_bench_material(mo);
+    auto table = *bscale ? palpate::run_bench_scale(bscale_scene, sco) : palpate::run_bench_model(mo);
     if (!table) {
       std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
       return 1;
