@@ -151,7 +151,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o) {
                   {"model", r.model}, {"closed_form", r.closed_form}, {"unit", r.unit}, {"force_error", r.rel_error},
                   {"cpu_ms_per_frame_p50", r.ms_per_frame}, {"frames_to_rest", r.frames}});
   }
-  t << "model / closed form: compression shortening, cantilever tip deflection (m), hertz force at the sphere's depth (N);\n"
+  t << "model / closed form: compression shortening, cantilever tip deflection (m), hertz force at the drop of the surface under the sphere (N);\n"
        "force error: the force the lattice needs for the closed form's displacement over the closed form's, minus 1\n";
   if (!o.json_path.empty()) {
     nlohmann::json j{{"young_modulus_Pa", o.young_modulus_Pa}, {"poisson_ratio", 0.25},
