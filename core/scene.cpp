@@ -230,6 +230,8 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.number("coupling_N_per_m", &d.coupling_N_per_m, 0.0, 1e5);
   r.number("coupling_damping_Ns_per_m", &d.coupling_damping_Ns_per_m, 0.0, 1e3);
   r.number("tool_radius_m", &d.tool_radius_m, 1e-5, 1.0);
+  const int shape = r.choice("tool_shape", {"point", "sphere"});
+  if (shape >= 0) d.sphere_tool = shape == 1;
   r.number("workspace_half_m", &d.workspace_half_m, 1e-3, 100.0);
   r.number("max_stiffness_N_per_m", &d.max_stiffness_N_per_m, 1.0, 1e5);
   r.number("damping_Ns_per_m", &d.damping_Ns_per_m, 0.0, 1e3);
@@ -416,6 +418,8 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   top.finish();
   if (err.empty() && s.lattice.level > s.grid_levels)
     err = "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);
+  if (err.empty() && s.device.sphere_tool && s.mode != InteractionMode::kTouch)
+    err = std::string("device.tool_shape: 'sphere' is a touch tool; interaction.mode is '") + mode_name(s.mode) + "'";
   if (!err.empty()) return make_error(who, err);
   if (s.name.empty()) s.name = safe_name(std::filesystem::path(path).stem().string());
   // a relative mesh path is relative to the scene file's folder

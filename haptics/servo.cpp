@@ -78,6 +78,97 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   proxy_m_ = q;
 }
 
+void Servo::update_touch_sphere(const LocalModel& m, const Vec3& tool) noexcept {
+  const double r = params_.tool_radius_m;
+  if (contact_ == ContactState::kFree) {
+    // contact starts when the sphere reaches a face from its front: the centre's path since the last tick enters
+    // it (a fast tool), or the centre comes within the radius of it while in front of its plane
+    for (int i = 0; i < m.num_triangles && contact_ == ContactState::kFree; ++i) {
+      const auto& t = m.tri_m[i];
+      const Vec3 face = (t[1] - t[0]).cross(t[2] - t[0]);
+      double u = 0.0;
+      Vec3 b = Vec3::Zero();
+      const Vec3 q = closest_point_on_triangle(tool, t[0], t[1], t[2], &b);
+      if (segment_enters_triangle(prev_tool_m_, tool, t[0], t[1], t[2], &u, &b) ||
+          ((tool - q).squaredNorm() < r * r && (tool - q).dot(face) > 0.0)) {
+        contact_ = ContactState::kTouch;
+        contact_normal_ = face.normalized();
+      }
+    }
+    if (contact_ == ContactState::kFree) {
+      proxy_m_ = contact_point_m_ = tool;
+      return;
+    }
+  }
+  // the surface point nearest the device's centre on the entry side, as for a point tool: out of reach, contact ends
+  int slot = -1;
+  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
+  if (!closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_)) return;
+  const auto& n = m.normal[slot];
+  Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+  if (normal.squaredNorm() > 0.0) contact_normal_ = normal.normalized();
+  const Vec3 d = tool - q;
+  if (d.dot(contact_normal_) > 0.0 && d.squaredNorm() >= r * r) {
+    contact_ = ContactState::kFree;
+    tri_ = -1;
+    proxy_m_ = contact_point_m_ = tool;
+    return;
+  }
+  // god-object: the centre follows the device from where it was, sliding along the surface while the device
+  // presses into it (the part of the motion into the surface is dropped), so it rolls round an edge instead of
+  // jumping between the faces' offsets; then it is put one radius from the nearest surface point
+  Vec3 c = proxy_m_;
+  if (closest_on_patch(m, c, &slot, &q, &b, &contact_normal_)) {
+    const Vec3 e = c - q;
+    const double en = e.norm();
+    const Vec3 out = en > 1e-9 * r && e.dot(contact_normal_) > 0.0 ? Vec3(e / en) : contact_normal_;
+    Vec3 move = tool - c;
+    const double into = move.dot(out);
+    if (into < 0.0) move -= into * out;
+    c += move;
+  }
+  if (!closest_on_patch(m, c, &slot, &q, &b, &contact_normal_)) return;
+  {
+    const Vec3 e = c - q;
+    const double en = e.norm();
+    const auto& nn = m.normal[slot];
+    Vec3 sn = b[0] * nn[0] + b[1] * nn[1] + b[2] * nn[2];
+    sn = sn.squaredNorm() > 0.0 ? Vec3(sn.normalized()) : contact_normal_;
+    c = q + r * (en > 1e-9 * r && e.dot(sn) > 0.0 ? Vec3(e / en) : sn);
+  }
+  // a sphere in a dent or a concave corner also overlaps other faces: push it out of the deepest overlap, a few
+  // rounds (each face of the entry side, so the far side of a thin part is never taken)
+  for (int round = 0; round < 8; ++round) {
+    double worst = 0.0;
+    Vec3 push = Vec3::Zero();
+    for (int i = 0; i < m.num_triangles; ++i) {
+      const auto& t = m.tri_m[i];
+      const Vec3 face = (t[1] - t[0]).cross(t[2] - t[0]);
+      // faces turned more than 120 degrees from the contact's side are the far side of a thin part
+      if (face.dot(contact_normal_) < -0.5 * face.norm()) continue;
+      Vec3 bi = Vec3::Zero();
+      const Vec3 qi = closest_point_on_triangle(c, t[0], t[1], t[2], &bi);
+      const Vec3 e = c - qi;
+      const double dist = e.norm();
+      if (dist >= r) continue;  // the sphere does not reach this face
+      const bool in_front = e.dot(face) > 0.0;
+      const double depth = in_front ? r - dist : r + dist;  // how far the sphere reaches past this face (centre behind it: through)
+      if (depth > worst + 1e-12 * r) {
+        worst = depth;
+        push = (in_front && dist > 1e-9 * r ? Vec3(e / dist) : Vec3(face.normalized())) * depth;
+      }
+    }
+    if (worst <= 1e-9 * r) break;
+    c += push;
+  }
+  // the contact point: the surface point under the centre
+  if (!closest_on_patch(m, c, &slot, &q, &b, &contact_normal_)) return;
+  tri_ = m.tri_ids[slot];
+  bary_ = b;
+  proxy_m_ = c;
+  contact_point_m_ = q;
+}
+
 void Servo::update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept {
   if (!button) {
     contact_ = ContactState::kFree;
@@ -135,7 +226,9 @@ void Servo::update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, 
 }
 
 Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept {
-  if (!m.has_contact_model || (proxy_m_ - m.contact_p0_m).norm() > m.model_radius_m) return proxy_m_;
+  // (a sphere's centre moves with the surface point under it)
+  const Vec3& at = params_.tool_radius_m > 0.0 ? contact_point_m_ : proxy_m_;
+  if (!m.has_contact_model || (at - m.contact_p0_m).norm() > m.model_radius_m) return proxy_m_;
   // the proxy P rides the surface, which has moved by v0 tau + C (F_obj - f0) with F_obj = -k_c (P - P_t);
   // solving for P: (I + k_c C) P = P_frame + v0 tau - C f0 + k_c C P_t
   const double k = params_.coupling_N_per_m;
@@ -176,6 +269,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   if (!axis.allFinite() || axis.squaredNorm() < 1e-12) axis = Vec3::UnitZ();
   axis.normalize();
   if (params_.mode == InteractionMode::kCut) update_cut(m, tool, axis, button);
+  else if (params_.mode == InteractionMode::kTouch && params_.tool_radius_m > 0.0) update_touch_sphere(m, tool);
   else if (params_.mode == InteractionMode::kTouch) update_touch(m, tool);
   else update_pull(m, tool, button);
 
@@ -193,7 +287,11 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     force = cut_force_N_;
     if (params_.ramp_s > 0.0) force *= std::clamp((t_s - ramp_start_s_) / params_.ramp_s, 0.0, 1.0);
   } else if (contact_ != ContactState::kFree && !rejected) {
-    if (params_.force_model == ForceModel::kLocalModel) proxy_m_ = predicted_proxy(m, tool, t_s);
+    if (params_.force_model == ForceModel::kLocalModel) {
+      const Vec3 before = proxy_m_;
+      proxy_m_ = predicted_proxy(m, tool, t_s);
+      contact_point_m_ += proxy_m_ - before;
+    }
     if (params_.force_model == ForceModel::kHoldFrame && held_frame_ == m.frame) {
       force = held_force_N_;
     } else {

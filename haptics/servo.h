@@ -33,6 +33,8 @@ struct ServoParams {
   ForceModel force_model = ForceModel::kLocalModel;  ///< between-frame force
   double blade_length_m = 0.03;           ///< cut: blade edge length from the tool tip along the tool's +z axis
   double cut_resistance_Ns_per_m = 4.0;   ///< cut: viscous resistance to blade motion across its edge in material
+  double tool_radius_m = 0.0;             ///< touch: > 0 makes the tool a sphere of this radius (the proxy is its
+                                          ///< centre, kept this far outside the surface); 0 = a point
 };
 
 /// Counters the servo keeps (read after the run, or approximately while it runs).
@@ -65,6 +67,8 @@ class Servo {
 
  private:
   void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
+  // touch with a sphere: the proxy is the sphere's centre, held tool_radius_m outside the surface on the entry side
+  void update_touch_sphere(const LocalModel& m, const Vec3& tool) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
   // cut: the blade cuts while the button is held and the edge crosses the surface or its tip is inside
   void update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, bool button) noexcept;
@@ -90,6 +94,7 @@ class Servo {
   int32_t tri_ = -1;           // triangle holding P_s
   Vec3 bary_ = Vec3::Zero();   // P_s in that triangle
   Vec3 proxy_m_ = Vec3::Zero();
+  Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
   Vec3 contact_normal_ = Vec3::UnitZ();  // touch: surface normal at the proxy (which side we are on)
   Vec3 cut_force_N_ = Vec3::Zero();      // cut: blade resistance this tick
   // the proxy moved by the object's response predicted since the frame (kLocalModel)

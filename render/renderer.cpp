@@ -287,9 +287,10 @@ void Renderer::update_edges(const std::vector<std::array<int32_t, 3>>& triangles
 }
 
 void Renderer::draw_tool(const GlApi& gl, const FrameView& view) const {
-  if (!(view.tool_radius_m > 0.0) || !view.tool_pos_m.allFinite()) return;
+  const Vec3& at = view.tool_at_proxy ? view.proxy_pos_m : view.tool_pos_m;
+  if (!(view.tool_radius_m > 0.0) || !at.allFinite()) return;
   Eigen::Affine3d model = Eigen::Affine3d::Identity();
-  model.translate(view.tool_pos_m).scale(view.tool_radius_m);
+  model.translate(at).scale(view.tool_radius_m);
   const Eigen::Matrix4d modelview = view_ * model.matrix();
   gl.LoadMatrixd(modelview.data());
   gl.Enable(GL_LIGHTING);

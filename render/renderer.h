@@ -27,6 +27,7 @@ struct FrameView {
   bool in_contact = false;                     ///< tool drawn red when true
   bool show_proxy = false;                     ///< draw the proxy spring tool -> proxy
   Vec3 proxy_pos_m = Vec3::Zero();             ///< proxy (contact) point, metres
+  bool tool_at_proxy = false;                  ///< draw the tool sphere at proxy_pos_m (a sphere tool resting on the surface)
   bool show_blade = false;                     ///< draw the blade blade_tip_m -> blade_end_m (cut mode)
   Vec3 blade_tip_m = Vec3::Zero();             ///< blade tip (the tool position), metres
   Vec3 blade_end_m = Vec3::Zero();             ///< blade end toward the handle, metres

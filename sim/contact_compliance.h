@@ -13,12 +13,25 @@
 
 namespace palpate {
 
-/// A point force spread over lattice nodes: node ids and weights (weights sum to 1 over free and fixed nodes).
+/// A point force, or a force spread over a contact patch, as lattice nodes and weights (weights sum to 1 over free
+/// and fixed nodes).
 struct PointWeights {
-  static constexpr int kMax = 24;  ///< 3 triangle corners x 8 cell nodes
+  static constexpr int kMax = 256;  ///< a point: 3 triangle corners x 8 cell nodes; a patch: the nodes of its cells
   std::array<int32_t, kMax> node{};
   std::array<double, kMax> weight{};
   int count = 0;
+  /// Adds w to node's weight (a new entry when the node is not listed yet); false when full.
+  bool add(int32_t node_id, double w) {
+    for (int i = 0; i < count; ++i)
+      if (node[i] == node_id) {
+        weight[i] += w;
+        return true;
+      }
+    if (count == kMax) return false;
+    node[count] = node_id;
+    weight[count++] = w;
+    return true;
+  }
 };
 
 /// Factorises the lattice's stiffness (rebuilt when the lattice's node or spring count changes or refresh is

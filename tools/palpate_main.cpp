@@ -20,7 +20,7 @@
 #include "sim/stability.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
-#include "tools/bench_material.h"
+#include "tools/bench_model.h"
 #include "tools/bench_png.h"
 #include "tools/bench_scale.h"
 #include "tools/bench_sim.h"
@@ -310,16 +310,21 @@ int main(int argc, char** argv) {
                    "FILE.png, its data FILE.dat and script FILE.gp");
   bscale->add_flag("--quiet,-q", sco.quiet, "No progress lines");
 
-  auto* bmat = bench->add_subcommand("material", "Model error against closed-form continuum references per lattice level, beside ms per frame");
-  palpate::BenchMaterialOptions mo;
-  bmat->add_option("--compression-levels", mo.compression_levels, "Levels of the compression cube")->delimiter(',')
-      ->check(CLI::Range(1, 6))->capture_default_str();
-  bmat->add_option("--cantilever-levels", mo.cantilever_levels, "Levels of the cantilever (>= 4)")->delimiter(',')
-      ->check(CLI::Range(4, 8))->capture_default_str();
-  bmat->add_option("--hertz-levels", mo.hertz_levels, "Levels of the Hertz indentation block")->delimiter(',')
-      ->check(CLI::Range(2, 6))->capture_default_str();
-  bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(CLI::Range(1.0, 1e12))->capture_default_str();
+  auto* bmat = bench->add_subcommand("model", "Model error against closed-form continuum references per lattice level, "
+                                              "each run to rest by the simulation, beside ms per frame");
+  bmat->alias("material");
+  palpate::BenchModelOptions mo;
+  std::string mo_integrator = palpate::integrator_name(mo.integrator);
+  bmat->add_option("--levels", mo.levels, "Lattice levels (the cantilever runs from 4)")->delimiter(',')
+      ->check(CLI::Range(2, 7))->capture_default_str();
+  bmat->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(palpate::finite_range(1.0, 1e12))->capture_default_str();
+  bmat->add_option("--damping", mo.stiffness_damping_s, "Rayleigh beta in s (how fast the runs come to rest)")
+      ->check(palpate::finite_range(0.0, 10.0))->capture_default_str();
+  bmat->add_option("--references", mo.references, "Which references: compression, cantilever, hertz")->delimiter(',')
+      ->capture_default_str();
+  bmat->add_option("--integrator", mo_integrator, "Integrator that steps every run to rest")->capture_default_str();
   bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
+  bmat->add_option("--plot", mo.plot_path, "Plot force error against ms per frame (log-log) as PNG");
 
   auto* bpng = bench->add_subcommand("png", "PNG encoders side by side on a recording's frames (ms per frame, size, lossless check)");
   palpate::BenchPngOptions po;
@@ -395,6 +400,11 @@ int main(int argc, char** argv) {
   if (*bscale && bscale->get_option("scene")->count() == 0) bscale_scene = palpate::locate_default(bscale_scene);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
+  if (*bmat && !palpate::integrator_from_name(mo_integrator, &mo.integrator)) {
+    std::fprintf(stderr, "palpate: bench model: --integrator '%s' is not one of: explicit_euler, symplectic_euler, "
+                 "implicit_euler, local_global, rk4\n", mo_integrator.c_str());
+    return 2;
+  }
   if (*bscale || *bmat || *bsim || *bpng) {
     // the table (and any JSON) first; the plot is drawn after, so a missing gnuplot loses neither
     palpate::PlotSpec plot;
@@ -404,7 +414,8 @@ int main(int argc, char** argv) {
       table = palpate::run_bench_scale(bscale_scene, sco, &plot);
       plot_path = sco.plot_path;
     } else if (*bmat) {
-      table = palpate::run_bench_material(mo);
+      table = palpate::run_bench_model(mo, &plot);
+      plot_path = mo.plot_path;
     } else if (*bpng) {
       table = palpate::run_bench_png(po);
     } else if (so.box_cells.empty()) {

@@ -82,11 +82,28 @@ TEST(Scene, MinimalSceneTakesDefaults) {
 }
 
 TEST(Scene, ShippedScenesParse) {
-  for (const char* name : {"scenes/bunny_touch.json", "scenes/bunny_pull.json", "scenes/cube_press.json"}) {
+  for (const char* name : {"scenes/bunny_touch.json", "scenes/bunny_pull.json", "scenes/bunny_pull_explicit.json",
+                           "scenes/bunny_cut.json", "scenes/cube_press.json", "scenes/phantom_press.json",
+                           "scenes/tissue_pull.json"}) {
     auto r = load_scene(test::source_path(name));
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_FALSE(r.value().trajectory.empty());
   }
+}
+
+TEST(Scene, ToolShapeIsAPointUnlessASphereIsAskedForATouch) {
+  auto point = parse_scene(kMinimal, "s.json");
+  ASSERT_TRUE(point) << point.error().message;
+  EXPECT_FALSE(point.value().device.sphere_tool);
+  auto sphere = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "device": {"tool_shape": "sphere", "tool_radius_m": 0.005},
+                                "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(sphere) << sphere.error().message;
+  EXPECT_TRUE(sphere.value().device.sphere_tool);
+  EXPECT_EQ(sphere.value().device.tool_radius_m, 0.005);
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"tool_shape": "cube"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "device.tool_shape: 'cube' is not one of: point, sphere");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"tool_shape": "sphere"}, "interaction": {"mode": "pull"},
+                   "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.tool_shape: 'sphere' is a touch tool; interaction.mode is 'pull'");
 }
 
 TEST(Scene, UnknownKeysAreErrorsNamingTheKey) {

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "haptics/servo.h"
+#include "haptics/triangle_queries.h"
 #include "support/haptic_fixtures.h"
 
 namespace palpate {
@@ -14,8 +15,10 @@ namespace {
 using PathDevice = test::FixedDevice;
 using test::add_quad;
 
-std::unique_ptr<Servo> make_servo(PathDevice* dev, SpscQueue<HapticSample>* q, TripleBuffer<LocalModel>* tb) {
+std::unique_ptr<Servo> make_servo(PathDevice* dev, SpscQueue<HapticSample>* q, TripleBuffer<LocalModel>* tb,
+                                  double tool_radius_m = 0.0) {
   ServoParams p;
+  p.tool_radius_m = tool_radius_m;
   p.coupling_N_per_m = 300;
   p.coupling_damping_Ns_per_m = 0;
   p.ramp_s = 0;
@@ -141,6 +144,160 @@ TEST(GodObject, SlidingRoundACylinderFollowsTheSmoothNormalPastNinetyDegrees) {
   }
   EXPECT_EQ(lost, 0);
   EXPECT_EQ(off, 0) << "worst " << worst_m << " m";
+}
+
+// Distance from p to the nearest triangle of the patch.
+double distance_to_patch(const LocalModel& m, const Vec3& p) {
+  double best = INFINITY;
+  for (int i = 0; i < m.num_triangles; ++i) {
+    Vec3 b;
+    const auto& t = m.tri_m[i];
+    best = std::min(best, (closest_point_on_triangle(p, t[0], t[1], t[2], &b) - p).norm());
+  }
+  return best;
+}
+
+TEST(SphereTool, PressedOnAFlatFaceItsCentreRestsOneRadiusAbove) {
+  // floor z = 0; a 5 mm sphere: contact starts when the centre comes within 5 mm (before it crosses the face), and
+  // however deep the device goes the centre stays at z = r, right above the device; a point tool's proxy is on
+  // the face itself
+  PathDevice dev;
+  dev.specs_.max_force_N = 100;
+  SpscQueue<HapticSample> q(4096);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  test::publish_floor(tb.get());
+  const double r = 0.005;
+  auto sphere = make_servo(&dev, &q, tb.get(), r);
+  auto point = make_servo(&dev, &q, tb.get());
+  HapticSample sink;
+  for (int i = 0; i <= 150; ++i) {
+    dev.pos_m = Vec3(0.003, -0.002, 0.010 - 1e-4 * i);  // from 10 mm above down to 5 mm below
+    sphere->tick(i, i * 1e-3);
+    const HapticSample s = sphere->last_sample();
+    point->tick(i, i * 1e-3);
+    while (q.try_pop(&sink)) {
+    }
+    const double z = dev.pos_m.z();
+    if (z > r + 1e-9) {
+      EXPECT_EQ(s.contact, ContactState::kFree) << "z " << z;
+      continue;
+    }
+    if (z > r - 1e-9) continue;  // touching
+    ASSERT_EQ(s.contact, ContactState::kTouch) << "z " << z;
+    EXPECT_NEAR((s.proxy_pos_m - Vec3(0.003, -0.002, r)).norm(), 0.0, 1e-12) << "z " << z;
+    EXPECT_NEAR(s.force_N.z(), 300 * (r - z), 1e-9) << "z " << z;
+    // the contact point is the face point under the centre
+    EXPECT_GE(s.contact_tri, 10);
+    if (z < -1e-9) {
+      EXPECT_NEAR(point->last_sample().proxy_pos_m.z(), 0.0, 1e-12) << "z " << z;
+      EXPECT_NEAR(point->last_sample().force_N.z(), -300 * z, 1e-9) << "z " << z;
+    }
+  }
+  // lifted until the sphere no longer reaches the face: free
+  dev.pos_m = Vec3(0.003, -0.002, r + 1e-4);
+  sphere->tick(151, 0.151);
+  EXPECT_EQ(sphere->last_sample().contact, ContactState::kFree);
+  EXPECT_EQ(dev.force_N, Vec3::Zero());
+}
+
+TEST(SphereTool, PushedThroughAThinSlabStaysOnTheEntryFace) {
+  // the 2 mm slab of the point-tool test and a 3 mm sphere: pushed 6 mm under the slab, the centre stays 3 mm
+  // above its top face
+  PathDevice dev;
+  dev.specs_.max_force_N = 100;
+  SpscQueue<HapticSample> q(4096);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  LocalModel& m = tb->write_buffer();
+  const double h = 0.05, t = 0.001, r = 0.003;
+  add_quad(&m, Vec3(-h, -h, t), Vec3(h, -h, t), Vec3(h, h, t), Vec3(-h, h, t));
+  add_quad(&m, Vec3(-h, -h, -t), Vec3(-h, h, -t), Vec3(h, h, -t), Vec3(h, -h, -t));
+  m.frame = 0;
+  tb->publish();
+  auto servo = make_servo(&dev, &q, tb.get(), r);
+  HapticSample sink;
+  for (int i = 0; i <= 130; ++i) {
+    dev.pos_m = Vec3(0.003, 0.002, 0.007 - 1e-4 * i);  // from 7 mm above down to 6 mm below
+    servo->tick(i, i * 1e-3);
+    while (q.try_pop(&sink)) {
+    }
+    if (dev.pos_m.z() < t + r - 1e-9) {
+      ASSERT_EQ(servo->last_sample().contact, ContactState::kTouch) << "tick " << i;
+      EXPECT_NEAR(servo->last_sample().proxy_pos_m.z(), t + r, 1e-12) << "tick " << i;
+    }
+  }
+}
+
+TEST(SphereTool, RollsOverAConvexRidgeOneRadiusFromTheSurface) {
+  // the 30-degree roof of the point-tool test, the device 1 mm under the roof line from x = -10 mm to +10 mm,
+  // a 4 mm sphere: in contact all the way, its centre exactly one radius from the roof (never inside it), and it
+  // rolls over the ridge line (its centre passes r above it) instead of jumping from one face's offset to the
+  // other's (a jump of 1.22 r; the spring drags it over the top in steps well below that)
+  PathDevice dev;
+  dev.specs_.max_force_N = 100;
+  SpscQueue<HapticSample> q(4096);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  LocalModel& m = tb->write_buffer();
+  const double w = 0.05, slope = 0.5235987755982988, drop = w * std::tan(slope), r = 0.004;
+  add_quad(&m, Vec3(-w, -w, -drop), Vec3(0, -w, 0), Vec3(0, w, 0), Vec3(-w, w, -drop));
+  add_quad(&m, Vec3(0, -w, 0), Vec3(w, -w, -drop), Vec3(w, w, -drop), Vec3(0, w, 0));
+  m.frame = 0;
+  tb->publish();
+  auto servo = make_servo(&dev, &q, tb.get(), r);
+  HapticSample sink;
+  dev.pos_m = Vec3(-0.01, 0, 0.01);
+  servo->tick(0, 0);
+  int in_contact = 0;
+  double worst_gap = 0.0, largest_step = 0.0, highest = -1.0;
+  Vec3 prev_centre = Vec3::Constant(NAN);
+  for (int i = 1; i <= 200; ++i) {
+    const double x = -0.01 + 1e-4 * i;
+    dev.pos_m = Vec3(x, 0.0, -std::abs(x) * std::tan(slope) - 0.001);
+    servo->tick(i, i * 1e-3);
+    while (q.try_pop(&sink)) {
+    }
+    const HapticSample& s = servo->last_sample();
+    in_contact += s.contact == ContactState::kTouch;
+    worst_gap = std::max(worst_gap, std::abs(distance_to_patch(tb->read(), s.proxy_pos_m) - r));
+    if (i > 1) largest_step = std::max(largest_step, (s.proxy_pos_m - prev_centre).norm());
+    prev_centre = s.proxy_pos_m;
+    highest = std::max(highest, s.proxy_pos_m.z());
+    EXPECT_GT(dev.force_N.z(), 0.0) << "x " << x;
+  }
+  EXPECT_EQ(in_contact, 200);
+  EXPECT_LT(worst_gap, 1e-9);
+  EXPECT_GT(highest, 0.99 * r);
+  EXPECT_LE(highest, r + 1e-12);
+  EXPECT_LT(largest_step, 0.7 * r);
+  // past the ridge it rests on the right face, r along its normal from the face point under it
+  EXPECT_GT(prev_centre.x(), 0.0);
+}
+
+TEST(SphereTool, InAConcaveCornerItTouchesBothFaces) {
+  // a V-shaped groove: two faces at 45 degrees meeting along the y axis at z = 0, a 3 mm sphere pushed straight
+  // down into it sits with its centre r / sin 45 above the groove line, touching both faces
+  PathDevice dev;
+  dev.specs_.max_force_N = 100;
+  SpscQueue<HapticSample> q(4096);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  LocalModel& m = tb->write_buffer();
+  const double w = 0.03, r = 0.003;
+  add_quad(&m, Vec3(-w, -w, w), Vec3(0, -w, 0), Vec3(0, w, 0), Vec3(-w, w, w));
+  add_quad(&m, Vec3(0, -w, 0), Vec3(w, -w, w), Vec3(w, w, w), Vec3(0, w, 0));
+  m.frame = 0;
+  tb->publish();
+  auto servo = make_servo(&dev, &q, tb.get(), r);
+  HapticSample sink;
+  for (int i = 0; i <= 120; ++i) {
+    dev.pos_m = Vec3(0.0005, 0.0, 0.010 - 1e-4 * i);
+    servo->tick(i, i * 1e-3);
+    while (q.try_pop(&sink)) {
+    }
+  }
+  const HapticSample& s = servo->last_sample();
+  ASSERT_EQ(s.contact, ContactState::kTouch);
+  EXPECT_NEAR(distance_to_patch(tb->read(), s.proxy_pos_m), r, 1e-6);
+  EXPECT_NEAR(s.proxy_pos_m.z(), r * std::sqrt(2.0), 1e-5);
+  EXPECT_NEAR(s.proxy_pos_m.x(), 0.0, 1e-5);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include "haptics/latency_histogram.h"
 #include "haptics/scripted_device.h"
@@ -177,9 +178,13 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     m.model_radius_m = 1.0;
     tb->publish();
   }
-  for (auto mode : {InteractionMode::kTouch, InteractionMode::kPull, InteractionMode::kCut}) {
+  // touch with a point tool, with a 5 mm sphere, pull, cut
+  const std::pair<InteractionMode, double> runs[] = {{InteractionMode::kTouch, 0.0}, {InteractionMode::kTouch, 0.005},
+                                                     {InteractionMode::kPull, 0.0}, {InteractionMode::kCut, 0.0}};
+  for (const auto& [mode, radius] : runs) {
     ServoParams p;
     p.mode = mode;
+    p.tool_radius_m = radius;
     Servo servo(p, &dev, &q, tb.get());
     HapticSample sink;
     int64_t allocs = 0;
@@ -193,7 +198,7 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
       }
       allocs = guard.count();
     }
-    EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode);
+    EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode) << ", tool radius " << radius;
     EXPECT_EQ(servo.counters().ticks, 10000);
   }
 }

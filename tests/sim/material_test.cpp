@@ -3,11 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "sim/integrator.h"
 #include "sim/material.h"
 #include "sim/reference_cases.h"
+#include "sim/settle.h"
 #include "sim/static_solve.h"
 #include "support/fixtures.h"
 
@@ -125,78 +128,67 @@ TEST(MaterialLattice, RawKeysKeepOneStiffnessPerSharedSpring) {
   for (double m : lat.mass_kg) EXPECT_EQ(m, 0.01);
 }
 
-// Uniaxial compression between frictionless plates: F = E A d / L holds to round-off (uniform strain is the
-// lattice's exact solution), and the lateral strain says the lattice's Poisson ratio is 1/4.
-TEST(MaterialReference, CompressionMatchesEADOverLToRoundOff) {
+// Uniaxial compression by a uniform pressure on two faces, run to rest by implicit Euler: the cube shortens by
+// strain x side (uniform strain is the lattice's exact solution; the rest test leaves ~1e-5), and its lateral
+// strain says the lattice's Poisson ratio is 1/4.
+TEST(MaterialReference, CompressionRunToRestMatchesEADOverL) {
   for (int level : {2, 3, 4}) {
-    const ReferenceCheck r = check_compression(silicone(), level, 1e-7).value();
-    EXPECT_NEAR(r.rel_error, 0.0, 1e-6) << "level " << level << ": F " << r.model << " N, E A d / L " << r.closed_form;
-    EXPECT_NEAR(r.poisson_effective, 0.25, 1e-6) << "level " << level;
+    const ReferenceCheck r = check_compression(silicone(), level, 1e-4).value();
+    EXPECT_NEAR(r.rel_error, 0.0, 1e-3) << "level " << level << ": shortening " << r.model << " m, closed form "
+                                        << r.closed_form;
+    EXPECT_NEAR(r.poisson_effective, 0.25, 1e-3) << "level " << level;
+    EXPECT_GT(r.settle.frames, 1) << "level " << level;
   }
 }
 
 TEST(MaterialReference, CompressionKeepsEWhenNuIsNotAQuarter) {
-  const ReferenceCheck r = check_compression(silicone(0.45), 3, 1e-7).value();
-  EXPECT_NEAR(r.rel_error, 0.0, 1e-6);
-  EXPECT_NEAR(r.poisson_effective, 0.25, 1e-6);
+  const ReferenceCheck r = check_compression(silicone(0.45), 3, 1e-4).value();
+  EXPECT_NEAR(r.rel_error, 0.0, 1e-3);
+  EXPECT_NEAR(r.poisson_effective, 0.25, 1e-3);
 }
 
-// Cantilever tip deflection against F L^3 / (3 E I): the error falls with every level, and at level 6
-// (4 x 4 cells across the section) is within 8 % (measured: -54 %, -23 %, -6.7 % at levels 4, 5, 6; the lattice is
-// too stiff when coarse, and Euler-Bernoulli leaves out the ~1.2 % that shear adds).
+// The rest state is a real rest: stopped early (a tenth of the frames the rest test needed), the cube has not yet
+// reached its shortening, so the check above measures the run, not its start.
+TEST(MaterialReference, CompressionStoppedEarlyIsNotAtRest) {
+  const ReferenceCheck full = check_compression(silicone(), 3, 1e-4).value();
+  SettleOptions early;
+  early.max_frames = std::max(1, full.settle.frames / 10);
+  EXPECT_FALSE(check_compression(silicone(), 3, 1e-4, early));
+}
+
+// Cantilever tip deflection against F L^3 / (3 E I), run to rest: the force error falls with every level, and at
+// level 6 (4 x 4 cells across the section) is within 10 % (the lattice is too stiff when coarse, and
+// Euler-Bernoulli leaves out the ~1.2 % that shear adds).
 TEST(MaterialReference, CantileverConvergesToBeamTheory) {
   double previous = 1e9;
   for (int level : {4, 5, 6}) {
     const ReferenceCheck r = check_cantilever(silicone(), level).value();
     EXPECT_LT(std::abs(r.rel_error), previous) << "level " << level << ": deflection " << r.model << " m, beam "
                                                 << r.closed_form << " m";
+    EXPECT_GT(r.rel_error, 0.0) << "level " << level << ": a coarse lattice is too stiff";
     previous = std::abs(r.rel_error);
   }
-  EXPECT_LT(previous, 0.08);
+  EXPECT_LT(previous, 0.10);
 }
 
-// The static solve is the same model the simulation runs: a run of the cantilever under its tip load comes to rest
-// at the deflection the Newton solve gives (no material damping: the implicit schemes' own damping brings it to
-// rest; the paper's relative-velocity damping would also damp the cross-sections' rotation and only creep there).
-TEST(MaterialReference, DampedRunComesToRestAtTheStaticSolution) {
-  MaterialSpec m = silicone();
-  m.young_modulus_Pa = 1e7;  // first bending mode ~ 150 rad/s: h w = 2.5 at 60 Hz
-  m.stiffness_damping_s = 0.0;
-  ReferenceCase c = cantilever_case(m, 5).value();
+// The rest the simulation comes to is the static equilibrium a direct Newton solve of the same lattice gives, with
+// implicit Euler and with local/global (a fixed point of its iterations is an equilibrium too).
+TEST(MaterialReference, RunToRestAgreesWithTheStaticSolve) {
+  const ReferenceCase c = cantilever_case(silicone(), 4).value();
   Lattice stat = c.lattice;
   ASSERT_TRUE(solve_static(&stat, c.held_dof, c.f_ext_N));
-  auto tip_m = [&](const Lattice& lat) {
-    double load = 0.0, moment = 0.0;
-    for (std::size_t i = 0; i < lat.num_nodes(); ++i) {
-      load += c.f_ext_N[i].z();
-      moment += c.f_ext_N[i].z() * (lat.x_m[i].z() - lat.rest_m[i].z());
-    }
-    return -moment / load;
-  };
-  // implicit Euler (a Newton step per frame) lands on it; local/global (10 iterations a frame) converges slowly in
-  // bending: 0.2 % short after 10 s
-  for (auto [kind, tol] : {std::pair{IntegratorKind::kImplicitEuler, 1e-6}, std::pair{IntegratorKind::kLocalGlobal, 1e-2}}) {
+  // local/global converges slowly in bending (its iterations, not the dynamics): held to a looser rest test
+  for (auto [kind, rest, tol] : {std::tuple{IntegratorKind::kImplicitEuler, 1e-7, 1e-5},
+                                 std::tuple{IntegratorKind::kLocalGlobal, 1e-5, 1e-2}}) {
     Lattice dyn = c.lattice;
-    for (std::size_t i = 0; i < dyn.num_nodes(); ++i) dyn.fixed[i] = c.held_dof[3 * i];  // the clamped end
-    dyn.touch();
-    StepOptions o;
-    o.kind = kind;
-    IntegratorWorkspace ws;
-    for (int frame = 0; frame < 600; ++frame) ASSERT_TRUE(step_lattice(&dyn, o, 1.0 / 60.0, c.f_ext_N, &ws).finite);
-    EXPECT_NEAR(tip_m(dyn) / tip_m(stat), 1.0, tol) << integrator_name(kind) << ": rest " << tip_m(dyn)
-                                                     << " m, static " << tip_m(stat) << " m";
+    SettleOptions o;
+    o.step.kind = kind;
+    o.rest_rel = rest;
+    auto rep = settle(&dyn, c.f_ext_N, o);
+    ASSERT_TRUE(rep) << integrator_name(kind) << ": " << rep.error().message;
+    EXPECT_NEAR(cantilever_deflection_m(c, dyn) / cantilever_deflection_m(c, stat), 1.0, tol)
+        << integrator_name(kind) << " after " << rep.value().frames << " frames";
   }
-}
-
-// Hertz indentation of a block by a rigid sphere, F = 4/3 E* sqrt(R) d^(3/2): the error falls from level 3 (contact
-// radius half a cell: one node in contact) to level 4 (one cell), where it is within 15 % (measured +21 %, +5.3 %;
-// the block, 8 contact radii deep and wide, is stiffer than the half-space).
-TEST(MaterialReference, HertzIndentationApproachesTheClosedForm) {
-  const ReferenceCheck coarse = check_hertz(silicone(), 3).value();
-  const ReferenceCheck fine = check_hertz(silicone(), 4).value();
-  EXPECT_LT(std::abs(fine.rel_error), std::abs(coarse.rel_error));
-  EXPECT_LT(std::abs(fine.rel_error), 0.15) << "F " << fine.model << " N, Hertz " << fine.closed_form << " N";
-  EXPECT_GT(fine.model, 0.0);
 }
 
 TEST(MaterialReference, CantileverNeedsEightCellsAlongTheBeam) {

@@ -196,6 +196,7 @@ ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, doub
   sp.grab_radius_m = scene.grab_radius_m;
   sp.blade_length_m = scene.blade_length_m;
   sp.cut_resistance_Ns_per_m = scene.cut_resistance_Ns_per_m;
+  sp.tool_radius_m = scene.device.sphere_tool ? scene.device.tool_radius_m : 0.0;
   sp.period_s = 1.0 / rate_hz;
   return sp;
 }

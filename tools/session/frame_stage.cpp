@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "core/state_hash.h"
 #include "sim/cut.h"
@@ -164,6 +165,7 @@ bool FrameStage::step_lattice_frame() {
   stats_.spring_frames += static_cast<int64_t>(lattice_->springs.size());
   stats_.vertex_frames += static_cast<int64_t>(deformer_.num_bound_vertices());
   stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
+  stats_.substeps_total += rep.substeps;
   if (rep.diverged) {
     // a diverged state is counted and replaced by rest, so the run goes on
     ++(rep.finite ? stats_.divergence_events : stats_.nan_events);
@@ -191,20 +193,91 @@ PointWeights FrameStage::contact_weights(int32_t tri_id, const Vec3& bary) const
   return w;
 }
 
-void FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
+PointWeights FrameStage::patch_weights(const HapticSample& s) const {
+  const double radius = scene_.device.tool_radius_m;
+  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(s.contact_tri)];
+  const Vec3& a0 = model_.rest.vertices_m[tri[0]];
+  const Vec3& a1 = model_.rest.vertices_m[tri[1]];
+  const Vec3& a2 = model_.rest.vertices_m[tri[2]];
+  const Vec3 n = (a1 - a0).cross(a2 - a0).normalized();
+  PointWeights w;
+  if (!n.allFinite()) return w;
+  // the patch is centred under the sphere's centre (its foot on the contact face's rest plane), not on the
+  // servo's nearest surface point, which wanders over a patch the sphere has pressed into its own shape
+  const double height = (s.proxy_pos_m - a0).dot(n);
+  const Vec3 centre = s.proxy_pos_m - height * n;
+  // depth of the sphere's lowest point below the rest surface, and the contact radius it gives
+  const double depth = std::clamp(radius - height, 0.0, radius);
+  const double a = std::sqrt(radius * depth);
+  // the rings' orientation from a world axis, not the triangle: the same patch whichever triangle at a shared
+  // vertex or edge holds the contact point this frame
+  const Vec3 axis = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 t1 = (axis - axis.dot(n) * n).normalized(), t2 = n.cross(t1);
+  const int level = lattice_->level;
+  const double cell = lattice_->cell_m;
+  // a hair inside the surface, so a sample on a face that lies on a cell plane lands in the solid cell
+  const Vec3 in = -1e-3 * cell * n;
+  double total = 0.0;
+  auto sample = [&](const Vec3& p, double weight) {
+    const int32_t slot = lattice_->slot_of_cell[model_.grid.linear_index(model_.grid.cell_of(p, level), level)];
+    if (slot < 0 || !(weight > 0.0)) return;
+    const auto& nodes = lattice_->cell_nodes[static_cast<std::size_t>(slot)];
+    const Vec3 local = ((p - lattice_->rest_m[nodes[0]]) / cell).cwiseMax(0.0).cwiseMin(1.0);
+    const auto tw = trilinear_weights(local);
+    for (int k = 0; k < 8; ++k)
+      if (!w.add(nodes[k], weight * tw[k])) return;
+    total += weight;
+  };
+  // rings of samples, kRings annuli of equal width, each sample carrying pressure x its share of the area
+  constexpr int kRings = 6;
+  const double h = a / (kRings + 0.5);
+  sample(centre + in, 0.25 * h * h * 3.14159265358979323846);
+  for (int k = 1; k <= kRings && a > 0.0; ++k) {
+    const double rho = k * h;
+    const int count = 6 * k;
+    const double share = 2.0 * 3.14159265358979323846 * rho * h / count;
+    const double pressure = std::sqrt(std::max(0.0, 1.0 - rho * rho / (a * a)));
+    for (int j = 0; j < count; ++j) {
+      const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5 * (k % 2)) / count;
+      sample(centre + in + rho * (std::cos(phi) * t1 + std::sin(phi) * t2), share * pressure);
+    }
+  }
+  if (!(total > 0.0)) return contact_weights(s.contact_tri, s.contact_bary);
+  for (int i = 0; i < w.count; ++i) w.weight[i] /= total;
+  return w;
+}
+
+Vec3 FrameStage::object_force(const Vec3& reaction_N) const {
+  if (!scene_.device.sphere_tool || contact_.contact_tri < 0) return reaction_N;
+  // a frictionless sphere pushes along the normal of the face under it (at rest: the tilt of the deformed facets
+  // would swing a large sphere's centre sideways and back every frame)
+  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
+  const Vec3& a0 = model_.rest.vertices_m[tri[0]];
+  const Vec3 n = (model_.rest.vertices_m[tri[1]] - a0).cross(model_.rest.vertices_m[tri[2]] - a0).normalized();
+  return n.allFinite() ? Vec3(n.dot(reaction_N) * n) : reaction_N;
+}
+
+PointWeights FrameStage::force_weights(const HapticSample& s) const {
+  return scene_.device.sphere_tool ? patch_weights(s) : contact_weights(s.contact_tri, s.contact_bary);
+}
+
+int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
   std::fill(f_ext->begin(), f_ext->end(), Vec3::Zero());
-  if (!contact_this_frame_ || frame_samples_ == 0) return;
+  if (!contact_this_frame_ || frame_samples_ == 0) return 0;
   // the frame's mean device force, reacted on the material point P_s: -F spread over the cell nodes of the
-  // contact triangle's vertices by barycentric and trilinear weights
-  const Vec3 f_obj = -force_sum_N_ / static_cast<double>(frame_samples_);
-  const PointWeights w = contact_weights(contact_.contact_tri, contact_.contact_bary);
+  // contact triangle's vertices by barycentric and trilinear weights (a sphere tool: over its contact patch)
+  const Vec3 f_obj = object_force(-force_sum_N_ / static_cast<double>(frame_samples_));
+  const PointWeights w = force_weights(contact_);
   for (int i = 0; i < w.count; ++i) (*f_ext)[w.node[i]] += w.weight[i] * f_obj;
+  int loaded = 0;
+  for (const Vec3& f : *f_ext) loaded += f.squaredNorm() > 0.0 ? 1 : 0;
+  return loaded;
 }
 
 void FrameStage::fill_contact_model(LocalModel* m) {
   m->has_contact_model = false;
   if (!lattice_ || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
-  const PointWeights w = contact_weights(latest_.contact_tri, latest_.contact_bary);
+  const PointWeights w = force_weights(latest_);
   if (w.count == 0) return;
   Mat3 c;
   if (!compliance_.compute(*lattice_, w, false, &c)) return;
@@ -224,7 +297,9 @@ void FrameStage::fill_contact_model(LocalModel* m) {
 void FrameStage::publish_patch() {
   LocalModel& m = local_model_->write_buffer();
   // triangles near the tool and the proxy, with a margin for the deformation since rest
-  const double margin = std::max(2.0 * model_.leaf_cell_m, scene_.grab_radius_m) + stats_.max_displacement_m;
+  // (a sphere tool reaches its radius beyond its centre)
+  const double margin = std::max(2.0 * model_.leaf_cell_m, scene_.grab_radius_m) + stats_.max_displacement_m +
+                        (scene_.device.sphere_tool ? scene_.device.tool_radius_m : 0.0);
   const Vec3 lo = latest_.tool_pos_m.cwiseMin(latest_.proxy_pos_m) - Vec3::Constant(margin);
   const Vec3 hi = latest_.tool_pos_m.cwiseMax(latest_.proxy_pos_m) + Vec3::Constant(margin);
   if (cut_) {
@@ -285,6 +360,8 @@ void FrameStage::render(int64_t index, bool block) {
   view.normals = &normals_;
   view.tool_pos_m = latest_.tool_pos_m;
   view.tool_radius_m = scene_.device.tool_radius_m;
+  // a sphere tool is drawn where it rests on the surface (its centre, the proxy); the spring goes to the device
+  view.tool_at_proxy = scene_.device.sphere_tool;
   view.in_contact = latest_.contact != ContactState::kFree;
   view.show_proxy = view.in_contact && latest_.contact != ContactState::kCut;
   view.proxy_pos_m = latest_.proxy_pos_m;
@@ -321,13 +398,22 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   frame_samples_ = 0;
   drain();
   const bool cutting = cut_ && cut_frame();
-  if (!lattice_ && contact_this_frame_) build_lattice_at(contact_.proxy_pos_m);
-  frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? Vec3(-force_sum_N_ / static_cast<double>(frame_samples_))
+  if (!lattice_ && contact_this_frame_) {
+    // a sphere's centre is outside the surface: the region is built around the surface point under it
+    Vec3 at = contact_.proxy_pos_m;
+    if (scene_.device.sphere_tool) {
+      const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
+      at.setZero();
+      for (int c = 0; c < 3; ++c) at += contact_.contact_bary[c] * vertices_m_[tri[c]];
+    }
+    build_lattice_at(at);
+  }
+  frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? object_force(-force_sum_N_ / static_cast<double>(frame_samples_))
                                                                   : Vec3::Zero();
   bool moved = false;
   if (lattice_) {
     follow_contact();
-    apply_contact_force(&f_ext_N_);
+    if (const int nodes = apply_contact_force(&f_ext_N_); nodes > 0) stats_.force_nodes = nodes;
     moved = step_lattice_frame();
     if (moved && cut_) apply_floor(&*lattice_, floor_z_m_);
   }

@@ -51,6 +51,8 @@ struct FrameStats {
   int64_t region_moves = 0;         ///< times the region followed the contact
   int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
   int64_t contact_models = 0;       ///< frames that published a contact model for the servo
+  int force_nodes = 0;              ///< lattice nodes loaded by the contact force in the last frame with contact
+  int64_t substeps_total = 0;       ///< integrator substeps over all stepped frames
   // cut mode
   int64_t frames_cutting = 0;       ///< frames that applied blade sweeps
   int64_t springs_cut = 0;          ///< springs removed by the blade
@@ -109,9 +111,21 @@ class FrameStage {
   void follow_contact();
   // steps the lattice unless it rests; true when it moved
   bool step_lattice_frame();
-  void apply_contact_force(std::vector<Vec3>* f_ext) const;
+  // the frame's contact force on the lattice nodes; returns how many nodes it went to
+  int apply_contact_force(std::vector<Vec3>* f_ext) const;
   // lattice nodes and weights of the material point (tri, bary) (empty when it is outside the lattice)
   PointWeights contact_weights(int32_t tri, const Vec3& bary) const;
+  // where the contact force of sample s goes: the point (tri, bary) for a point tool; for a sphere tool the
+  // nodes under its contact patch (see patch_weights)
+  PointWeights force_weights(const HapticSample& s) const;
+  // the force the object receives for the device's mean reaction: all of it for a point tool; for a sphere tool its
+  // component along the rest normal of the face under the sphere (frictionless contact)
+  Vec3 object_force(const Vec3& reaction_N) const;
+  // sphere tool: the contact patch under the sphere centred at s.proxy_pos_m, at rest: a disc of radius
+  // a = sqrt(R delta) (delta: how deep the sphere's lowest point is below the rest surface) around the material
+  // point under it, loaded with Hertz's pressure sqrt(1 - rho^2 / a^2), sampled on rings and spread to the
+  // nodes of the lattice cells holding the samples by trilinear weights
+  PointWeights patch_weights(const HapticSample& s) const;
   // the object's linearised response at the current contact, for the servo between frames
   void fill_contact_model(LocalModel* m);
   void publish_patch();
