@@ -68,7 +68,7 @@ for section in "${sections[@]}"; do
       run box "$bin/palpate" bench sim scenes/bunny_pull.json --box 4,8,16 --integrators symplectic_euler,implicit_euler \
         --json "$out/box.json" ;;
     model)
-      run model "$bin/palpate" bench material --json "$out/model.json" ;;
+      run model "$bin/palpate" bench model --json "$out/model.json" --plot "$out/bench_model.png" ;;
     device)
       run device scripts/bench_device.sh ;;
     *)
