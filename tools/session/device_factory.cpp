@@ -96,7 +96,7 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   specs.workspace_half_m = scene.device.workspace_half_m;
   specs.rate_hz = rate_hz;
   // the scripted handle is held by the emulated hand: its damping is the hand's
-  specs.damping_Ns_per_m = driver == "scripted" ? scene.hand.damping_Ns_per_m : scene.device.damping_Ns_per_m;
+  specs.damping_Ns_per_m = driver == DeviceDriver::kScripted ? scene.hand.damping_Ns_per_m : scene.device.damping_Ns_per_m;
   // model-relative keys are resolved where the model is loaded (resolve_relative_keys); never played as zeros
   if (driver == DeviceDriver::kScripted || driver == DeviceDriver::kPlugin)
     for (std::size_t i = 0; i < scene.trajectory.size(); ++i)
