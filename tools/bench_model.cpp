@@ -168,7 +168,10 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     p.y_label = "|force error| against the closed form";
     p.x_column = "cpu_ms_per_frame";
     p.y_column = "abs_force_error";
-    p.what = "palpate bench model (E " + std::to_string(o.young_modulus_Pa) + " Pa, nu 0.25)";
+    char what[160];
+    std::snprintf(what, sizeof what, "palpate bench model (E %g Pa, nu 0.25, density %g kg/m^3)", o.young_modulus_Pa,
+                  o.density_kg_per_m3);
+    p.what = what;
     p.key = "top right";
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c"};
     const int points[] = {7, 5, 9};
