@@ -114,7 +114,13 @@ PALPATE_SHIM_STATIC_ASSERT(sizeof(palpate_shim_heartbeat) == 64, "heartbeat layo
 PALPATE_SHIM_STATIC_ASSERT(sizeof(palpate_shim_segment) == 448, "segment layout");
 
 /* relaxed per-field copies: no torn words, no data race in the C/C++ memory models */
+#if defined(__cplusplus)
+/* (clang's C++ front end takes no pointer to const as __atomic_store's value: the cast drops it, nothing is
+   written through it) */
+#define PALPATE_SHIM_ST(dst, src) __atomic_store(&(dst), const_cast<__typeof__(dst)*>(&(src)), __ATOMIC_RELAXED)
+#else
 #define PALPATE_SHIM_ST(dst, src) __atomic_store(&(dst), &(src), __ATOMIC_RELAXED)
+#endif
 #define PALPATE_SHIM_LD(src, dst) __atomic_load(&(src), &(dst), __ATOMIC_RELAXED)
 
 /* Makes the lock even again (a writer that died inside a record leaves it odd). Writer side, at attach. */
