@@ -331,6 +331,42 @@ std::string off_face_out_of_range(const std::string& path) {
   return {};
 }
 
+// The same for an ASCII PLY body: entries are blank-separated words, so a list of n entries needs at least 2n
+// bytes (assimp's reader spins on a list count of 2^31 too).
+std::string ply_ascii_lists_fit(const std::string& path, const std::vector<PlyElement>& elements, int64_t body_offset,
+                                int64_t size_bytes) {
+  ForwardReader in(path, body_offset, size_bytes);
+  unsigned char c = ' ';
+  // the next blank-separated word (at most 32 characters kept); false at the end of the file
+  auto word = [&](std::string* w) {
+    w->clear();
+    while (std::isspace(c) && in.take(1, &c)) {}
+    if (std::isspace(c)) return false;
+    do {
+      if (w->size() < 32) *w += static_cast<char>(c);
+    } while (in.take(1, &c) && !std::isspace(c));
+    if (!std::isspace(c)) c = ' ';  // the end of the file ends the word
+    return true;
+  };
+  std::string w;
+  for (const PlyElement& e : elements) {
+    const auto count = static_cast<int64_t>(e.count);
+    for (int64_t i = 0; i < count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        if (!word(&w)) return {};  // short file: assimp reports it
+        if (!p.list) continue;
+        const double entries = std::strtod(w.c_str(), nullptr);
+        if (!(entries >= 0) || entries * 2 > static_cast<double>(in.left()) + 1)
+          return "element " + e.name + " " + std::to_string(i) + ": a list of " + w + " entries, more than the " +
+                 std::to_string(in.left()) + " bytes left in the file";
+        for (auto k = static_cast<int64_t>(entries); k > 0; --k)
+          if (!word(&w)) return {};
+      }
+    }
+  }
+  return {};
+}
+
 // Bytes of an OFF or PLY header read to check its counts; a longer header is refused.
 constexpr std::size_t kHeaderScanBytes = 65536;
 
@@ -399,10 +435,10 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
   if (need_bytes > size_bytes)
     return "header declares " + declared.str() + ", more than the " + std::to_string(std::llround(size_bytes)) +
            "-byte file can hold";
-  if (ascii) return {};
-  // binary: every list's length must fit the bytes left (assimp's reader spins on a list of 2^31 entries)
+  // every list's length must fit the bytes left (assimp's reader spins on a list of 2^31 entries)
   const std::size_t body = raw_head.find('\n', end);  // "end_header\n" or "end_header\r\n"
   if (body == std::string::npos) return {};
+  if (ascii) return ply_ascii_lists_fit(path, elements, static_cast<int64_t>(body + 1), static_cast<int64_t>(size_bytes));
   return ply_binary_lists_fit(path, elements, big_endian, static_cast<int64_t>(body + 1), static_cast<int64_t>(size_bytes));
 }
 

@@ -309,6 +309,14 @@ TEST_F(MeshIoTest, PlyWithoutEndHeaderOrWithAnImpossibleListIsRefused) {
   const std::string tri = write("tri.ply", head + "end_header\n" + std::string("\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0", 36) +
                                     std::string("\x03\0\0\0\0\0\0\0\x01\0\0\0\x02\0\0\0", 16));
   EXPECT_TRUE(check_mesh_file(tri)) << check_mesh_file(tri).error().message;
+  // the same in ASCII: a list of 2^31 words cannot fit a few bytes (assimp spun on it for minutes)
+  const std::string ascii = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  const std::string ascii_list = write("ascii_list.ply", ascii + "2147483647 0 1 2\n");
+  ASSERT_FALSE(check_mesh_file(ascii_list));
+  EXPECT_EQ(check_mesh_file(ascii_list).error().message,
+            "mesh '" + ascii_list + "': element face 0: a list of 2147483647 entries, more than the 6 bytes left in the file");
+  EXPECT_TRUE(check_mesh_file(write("ascii_tri.ply", ascii + "3 0 1 2")));  // no line end after the last entry
   const std::string neg = write("neg.ply", "ply\nformat ascii 1.0\nelement vertex -5\nproperty float x\nend_header\n");
   ASSERT_FALSE(check_mesh_file(neg));
   EXPECT_NE(check_mesh_file(neg).error().message.find("element vertex count '-5' is not a whole number"), std::string::npos);
