@@ -12,6 +12,8 @@ inline constexpr int64_t kMaxSceneFileBytes = int64_t{16} << 20;
 inline constexpr int64_t kMaxReplayFileBytes = int64_t{256} << 20;
 /// Largest mesh file read, bytes (512 MiB).
 inline constexpr int64_t kMaxMeshFileBytes = int64_t{512} << 20;
+/// Deepest nesting of arrays and objects in a scene file (a scene needs 4), checked before parsing.
+inline constexpr int kMaxJsonNesting = 64;
 /// Most trajectory keyframes in a scene.
 inline constexpr int kMaxKeyframes = 100000;
 /// Most lattice nodes a scene's lattice may reach (estimated from the grid before it is built).
@@ -22,6 +24,12 @@ inline constexpr int64_t kMaxLatticeSprings = 1048576;
 inline constexpr int64_t kMaxTriangles = int64_t{1} << 22;
 /// Deepest grid level (128^3 = 2,097,152 cells at the finest level).
 inline constexpr int kMaxGridLevels = 8;
+/// Deepest element nesting of an XML mesh file (Collada .dae and other XML formats), checked by a scan before
+/// the reader sees it: assimp's readers recurse once per level, and 20000 levels overflow the stack.
+inline constexpr int kMaxXmlNesting = 256;
+/// Smallest largest-extent of a mesh file's model, in its own units: assimp merges vertices closer than 1e-5
+/// while reading, so a smaller model has lost its shape (refused as degenerate, with its size).
+inline constexpr double kMinMeshSpan = 1e-3;
 /// Most pixels of a rendered frame (width x height; 4096 x 4096).
 inline constexpr int64_t kMaxImagePixels = int64_t{4096} * 4096;
 /// Most substeps per frame (fixed or automatic cap).
@@ -34,8 +42,8 @@ inline constexpr double kMaxServoRate_hz = 20000.0;
 
 /// The limits above as a few lines of text, for --help.
 inline constexpr const char* kLimitsHelp =
-    "Limits: scene file 16 MiB, mesh file 512 MiB, replay log 256 MiB; 100000 keyframes; 4194304 triangles (after mesh.subdivisions); grid.levels 8 "
-    "(2097152 cells); lattice 65536 nodes and 1048576 springs (estimated from the scene and its grid before "
+    "Limits: scene file 16 MiB (JSON nested 64 deep), mesh file 512 MiB, replay log 256 MiB; 100000 keyframes; 4194304 triangles (after mesh.subdivisions); grid.levels 8 "
+    "(2097152 cells); XML mesh nesting 256 levels; lattice 65536 nodes and 1048576 springs (estimated from the scene and its grid before "
     "anything is built); frames 4096 x 4096 pixels; 100000 substeps; 1000 iterations; servo rate 100..20000 Hz.";
 
 }  // namespace palpate

@@ -9,11 +9,19 @@
 
 namespace palpate {
 
+/// The checks load_mesh() makes before the reader sees a file: a regular file of at most kMaxMeshFileBytes, OFF
+/// and PLY header counts the file's size can hold (PLY: a header with end_header in its first 64 KiB, whole
+/// non-negative counts, and in a binary file every list's entries within the bytes left), and XML (Collada
+/// and others) nested at most kMaxXmlNesting deep. Errors as load_mesh()'s.
+Status check_mesh_file(const std::string& path);
+
 /// Loads OBJ, PLY, STL, OFF (anything assimp reads) into one TriMesh: all meshes merged with their node
 /// transforms applied, triangulated, vertices at identical positions welded, degenerate triangles and unused
 /// vertices dropped. Errors start with "mesh '<path>': " and end with "file not found", "not a regular file",
 /// "file is empty", "<n> bytes, more than the limit of <kMaxMeshFileBytes>", "header declares ..., more than the
-/// <n>-byte file can hold" (OFF/PLY counts, read from the first 64 KiB, any line ends), assimp's own message,
+/// <n>-byte file can hold" (OFF/PLY counts, read from the first 64 KiB, any line ends), "element face 0: a list
+/// of <n> entries, more than the <m> bytes left in the file", "XML elements nested deeper than the limit of 256
+/// levels (line <n>)", "NaN coordinate at vertex <i>", "degenerate: the model spans only <x> units, ...", assimp's own message,
 /// "malformed faces (assimp: <message>)" when the reader skipped or repaired faces or their vertex indices,
 /// "face 3 vertex index 9 is beyond the vertex list (size 4)", or "no triangles". Thread: any; the first call
 /// attaches an error stream to assimp's

@@ -5,6 +5,8 @@
 #include <utility>
 #include <variant>
 
+#include "core/printable.h"
+
 namespace palpate {
 
 /// An error produced at a boundary (file, scene key, argument, device message); copyable.
@@ -37,12 +39,13 @@ class [[nodiscard]] Result {
 struct Ok {};
 using Status = Result<Ok>;
 
-/// Builds an Error from string pieces.
+/// Builds an Error from string pieces. Bytes from an input that would not print (control bytes, invalid UTF-8,
+/// e.g. in a file name or a JSON parser's "last read") are written as \xNN, so the message stays one readable line.
 template <class... Args>
 Error make_error(Args&&... parts) {
   std::string s;
   (s += ... += std::string(std::forward<Args>(parts)));
-  return Error{std::move(s)};
+  return Error{printable_text(s)};
 }
 
 }  // namespace palpate

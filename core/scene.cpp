@@ -50,9 +50,12 @@ class ObjectReader {
     const Json* v = take(key);
     if (!v) return;
     if (!v->is_number_integer()) return fail(path(key), "must be an integer");
+    const std::string range = " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    // 2^63 and beyond arrive unsigned: read as long long they would print (and compare) as negative
+    if (v->is_number_unsigned() && v->get<unsigned long long>() > static_cast<unsigned long long>(hi))
+      return fail(path(key), std::to_string(v->get<unsigned long long>()) + range);
     const long long x = v->get<long long>();
-    if (x < lo || x > hi)
-      return fail(path(key), std::to_string(x) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (x < lo || x > hi) return fail(path(key), std::to_string(x) + range);
     *out = static_cast<int>(x);
   }
 
@@ -197,6 +200,7 @@ void read_lattice(ObjectReader& top, Scene* s, std::string* err) {
   r.number("budget_ms", &l.budget_ms, 0.0, 1e4);
   if (err->empty() && l.budget_ms > 0.0 && l.integrator != IntegratorKind::kLocalGlobal)
     r.fail(r.path("budget_ms"), "needs \"integrator\": \"local_global\" (the budget trades its iterations for time)");
+  r.boolean("allow_divergence", &l.allow_divergence);
   r.finish();
 }
 
@@ -364,10 +368,39 @@ Json parse_strict(const std::string& text, std::string* duplicate) {
   return Json::parse(text, cb);
 }
 
+// Where JSON text first nests arrays and objects deeper than `limit` (its line), else 0. Brackets inside strings
+// do not count. The parser's key paths would otherwise cost memory quadratic in the depth.
+int64_t json_too_deep(const std::string& text, int limit) {
+  int depth = 0;
+  int64_t line = 1;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (c == '\n') ++line;
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit) return line;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 Result<Scene> parse_scene(const std::string& json_text, const std::string& path) {
   const std::string who = "scene '" + path + "': ";
+  // the JSON parser stops at a NUL byte as at the end of the text: whatever follows would be ignored unread
+  if (const std::size_t nul = json_text.find('\0'); nul != std::string::npos)
+    return make_error(who, "NUL byte at offset ", std::to_string(nul), ": not a JSON text");
+  if (const int64_t line = json_too_deep(json_text, kMaxJsonNesting); line > 0)
+    return make_error(who, "JSON nested deeper than the limit of ", std::to_string(kMaxJsonNesting), " levels (line ",
+                      std::to_string(line), ")");
   Json j;
   std::string duplicate;
   try {

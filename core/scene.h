@@ -52,6 +52,7 @@ struct LatticeSpec {
   double rest_force_N = 1e-6;           ///< ... and with every node's net force below this
   bool follow_contact = true;           ///< move/grow the region when the contact leaves it
   double budget_ms = 0.0;               ///< > 0: realtime frames step at the most accurate setting holding this sim budget
+  bool allow_divergence = false;        ///< a recording whose lattice diverged (and was reset) still exits 0, with a warning
   MaterialSpec material;                ///< the scene's top-level "material" object (exclusive with the raw k, M, C_d)
 };
 

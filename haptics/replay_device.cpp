@@ -32,7 +32,14 @@ bool to_double(const std::string& s, double* v) {
 
 }  // namespace
 
-Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text, const std::string& path) {
+Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text_in, const std::string& path) {
+  // CRLF and CR-only line ends read as LF (a log passed through another system's tools)
+  std::string text;
+  text.reserve(text_in.size());
+  for (std::size_t i = 0; i < text_in.size(); ++i) {
+    if (text_in[i] != '\r') text += text_in[i];
+    else if (i + 1 == text_in.size() || text_in[i + 1] != '\n') text += '\n';
+  }
   std::istringstream in(text);
   std::string line;
   if (!std::getline(in, line)) return make_error("replay '", path, "': empty file");

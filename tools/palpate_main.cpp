@@ -142,12 +142,16 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   std::fflush(stdout);
   if (server && serve_linger_s > 0.0) linger(*server, serve_linger_s);
   if (server) server->stop();
-  // divergence is never silent: the outputs stay, the exit status says they hold a reset lattice
+  // divergence is never silent: the outputs stay, the exit status says they hold a reset lattice (unless the
+  // scene accepts it with lattice.allow_divergence: then a warning says the same)
   if (r.nan_events > 0 || r.divergence_events > 0) {
-    std::fprintf(stderr, "palpate: scene '%s': the lattice diverged: nan_events %lld, divergence_events %lld (see %s)\n",
-                 scene_path.c_str(), static_cast<long long>(r.nan_events), static_cast<long long>(r.divergence_events),
-                 r.summary_path.c_str());
-    return 1;
+    const bool allowed = scene.value().lattice.allow_divergence;
+    std::fprintf(stderr, "palpate: %sscene '%s': the lattice diverged: nan_events %lld, divergence_events %lld (see %s)%s\n",
+                 allowed ? "warning: " : "", palpate::printable_text(scene_path).c_str(),
+                 static_cast<long long>(r.nan_events), static_cast<long long>(r.divergence_events),
+                 palpate::printable_text(r.summary_path).c_str(),
+                 allowed ? "; accepted (lattice.allow_divergence)" : "");
+    return allowed ? 0 : 1;
   }
   return 0;
 }
@@ -161,6 +165,9 @@ int usage_error(const palpate::Error& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // a file-size limit (ulimit -f) fails the write that crosses it with EFBIG, reported against that file like a
+  // full disk, instead of killing the process with SIGXFSZ halfway through its outputs
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"palpate: feel and deform 3D models through a haptic device; headless recordings and loop-rate figures"};
   palpate::prefix_usage_errors(app, "palpate");
   app.require_subcommand(1);

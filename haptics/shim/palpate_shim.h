@@ -116,7 +116,13 @@ PALPATE_SHIM_STATIC_ASSERT(sizeof(palpate_shim_segment) == 448, "segment layout"
 /* relaxed per-field copies: no torn words, no data race in the C/C++ memory models. A translation unit may
    define PALPATE_SHIM_LD before including this header to interpose on the readers' field loads (the tests use it
    to put a whole write between two loads of one copy, deterministically). */
+#if defined(__cplusplus)
+/* (clang's C++ front end takes no pointer to const as __atomic_store's value: the cast drops it, nothing is
+   written through it) */
+#define PALPATE_SHIM_ST(dst, src) __atomic_store(&(dst), const_cast<__typeof__(dst)*>(&(src)), __ATOMIC_RELAXED)
+#else
 #define PALPATE_SHIM_ST(dst, src) __atomic_store(&(dst), &(src), __ATOMIC_RELAXED)
+#endif
 #ifndef PALPATE_SHIM_LD
 #define PALPATE_SHIM_LD(src, dst) __atomic_load(&(src), &(dst), __ATOMIC_RELAXED)
 #endif

@@ -249,9 +249,7 @@ TEST_F(MeshIoTest, OffFaceIndexBeyondTheVertexListIsAnError) {
   const std::string path = write("bad_index.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
   const auto r = load_mesh(path);
   ASSERT_FALSE(r.ok()) << "an out-of-range face was dropped silently";
-  EXPECT_NE(r.error().message.find("mesh '" + path + "': malformed faces (assimp: OFF: Vertex index is out of range)"),
-            std::string::npos)
-      << r.error().message;
+  EXPECT_EQ(r.error().message, "mesh '" + path + "': face 1 vertex index 9 is beyond the vertex list (size 4)");
 }
 
 TEST_F(MeshIoTest, DeviceFileIsRefusedBeforeReading) {
@@ -267,6 +265,91 @@ TEST_F(MeshIoTest, ObjMissingMaterialIsHarmless) {
   const auto r = load_mesh(write("no_mtl.obj", std::string("mtllib nowhere.mtl\nusemtl Nope\n") + kTetraObj));
   ASSERT_TRUE(r.ok()) << r.error().message;
   EXPECT_EQ(r.value().num_triangles(), 4u);
+}
+
+// Collada (any XML) nesting is counted before assimp recurses through it; comments, CDATA, declarations,
+// processing instructions, self-closing elements and quoted '>' do not nest.
+TEST_F(MeshIoTest, XmlNestingPastTheLimitIsRefusedBeforeReading) {
+  auto nested = [](int depth, const std::string& inner) {
+    std::string s = "<?xml version=\"1.0\"?>\n<COLLADA>";
+    for (int i = 1; i < depth; ++i) s += "<node a=\"x>y/>\">";
+    s += inner;
+    for (int i = 1; i < depth; ++i) s += "</node>";
+    return s + "</COLLADA>\n";
+  };
+  const std::string deep = write("deep.dae", nested(257, ""));
+  auto r = check_mesh_file(deep);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, "mesh '" + deep + "': XML elements nested deeper than the limit of 256 levels (line 2)");
+  // 256 levels pass, whatever sits inside that looks like more
+  const std::string noise = "<!-- <a><b><c> --><![CDATA[<d><e>]]><?pi <f> ?><g/><h x='>'/>";
+  const std::string ok = write("ok.dae", "<!DOCTYPE c [ <!ENTITY e \"<i>\"> ]>\n" + nested(256, noise));
+  EXPECT_TRUE(check_mesh_file(ok)) << check_mesh_file(ok).error().message;
+  // the same outside XML is not counted
+  EXPECT_TRUE(check_mesh_file(write("deep.obj", "# " + nested(300, ""))));
+  // 20000 levels: refused (load_mesh too), never handed to the reader
+  auto big = load_mesh(write("big.dae", nested(20000, "")));
+  ASSERT_FALSE(big);
+  EXPECT_NE(big.error().message.find("nested deeper than the limit of 256"), std::string::npos);
+}
+
+TEST_F(MeshIoTest, PlyWithoutEndHeaderOrWithAnImpossibleListIsRefused) {
+  const std::string head = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uint int vertex_indices\n";
+  const std::string no_end = write("no_end.ply", head);
+  ASSERT_FALSE(check_mesh_file(no_end));
+  EXPECT_EQ(check_mesh_file(no_end).error().message, "mesh '" + no_end + "': PLY header: no end_header in the first " +
+                                                         std::to_string(head.size()) + " bytes");
+  std::string body(36, '\0');
+  const std::string list = write("list.ply", head + "end_header\n" + body + std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0'));
+  auto r = load_mesh(list);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, "mesh '" + list + "': element face 0: a list of 2147483647 entries, more than the 12 bytes left in the file");
+  // the same file with a list of 3 is a triangle
+  const std::string tri = write("tri.ply", head + "end_header\n" + std::string("\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0", 36) +
+                                    std::string("\x03\0\0\0\0\0\0\0\x01\0\0\0\x02\0\0\0", 16));
+  EXPECT_TRUE(check_mesh_file(tri)) << check_mesh_file(tri).error().message;
+  // the same in ASCII: a list of 2^31 words cannot fit a few bytes (assimp spun on it for minutes)
+  const std::string ascii = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+  const std::string ascii_list = write("ascii_list.ply", ascii + "2147483647 0 1 2\n");
+  ASSERT_FALSE(check_mesh_file(ascii_list));
+  EXPECT_EQ(check_mesh_file(ascii_list).error().message,
+            "mesh '" + ascii_list + "': element face 0: a list of 2147483647 entries, more than the 6 bytes left in the file");
+  EXPECT_TRUE(check_mesh_file(write("ascii_tri.ply", ascii + "3 0 1 2")));  // no line end after the last entry
+  const std::string neg = write("neg.ply", "ply\nformat ascii 1.0\nelement vertex -5\nproperty float x\nend_header\n");
+  ASSERT_FALSE(check_mesh_file(neg));
+  EXPECT_NE(check_mesh_file(neg).error().message.find("element vertex count '-5' is not a whole number"), std::string::npos);
+}
+
+TEST_F(MeshIoTest, BadCoordinatesAndFacesAreNamed) {
+  auto error_of = [&](const std::string& name, const std::string& text) {
+    auto r = load_mesh(write(name, text));
+    return r ? std::string("loaded") : r.error().message;
+  };
+  // every vertex NaN: welded into one by the reader, which used to leave "no triangles"
+  EXPECT_NE(error_of("nan.obj", "v nan nan nan\nv nan nan nan\nv nan nan nan\nf 1 2 3\n").find("NaN coordinate at vertex 0"),
+            std::string::npos);
+  EXPECT_NE(error_of("inf.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n").find("infinite coordinate"), std::string::npos);
+  EXPECT_NE(error_of("tiny.obj", "v 0 0 0\nv 1e-30 0 0\nv 0 1e-30 0\nv 0 0 1e-30\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+                .find("degenerate: the model spans only"),
+            std::string::npos);
+  EXPECT_NE(error_of("face.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n")
+                .find("face 1 vertex index 9 is beyond the vertex list (size 4)"),
+            std::string::npos);
+  // an absurd count prints as 1e+300, not 301 digits
+  EXPECT_NE(error_of("counts.off", "OFF\n1e300 3 0\n").find("header declares 1e+300 vertices and 3 faces"), std::string::npos);
+}
+
+TEST(PrintableText, KeepsUtf8AndEscapesEverythingElse) {
+  EXPECT_EQ(printable_text("caf\xc3\xa9.obj"), "caf\xc3\xa9.obj");              // valid UTF-8 stays
+  EXPECT_EQ(printable_text("bad_\xff\xfe.obj"), "bad_\\xff\\xfe.obj");         // invalid bytes escaped
+  EXPECT_EQ(printable_text("a\nb\tc"), "a\\x0ab\\x09c");                         // one line
+  EXPECT_EQ(printable_text("\xc3"), "\\xc3");                                     // truncated sequence
+  EXPECT_EQ(printable_text("\xc0\xaf"), "\\xc0\\xaf");                           // overlong '/'
+  EXPECT_EQ(printable_text("\xed\xa0\x80"), "\\xed\\xa0\\x80");                 // surrogate
+  EXPECT_EQ(printable_text(printable_text("x\xff")), printable_text("x\xff"));  // idempotent
+  EXPECT_EQ(make_error("mesh '", std::string("\xff"), "'").message, "mesh '\\xff'");
 }
 
 TEST(MeshIoAssimpModels, SameModelInEveryFormatGivesTheSameMesh) {

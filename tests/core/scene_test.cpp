@@ -142,6 +142,41 @@ TEST(Scene, ServoRateAndDeviceDampingAreSceneKeys) {
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "servo": 2000, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "servo: must be an object");
 }
 
+TEST(Scene, HostileTextIsRefusedWithAReadableMessage) {
+  const std::string mesh = R"("mesh": {"box_m": [0.05, 0.05, 0.05]}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}])";
+  // 2^63 arrives unsigned: said as itself, not as -9223372036854775808
+  EXPECT_EQ(error_of("{" + mesh + R"(, "lattice": {"level": 9223372036854775808}})"),
+            "scene 's.json': lattice.level: 9223372036854775808 out of range [1, 8]");
+  EXPECT_EQ(error_of("{" + mesh + R"(, "lattice": {"level": 18446744073709551615}})"),
+            "scene 's.json': lattice.level: 18446744073709551615 out of range [1, 8]");
+  // a NUL byte ends the parser's text: what follows would go unread
+  std::string nul = "{" + mesh + "}";
+  nul += '\0';
+  nul += R"({"lattice": 7})";
+  EXPECT_EQ(error_of(nul), "scene 's.json': NUL byte at offset " + std::to_string(mesh.size() + 2) + ": not a JSON text");
+  // deep nesting is refused before parsing (its key paths would cost memory quadratic in the depth)
+  EXPECT_EQ(error_of("{" + mesh + ", \"x\":\n" + std::string(100000, '[') + std::string(100000, ']') + "}"),
+            "scene 's.json': JSON nested deeper than the limit of 64 levels (line 2)");
+  // brackets inside strings do not nest
+  expect_error("{" + mesh + R"(, "name": "[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\"{"})", "name: '");
+  // invalid UTF-8 in the parser's excerpt is escaped
+  const std::string e = error_of("{\"name\": \"caf\xff\"}");
+  EXPECT_NE(e.find("\\xff"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\xff'), std::string::npos) << e;
+}
+
+TEST(Scene, AllowDivergenceIsOffUnlessAsked) {
+  auto off = parse_scene(kMinimal, "s.json");
+  ASSERT_TRUE(off);
+  EXPECT_FALSE(off.value().lattice.allow_divergence);
+  auto on = parse_scene(R"({"mesh": {"box_m": [0.05, 0.05, 0.05]}, "lattice": {"allow_divergence": true},
+      "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})", "s.json");
+  ASSERT_TRUE(on) << on.error().message;
+  EXPECT_TRUE(on.value().lattice.allow_divergence);
+  expect_error(R"({"mesh": {"box_m": [0.05, 0.05, 0.05]}, "lattice": {"allow_divergence": 1},
+      "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})", "lattice.allow_divergence: must be true or false");
+}
+
 TEST(Scene, ModelRelativeKeysParseAndAreCheckedNamingTheKey) {
   auto r = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_rel": [0.5, 0.5, 1.2]},
                           {"t_s": 1, "pos_rel": [0.5, 0.5, 0.5], "surface": true, "depth_m": 0.004},

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 
 #include <algorithm>
 #include <array>
@@ -130,6 +133,71 @@ TEST(Hostile, DivergenceIsWarnedAtStartAndFailsTheRun) {
   EXPECT_NE(r.out.find("warning: symplectic_euler needs"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("lattice.max_substeps is 256"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("the lattice diverged: nan_events"), std::string::npos) << r.out;
+}
+
+TEST(Hostile, AllowDivergenceAcceptsTheRunWithAWarning) {
+  const std::string s = box_scene("diverge_ok", R"("node_mass_kg": 1e-7, "stiffness_N_per_m": {"structural": 1e9}, "max_substeps": 256, "allow_divergence": true)");
+  const std::string out = tmp("out_diverge_ok");
+  fs::remove_all(out);
+  const CliRun r = palpate("record " + s + " -q --no-render --out " + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("palpate: warning: scene '" + s + "': the lattice diverged: nan_events"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("accepted (lattice.allow_divergence)"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out + "/summary.json"));
+}
+
+// An interrupted re-record into a used folder leaves no summary, log or video of the earlier run beside its frames.
+TEST(Hostile, ReRecordClearsThePreviousRunBeforeWriting) {
+  const std::string s = box_scene("rerecord", "");
+  const std::string out = tmp("out_rerecord");
+  fs::remove_all(out);
+  ASSERT_EQ(palpate("record " + s + " -q --duration 0.1 --no-video --out " + out).code, 0);
+  ASSERT_TRUE(fs::exists(out + "/summary.json"));
+  ASSERT_TRUE(fs::exists(out + "/haptic.csv"));
+  std::ofstream(out + "/recording.mp4") << "an earlier run's video";
+  std::ofstream(out + "/device_events.csv") << "an earlier run's events";
+
+  // a long second run, killed once it has started writing
+  const CliRun started = test::shell(std::string(std::getenv("PALPATE_BIN_DIR") ? std::getenv("PALPATE_BIN_DIR") : "build/bin") +
+                                     "/palpate record " + s + " -q --duration 600 --no-render --out " + out +
+                                     " >/dev/null 2>&1 & echo $!");
+  const pid_t pid = static_cast<pid_t>(std::atoll(started.out.c_str()));
+  ASSERT_GT(pid, 0) << started.out;
+  bool writing = false;
+  for (int i = 0; i < 6000 && !writing; ++i) {  // up to 60 s on a loaded machine
+    writing = fs::exists(out + "/haptic.csv.partial");
+    if (!writing) ::usleep(10000);
+  }
+  ::kill(pid, SIGKILL);
+  for (int i = 0; i < 500 && ::kill(pid, 0) == 0; ++i) ::usleep(10000);
+  ASSERT_TRUE(writing) << "the second run never started writing";
+  for (const char* name : {"summary.json", "haptic.csv", "recording.mp4", "device_events.csv"})
+    EXPECT_FALSE(fs::exists(out + "/" + name)) << name << " of the earlier run is still there";
+  int frames = 0;
+  for (const auto& e : fs::directory_iterator(out + "/frames")) frames += e.path().extension() == ".png";
+  EXPECT_EQ(frames, 0) << "frames of the earlier run are still there";
+}
+
+// A file-size limit fails writes as a full disk does: the first file that failed is named with errno's text,
+// and the process is not killed by SIGXFSZ halfway through its outputs.
+TEST(Hostile, FileSizeLimitIsReportedAgainstTheFirstFileLikeAFullDisk) {
+  const std::string s = box_scene("fsize", "");
+  const std::string out = tmp("out_fsize");
+  fs::remove_all(out);
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const CliRun r = test::shell("ulimit -f 40; " + std::string(bin ? bin : "build/bin") + "/palpate record " + s +
+                               " -q --duration 0.5 --no-video --out " + out);
+  expect_error(r, "palpate: 30 frame(s) could not be written: png '" + out + "/frames/frame_00000.png': File too large");
+}
+
+TEST(Hostile, DanglingOutputLinkIsNamedAsSuch) {
+  const std::string s = box_scene("dangling", "");
+  const std::string link = tmp("out_dangling");
+  fs::remove_all(link);
+  fs::create_symlink(tmp("nowhere/deeper"), link);
+  expect_error(palpate("record " + s + " -q --duration 0.1 --no-render --out " + link),
+               "output '" + link + "': is a symbolic link to '" + tmp("nowhere/deeper") + "', which does not exist");
+  EXPECT_FALSE(fs::exists(tmp("nowhere")));
 }
 
 TEST(Hostile, SceneNameCannotSteerTheOutput) {

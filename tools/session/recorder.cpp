@@ -38,9 +38,18 @@ namespace fs = std::filesystem;
 namespace {
 
 
-// Creates out/ and out/frames, checks it can be written, clears frames of an earlier recording.
+// Files a recording writes in its output folder besides frames/frame_*.png (and their temporaries); a new run
+// removes an earlier run's, summary first, so an interrupted run never sits beside another run's summary or log.
+constexpr const char* kRunFiles[] = {"summary.json", "summary.json.tmp", "haptic.csv", "haptic.csv.partial",
+                                     "recording.mp4", "device_events.csv"};
+
+// Creates out/ and out/frames, checks it can be written, clears the files of an earlier recording there.
 Status prepare_output(const std::string& out, std::string* frames_dir) {
   std::error_code ec;
+  // a link to nowhere would otherwise be reported as "File exists" by create_directories
+  if (fs::is_symlink(fs::symlink_status(out, ec)) && !fs::exists(out, ec))
+    return make_error("output '", out, "': is a symbolic link to '", fs::read_symlink(out, ec).string(),
+                      "', which does not exist");
   *frames_dir = (fs::path(out) / "frames").string();
   fs::create_directories(*frames_dir, ec);
   if (ec) return make_error("output '", out, "': cannot create folder: ", ec.message());
@@ -51,8 +60,18 @@ Status prepare_output(const std::string& out, std::string* frames_dir) {
   if (fd < 0) return make_error("output '", out, "': cannot write files there: ", std::strerror(errno));
   ::close(fd);
   ::unlink(probe.c_str());
+  // one folder is one run: the earlier run's files go before anything of this one is written (a link under
+  // one of these names is removed, never followed)
+  for (const char* name : kRunFiles) {
+    const std::string path = (fs::path(out) / name).string();
+    if (::unlink(path.c_str()) != 0 && errno != ENOENT)
+      return make_error("output '", out, "': cannot remove the previous run's ", name, ": ", std::strerror(errno));
+  }
   for (const auto& e : fs::directory_iterator(*frames_dir, ec))
-    if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) fs::remove(e.path(), ec);
+    if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0)
+      if (::unlink(e.path().c_str()) != 0 && errno != ENOENT)
+        return make_error("output '", out, "': cannot remove the previous run's ", e.path().string(), ": ",
+                          std::strerror(errno));
   return Ok{};
 }
 

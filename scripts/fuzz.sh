@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (AddressSanitizer + UndefinedBehaviorSanitizer) in build-fuzz and runs
+# each for SECONDS (default 60) from its committed seed corpus tests/fuzz/corpus/<target>/. New inputs the
+# fuzzer finds go to build-fuzz/corpus/<target>/ (the committed seeds are only read); a crash, a leak, undefined
+# behaviour, a timeout or running out of memory stops the script with the input saved as
+# build-fuzz/findings/<target>-crash-<hash> (replay: build-fuzz/bin/palpate_fuzz_<target> FILE).
+# Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   targets: scene replay_csv mesh_check shm_pose
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-60}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(scene replay_csv mesh_check shm_pose)
+
+cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DPALPATE_FUZZ=ON -DPALPATE_BUILD_TESTS=OFF -DPALPATE_BUILD_BENCH=OFF -DPALPATE_WERROR=OFF >/dev/null
+cmake --build build-fuzz -j "${JOBS:-$(nproc)}" --target "${targets[@]/#/palpate_fuzz_}"
+
+mkdir -p build-fuzz/findings
+export ASAN_OPTIONS="detect_leaks=1"
+export UBSAN_OPTIONS="print_stacktrace=1"
+for t in "${targets[@]}"; do
+  echo "== fuzz $t: ${seconds} s"
+  mkdir -p "build-fuzz/corpus/$t"
+  rm -f "build-fuzz/findings/$t-"*
+  status=0
+  build-fuzz/bin/palpate_fuzz_"$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=15 -max_len=65536 -print_final_stats=1 \
+    -artifact_prefix="build-fuzz/findings/$t-" >"build-fuzz/fuzz-$t.log" 2>&1 || status=$?
+  grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb|INFO: seed corpus|Done)' "build-fuzz/fuzz-$t.log" || true
+  if [ "$status" -ne 0 ]; then
+    tail -n 60 "build-fuzz/fuzz-$t.log" >&2
+    echo "fuzz $t: finding (exit $status), input saved in build-fuzz/findings/:" >&2
+    ls "build-fuzz/findings/$t-"* >&2 || true
+    exit 1
+  fi
+done
