@@ -274,3 +274,24 @@ TEST(Cli, BenchDefaultScenesAreFoundFromAnyFolder) {
 
 }  // namespace
 }  // namespace palpate
+
+namespace palpate {
+namespace {
+
+// A recording without rendering leaves no frames/ folder (and removes an earlier run's, emptied).
+TEST(Cli, NoRenderLeavesNoFramesFolder) {
+  const std::string out = tmp("out_norender");
+  fs::remove_all(out);
+  const CliRun drawn = palpate("record scenes/cube_press.json --duration 0.05 -q --no-video --out " + out);
+  ASSERT_EQ(drawn.code, 0) << drawn.out;
+  ASSERT_TRUE(fs::exists(out + "/frames/frame_00000.png"));
+  const CliRun bare = palpate("record scenes/cube_press.json --duration 0.05 -q --no-render --out " + out);
+  ASSERT_EQ(bare.code, 0) << bare.out;
+  EXPECT_FALSE(fs::exists(out + "/frames")) << "frames/ left by a run that drew nothing";
+  const auto summary = nlohmann::json::parse(slurp(out + "/summary.json"));
+  EXPECT_TRUE(summary["outputs"]["frames"].is_null()) << summary["outputs"].dump();
+  EXPECT_TRUE(fs::exists(out + "/haptic.csv"));
+}
+
+}  // namespace
+}  // namespace palpate

@@ -44,14 +44,15 @@ constexpr const char* kRunFiles[] = {"summary.json", "summary.json.tmp", "haptic
                                      "recording.mp4", "device_events.csv"};
 
 // Creates out/ and out/frames, checks it can be written, clears the files of an earlier recording there.
-Status prepare_output(const std::string& out, std::string* frames_dir) {
+Status prepare_output(const std::string& out, bool render, std::string* frames_dir) {
   std::error_code ec;
   // a link to nowhere would otherwise be reported as "File exists" by create_directories
   if (fs::is_symlink(fs::symlink_status(out, ec)) && !fs::exists(out, ec))
     return make_error("output '", out, "': is a symbolic link to '", fs::read_symlink(out, ec).string(),
                       "', which does not exist");
   *frames_dir = (fs::path(out) / "frames").string();
-  fs::create_directories(*frames_dir, ec);
+  // frames/ only when frames are drawn (--no-render leaves no empty folder)
+  fs::create_directories(render ? fs::path(*frames_dir) : fs::path(out), ec);
   if (ec) return make_error("output '", out, "': cannot create folder: ", ec.message());
   // the probe is created, never opened through a link planted under its name
   const std::string probe = (fs::path(out) / ".palpate_write_probe").string();
@@ -72,6 +73,7 @@ Status prepare_output(const std::string& out, std::string* frames_dir) {
       if (::unlink(e.path().c_str()) != 0 && errno != ENOENT)
         return make_error("output '", out, "': cannot remove the previous run's ", e.path().string(), ": ",
                           std::strerror(errno));
+  if (!render) fs::remove(*frames_dir, ec);  // an earlier run's folder, now empty (kept if anything else is in it)
   return Ok{};
 }
 
@@ -138,7 +140,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   if (!opt.video_path.empty() && !opt.video_optional)
     if (auto st = check_output_target(opt.video_path, "video"); !st) return st.error();
   std::string frames_dir;
-  if (auto st = prepare_output(opt.out_dir, &frames_dir); !st) return st.error();
+  if (auto st = prepare_output(opt.out_dir, opt.render, &frames_dir); !st) return st.error();
 
   // rendering: the context lives on this (the sim) thread
   std::unique_ptr<GlContext> gl;
@@ -350,7 +352,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
   j["wall_s_per_scene_s"] = wall_s / scene.duration_s;
   if (lockstep) j["state_hash"] = stage.state_hash();
   j["device"] = device.report();
-  j["outputs"] = {{"frames", frames_dir}, {"haptic_csv", csv_path}};
+  j["outputs"] = {{"frames", opt.render ? nlohmann::json(frames_dir) : nlohmann::json(nullptr)}, {"haptic_csv", csv_path}};
 
   RecordResult res;
   res.summary_path = (fs::path(opt.out_dir) / "summary.json").string();
