@@ -3,17 +3,13 @@
 
 #include <string>
 
+#include "core/mesh_file_checks.h"  // check_mesh_file
 #include "core/result.h"
 #include "core/tri_mesh.h"
 #include "core/types.h"
 
 namespace palpate {
 
-/// The checks load_mesh() makes before the reader sees a file: a regular file of at most kMaxMeshFileBytes, OFF
-/// and PLY header counts the file's size can hold (PLY: a header with end_header in its first 64 KiB, whole
-/// non-negative counts, and in a binary file every list's entries within the bytes left), and XML (Collada
-/// and others) nested at most kMaxXmlNesting deep. Errors as load_mesh()'s.
-Status check_mesh_file(const std::string& path);
 
 /// Loads OBJ, PLY, STL, OFF (anything assimp reads) into one TriMesh: all meshes merged with their node
 /// transforms applied, triangulated, vertices at identical positions welded, degenerate triangles and unused
