@@ -4,6 +4,7 @@
 # programs are used by the tests only.
 # capsh (libcap2-bin) lets a test run the servo without the right to lock memory.
 # gnuplot-nox draws the benchmarks' --plot figures (pngcairo) from the data and script palpate writes.
+# clang builds the libFuzzer targets (scripts/fuzz.sh, CI's fuzz stage).
 # cpp-httplib serves the live view (record --serve); Chromium runs its page headless in the `browser` tests.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
@@ -18,6 +19,7 @@ packages=(
   gnuplot-nox
   libcpp-httplib-dev
   chromium
+  clang
 )
 
 missing=()
