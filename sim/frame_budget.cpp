@@ -1,5 +1,7 @@
 #include "sim/frame_budget.h"
 
+#include "core/thread_cpu.h"
+
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -11,11 +13,7 @@ double WallClock::now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-double ThreadCpuClock::now_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
+double ThreadCpuClock::now_ms() { return thread_cpu_ms(); }
 
 double bunny_cut_local_global_error(int iterations) {
   // measured once (README, "Frame budget"): node rms / cell against rk4 x64 substeps on an 8^3-cell box of

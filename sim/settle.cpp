@@ -1,5 +1,7 @@
 #include "sim/settle.h"
 
+#include "core/thread_cpu.h"
+
 #include <algorithm>
 #include <ctime>
 #include <string>
@@ -7,17 +9,6 @@
 #include "sim/static_solve.h"
 
 namespace palpate {
-namespace {
-
-// CPU time of the calling thread, ms (what a frame costs, whatever else shares the machine)
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
-
-}  // namespace
-
 std::vector<Vec3> net_static_forces_N(const Lattice& lat, const std::vector<Vec3>& f_ext_N) {
   std::vector<Vec3> f = spring_forces_N(lat, lat.x_m);
   for (std::size_t i = 0; i < f.size(); ++i) {

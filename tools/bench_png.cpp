@@ -1,5 +1,7 @@
 #include "tools/bench_png.h"
 
+#include "core/thread_cpu.h"
+
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -41,13 +43,6 @@ double process_cpu_s() {
   getrusage(RUSAGE_SELF, &ru);
   return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
          1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-}
-
-// CPU milliseconds used so far by the calling thread.
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 
 // One way of writing a recording's frames.

@@ -1,4 +1,6 @@
 #include <algorithm>
+
+#include "core/thread_cpu.h"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -66,13 +68,6 @@ void pull_force(const Lattice& lat, double t_s, std::vector<Vec3>* f_ext_N) {
     if (std::abs(d.z()) < 1e-9 && std::abs(d.x()) <= 1.01 * lat.cell_m && std::abs(d.y()) <= 1.01 * lat.cell_m)
       (*f_ext_N)[i] = Vec3(0.0, 0.0, mag);
   }
-}
-
-// CPU time of the calling thread, ms: what the step costs with the other processes on a shared machine left out.
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 
 struct BoxRun {

@@ -1,5 +1,7 @@
 #include "tools/session/tool_hold.h"
 
+#include "core/thread_cpu.h"
+
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -15,13 +17,6 @@
 
 namespace palpate {
 namespace {
-
-// CPU time of the calling thread, ms
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
-}
 
 // A handle moved straight to a position and clamped there: records the force it is sent.
 class ClampedDevice final : public Device {
