@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/cli_run.h"
+#include "support/http_get.h"
 #include "support/fixtures.h"
 
 namespace palpate {
@@ -63,28 +64,6 @@ std::string slurp(const std::string& path) {
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in, nullptr, false);
-}
-
-// GET path from 127.0.0.1:port (Connection: close); the body, empty on failure
-std::string http_get(int port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  const timeval limit{30, 0};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
-  sockaddr_in sa{};
-  sa.sin_family = AF_INET;
-  sa.sin_port = htons(static_cast<uint16_t>(port));
-  sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  std::string out;
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&sa), sizeof sa) == 0) {
-    const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-    if (::send(fd, req.data(), req.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(req.size())) {
-      char buf[65536];
-      for (ssize_t n; (n = ::recv(fd, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));
-    }
-  }
-  ::close(fd);
-  const auto body = out.find("\r\n\r\n");
-  return body == std::string::npos ? std::string() : out.substr(body + 4);
 }
 
 // Headless Chromium driven through the DevTools protocol on a pipe (JSON messages ended by a NUL byte).
@@ -271,7 +250,7 @@ TEST(LiveBrowser, PageShowsTheRecordingWhileItRunsAndEndsOnItsSummary) {
   // the figures the page and /stats.json end on are those of summary.json
   const auto summary = read_json(out + "/summary.json");
   ASSERT_FALSE(summary.is_discarded());
-  const auto stats = nlohmann::json::parse(http_get(port, "/stats.json"), nullptr, false);
+  const auto stats = nlohmann::json::parse(test::http_get_body(port, "/stats.json"), nullptr, false);
   ASSERT_TRUE(stats.is_object());
   for (const auto& shown : {stats, state["stats"]}) {
     EXPECT_TRUE(shown["finished"].get<bool>());

@@ -22,6 +22,7 @@
 
 #include "core/scene.h"
 #include "support/cli_run.h"
+#include "support/http_get.h"
 #include "support/fixtures.h"
 #include "tools/session/live_feed.h"
 #include "tools/session/live_server.h"
@@ -69,27 +70,6 @@ int stalled_client(int port, int requests) {
     return -1;
   }
   return fd;
-}
-
-// one GET answered in full (Connection: close); the raw response
-std::string http_get(int port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  const timeval limit{30, 0};  // a server that never answers fails the test instead of hanging it
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
-  sockaddr_in sa{};
-  sa.sin_family = AF_INET;
-  sa.sin_port = htons(static_cast<uint16_t>(port));
-  sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  std::string out;
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&sa), sizeof sa) == 0) {
-    const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-    if (::send(fd, req.data(), req.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(req.size())) {
-      char buf[65536];
-      for (ssize_t n; (n = ::recv(fd, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));
-    }
-  }
-  ::close(fd);
-  return out;
 }
 
 nlohmann::json read_json(const std::string& path) {
@@ -192,7 +172,7 @@ TEST(LiveServe, ClientsThatStopReadingCostTheRecordingNothing) {
   for (const auto& e : fs::directory_iterator(fs::path(opt.out_dir) / "frames")) files += e.path().extension() == ".png";
   EXPECT_EQ(files, 180);
   // the server still answers: the final figures are those of the summary
-  const std::string stats = http_get(server.port(), "/stats.json");
+  const std::string stats = test::http_get(server.port(), "/stats.json");
   const auto body = stats.find("\r\n\r\n");
   ASSERT_NE(body, std::string::npos) << stats;
   const auto j = nlohmann::json::parse(stats.substr(body + 4), nullptr, false);
