@@ -90,6 +90,7 @@ int substeps_from_bound(const StabilityBound& bound, const StepOptions& opts, do
   const double h_max = bound.max_stable_dt_s;
   int steps = 1;
   if (std::isfinite(h_max) && h_max > 0.0) steps = static_cast<int>(std::min(std::ceil(dt_s / h_max), 1e9));
+  else if (!(h_max > 0.0)) steps = opts.max_substeps;  // no stable step (or no bound): as many as allowed
   return std::clamp(steps, 1, std::max(1, opts.max_substeps));
 }
 

@@ -118,6 +118,11 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
       const double share_kg = cell_kg * cell_solid_fraction(grid, cells[s], level) / 8.0;
       for (int32_t node : lat.cell_nodes[s]) lat.mass_kg[static_cast<std::size_t>(node)] += share_kg;
     }
+    // a node whose cells the solid-fraction sampling found (nearly) empty would be massless: no explicit step is
+    // stable for it and the inertial terms divide by its mass. It keeps kMinNodeMassShare of a cell, an eighth of
+    // a full corner's share (mass scaling at the surface: it lowers only such a node's frequency, by at most
+    // sqrt(8) against a full corner)
+    for (double& m : lat.mass_kg) m = std::max(m, kMinNodeMassShare * cell_kg);
   }
   lat.fixed.assign(num, 0);
 

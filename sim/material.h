@@ -45,6 +45,10 @@ namespace palpate {
 /// The Poisson ratio a cubic lattice of central springs represents (the Cauchy relation lambda = mu).
 inline constexpr double kLatticePoissonRatio = 0.25;
 
+/// Least mass a material lattice's node carries, as a share of a full cell's mass (a full corner carries 1/8): a
+/// node whose cells the solid-fraction sampling finds empty would otherwise be massless.
+inline constexpr double kMinNodeMassShare = 1.0 / 64.0;
+
 /// Per-cell spring constants and the per-spring damping derived from a material at one cell size. Plain data.
 struct LatticeCalibration {
   double edge_N_per_m = 0.0;      ///< k_e each cell adds to each of its 12 edges: 7 E l / 50

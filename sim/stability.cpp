@@ -41,12 +41,19 @@ StabilityBound stability_bound(const Lattice& lat, double safety) {
     csum[s.b] += lat.damping_Ns_per_m;
   }
   double w2 = 0.0, g = 0.0;
+  StabilityBound b;
   for (std::size_t i = 0; i < n; ++i) {
     if (lat.fixed[i]) continue;
+    if (!(lat.mass_kg[i] > 0.0)) {
+      // a free node without mass: no explicit step is stable
+      b.omega_max_rad_per_s = INFINITY;
+      b.damping_rate_per_s = INFINITY;
+      b.max_stable_dt_s = 0.0;
+      return b;
+    }
     w2 = std::max(w2, 2.0 * ksum[i] / lat.mass_kg[i]);
     g = std::max(g, 2.0 * csum[i] / lat.mass_kg[i]);
   }
-  StabilityBound b;
   b.omega_max_rad_per_s = std::sqrt(w2);
   b.damping_rate_per_s = g;
   // largest h with h^2 w2 + 2 h g <= 4 s (the symplectic Euler stability region of a damped oscillator)

@@ -69,5 +69,20 @@ TEST(Cfl, SymplecticEulerStableExactlyBelowTwoOverOmegaMaxOn6CubedLattice) {
   expect_limit_at_two_over_omega(block, 600);
 }
 
+// A free node without mass has no stable step at all: the bound says so (0, not NaN), and the automatic substeps
+// go to their cap instead of to one, so the step's divergence check, not a silent NaN, decides.
+TEST(Cfl, AMasslessFreeNodeGivesAZeroStepBoundAndTheSubstepCap) {
+  LatticeSpec spec = test::spec_for(4, 40, 20, 10);
+  Lattice block = test::make_block(4, 2, spec);
+  std::size_t free_node = 0;
+  while (block.fixed[free_node]) ++free_node;
+  block.mass_kg[free_node] = 0.0;
+  const StabilityBound b = stability_bound(block, 0.8);
+  EXPECT_EQ(b.max_stable_dt_s, 0.0);
+  StepOptions o = test::opts(IntegratorKind::kSymplecticEuler, 0);
+  o.max_substeps = 37;
+  EXPECT_EQ(substeps_for(block, o, 1.0 / 60.0), 37);
+}
+
 }  // namespace
 }  // namespace palpate

@@ -105,6 +105,30 @@ TEST(MaterialLattice, CellsPartlyInsideTheMeshCarryTheirSolidFraction) {
   EXPECT_NEAR(total, 1070.0 * l * l * l / 2, 1e-6 * 1070.0 * l * l * l);
 }
 
+// A surface cell the solid-fraction sampling finds (almost) empty still holds material: a box whose faces lie a
+// millionth past the cell planes puts its outer leaves at a fraction of ~1e-6. The nodes only those cells touch
+// keep kMinNodeMassShare of a cell, so no node is massless and explicit integrators and the stability bound stay
+// finite; the mass added is the floor times those 98 nodes.
+TEST(MaterialLattice, NearlyEmptySurfaceCellsLeaveNoNodeWithoutMass) {
+  const double l = 0.01;
+  const TriMesh mesh = make_box_mesh(Vec3::Constant(2 * l * (1 + 1e-6)), 2);
+  auto grid = GridHierarchy::build(mesh, Aabb{Vec3::Constant(-2 * l), Vec3::Constant(2 * l)}, 3).value();
+  const int32_t outer = grid.linear_index({3, 1, 1}, 3);
+  ASSERT_TRUE(grid.solid_cell(outer, 3));
+  EXPECT_LT(cell_solid_fraction(grid, outer, 3), 1e-4);
+  LatticeSpec spec;
+  spec.level = 3;
+  spec.material = silicone();
+  auto lat = build_lattice(grid, spec, region_cells(grid, 3, {1, 1, 1}, 4)).value();
+  const double cell_kg = 1070.0 * l * l * l;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) EXPECT_GE(lat.mass_kg[i], cell_kg / 64 * (1 - 1e-12)) << i;
+  EXPECT_GT(stability_bound(lat, 0.8).max_stable_dt_s, 0.0);
+  // the inner 2 x 2 x 2 block's density times volume, plus the floor on the 5^3 - 3^3 outer nodes
+  double total = 0.0;
+  for (double m : lat.mass_kg) total += m;
+  EXPECT_NEAR(total, 8 * cell_kg + 98 * cell_kg / 64, 0.01 * cell_kg);
+}
+
 // A box turned 30 degrees about z and 20 about x crosses cells at every angle: the parity-sampled solid fractions
 // give its volume within 1 % at level 5, where counting every surface cell whole over-estimates it by tens of %.
 TEST(MaterialLattice, SolidVolumeOfATiltedBoxMatchesItsVolume) {
