@@ -225,7 +225,7 @@ void read_material(ObjectReader& top, const Json& lattice_json, Scene* s, std::s
 
 void read_device(ObjectReader& top, Scene* s, std::string* err) {
   ObjectReader r(top.object("device"), "device.", err);
-  DeviceSpec& d = s->device;
+  DeviceSetup& d = s->device;
   r.name("driver", &d.driver);
   r.string("link", &d.link);
   r.number("watchdog_ms", &d.watchdog_ms, 0.1, 10000.0);

@@ -56,8 +56,9 @@ struct LatticeSpec {
   MaterialSpec material;                ///< the scene's top-level "material" object (exclusive with the raw k, M, C_d)
 };
 
-/// Device limits and the proxy coupling.
-struct DeviceSpec {
+/// The scene's device block: the driver and its link, the limits asked and the proxy coupling (what the device
+/// itself can do is haptics' DeviceSpecs).
+struct DeviceSetup {
   DeviceDriver driver = DeviceDriver::kScripted;  ///< where the poses come from (names: core/scene_enums.h)
   std::string link;                         ///< shm: link name; plugin: .so path; replay: haptic.csv or recording folder
   double watchdog_ms = 5.0;                 ///< shm: peer silent this long -> force zero, "disconnected"
@@ -111,7 +112,7 @@ struct Scene {
   MeshSpec mesh;
   int grid_levels = 5;
   LatticeSpec lattice;
-  DeviceSpec device;
+  DeviceSetup device;
   HandSpec hand;
   InteractionMode mode = InteractionMode::kTouch;
   double grab_radius_m = 0.01;      ///< pull: grab when the surface is this close on button press
