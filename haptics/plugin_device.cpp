@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 
+#include "haptics/force_limit.h"
+
 namespace palpate {
 
 PluginDevice::~PluginDevice() {
@@ -73,10 +75,7 @@ bool PluginDevice::read(double t_s, DevicePose* out) noexcept {
 }
 
 void PluginDevice::write_force(const Vec3& force_N) noexcept {
-  Vec3 f = force_N;
-  const double mag = f.norm();
-  if (!std::isfinite(mag)) f.setZero();
-  else if (mag > specs_.max_force_N) f *= specs_.max_force_N / mag;
+  const Vec3 f = limit_force(force_N, specs_.max_force_N);
   const double a[3] = {f.x(), f.y(), f.z()};
   api_->write_force(dev_, a);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "haptics/force_limit.h"
 #include "haptics/triangle_queries.h"
 
 namespace palpate {
@@ -311,10 +312,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     counters_.passivity_activations += guard_.activations() - before;
     counters_.passivity_dissipated_J = guard_.dissipated_J();
   }
-  const double max_f = device_->specs().max_force_N;
-  const double mag = force.norm();
-  if (!std::isfinite(mag)) force.setZero();
-  else if (mag > max_f) force *= max_f / mag;
+  force = limit_force(force, device_->specs().max_force_N);
   guard_.sent(force);
   device_->write_force(force);
 

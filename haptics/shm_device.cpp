@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/clock.h"
+#include "haptics/force_limit.h"
 
 namespace palpate {
 namespace {
@@ -150,10 +151,7 @@ bool ShmDevice::read(double t_s, DevicePose* out) noexcept {
 void ShmDevice::write_force(const Vec3& force_N) noexcept {
   // zero at once while the link is down; the ramp back in is the servo's (it restarts after ticks without a
   // reading), so it shows in haptic.csv as what the device was sent
-  Vec3 f = connected_ ? force_N : Vec3::Zero();
-  const double mag = f.norm();
-  if (!std::isfinite(mag)) f.setZero();
-  else if (mag > specs_.max_force_N) f *= specs_.max_force_N / mag;
+  const Vec3 f = limit_force(connected_ ? force_N : Vec3::Zero(), specs_.max_force_N);
   palpate_shim_force rec{};
   rec.seq = ++force_seq_;
   rec.time_ns = now_ns_;
