@@ -1,6 +1,5 @@
 #include "tools/bench_force.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -9,11 +8,9 @@
 
 #include "core/atomic_file.h"
 #include "core/scene.h"
-#include "haptics/servo.h"
 #include "tools/session/device_factory.h"
-#include "tools/session/frame_stage.h"
-#include "tools/session/lockstep.h"
 #include "tools/session/model.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -29,28 +26,19 @@ Result<ForceTrace> run(const Scene& scene, const Model& model, double frame_hz, 
   const Rates rates{1000.0, frame_hz};
   auto dev = make_device(scene, "scripted", rates.servo_hz);
   if (!dev) return dev.error();
-  SpscQueue<HapticSample> q(8192);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
-  stage.set_step_dt(rates.frame_period_s());
+  // the servo `palpate record` runs, with the force model under comparison instead of the scene's
   ServoParams sp = servo_params_for(scene, dev.value()->specs(), rates.servo_hz);
   sp.force_model = fm;
-  Servo servo(sp, dev.value().get(), &q, tb.get());
+  Session session(scene, model, rates, dev.value().get(), sp);
   ForceTrace tr;
   tr.force_N.reserve(static_cast<std::size_t>(rates.ticks(scene.duration_s)));
-  double sim_s = 0.0;
-  run_lockstep(
-      rates, scene.duration_s,
-      [&](int64_t f, double t) {
-        const auto t0 = std::chrono::steady_clock::now();
-        stage.frame(f, t, false);
-        sim_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      },
-      [&](int64_t i, double t) {
-        servo.tick(i, t);
-        tr.force_N.push_back(servo.last_sample().force_N);
-      });
-  tr.sim_ms_per_scene_s = 1e3 * sim_s / scene.duration_s;
+  session.run_lockstep(
+      scene.duration_s, [](int64_t, double) {},
+      [&](int64_t, double) { tr.force_N.push_back(session.servo().last_sample().force_N); });
+  // the stage's own per-frame time (drain, step, deform, publish; there is no rendering here)
+  double sim_ms = 0.0;
+  for (double ms : session.stage().stats().sim_ms) sim_ms += ms;
+  tr.sim_ms_per_scene_s = sim_ms / scene.duration_s;
   return tr;
 }
 

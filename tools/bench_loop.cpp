@@ -16,11 +16,11 @@
 #include "haptics/servo_runner.h"
 #include "tools/plot.h"
 #include "tools/session/device_factory.h"
-#include "tools/session/frame_stage.h"
 #include "tools/session/live_feed.h"
 #include "tools/session/live_server.h"
 #include "tools/session/model.h"
 #include "tools/session/recorder.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -46,24 +46,20 @@ Status run_servo_alone(const Scene& scene, const BenchLoopOptions& o, int spin_u
   if (!model) return model.error();
   auto device = make_device(scene, "", o.rate_hz);
   if (!device) return device.error();
-  SpscQueue<HapticSample> q(8192);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  FrameStage stage(scene, model.value(), &q, tb.get(), nullptr, nullptr, nullptr);
-  stage.frame(0, 0.0, false);  // publishes the surface patch around the tool's start
-  const ServoParams sp = servo_params_for(scene, device.value()->specs(), o.rate_hz);
-  Servo servo(sp, device.value().get(), &q, tb.get());
+  Session session(scene, model.value(), Rates{o.rate_hz, kDefaultFrameRate_hz}, device.value().get());
+  session.frame(0, false);  // publishes the surface patch around the tool's start
   std::string why;
   lock_process_memory(&why);
   ServoRunnerConfig cfg;
   cfg.rate_hz = o.rate_hz;
   cfg.spin_us = spin_us;
   cfg.rt.fifo_priority = o.priority;
-  ServoRunner runner(&servo, cfg);
+  ServoRunner runner(&session.servo(), cfg);
   const int64_t t0 = monotonic_ns() + 5'000'000;
   runner.start(t0);
   HapticSample s;
   while (monotonic_ns() < t0 + static_cast<int64_t>(o.seconds * 1e9)) {
-    while (q.try_pop(&s)) {
+    while (session.samples().try_pop(&s)) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }

@@ -14,13 +14,11 @@
 #include "core/atomic_file.h"
 #include "core/scene.h"
 #include "core/stats.h"
-#include "haptics/servo.h"
 #include "sim/forces.h"
 #include "tools/plot.h"
 #include "tools/session/device_factory.h"
-#include "tools/session/frame_stage.h"
-#include "tools/session/lockstep.h"
 #include "tools/session/model.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -42,12 +40,9 @@ struct Trace {
 Result<Trace> replay(const Scene& scene, const Model& model) {
   auto device_r = make_device(scene, "", kRates.servo_hz);
   if (!device_r) return device_r.error();
-  // the coupling as `palpate record` sets it up; every configuration gets the same servo
-  const ServoParams sp = servo_params_for(scene, device_r.value()->specs(), kRates.servo_hz);
-  SpscQueue<HapticSample> samples(8192);
-  auto local_model = std::make_unique<TripleBuffer<LocalModel>>();
-  Servo servo(sp, device_r.value().get(), &samples, local_model.get());
-  FrameStage stage(scene, model, &samples, local_model.get(), nullptr, nullptr, nullptr);
+  // the session as `palpate record` wires it; every configuration gets the same servo
+  Session session(scene, model, kRates, device_r.value().get());
+  const FrameStage& stage = session.stage();
   Trace t;
   t.force_N.reserve(static_cast<std::size_t>(kRates.ticks(scene.duration_s)));
   auto after_frame = [&]() {
@@ -63,17 +58,9 @@ Result<Trace> replay(const Scene& scene, const Model& model) {
     t.vertices_m.push_back(stage.vertices_m());
     t.energy_J.push_back(e);
   };
-  run_lockstep(
-      kRates, scene.duration_s,
-      [&](int64_t f, double ts) {
-        stage.frame(f, ts, true);
-        after_frame();
-      },
-      [&](int64_t i, double ts) {
-        servo.tick(i, ts);
-        t.force_N.push_back(servo.last_sample().force_N);
-      });
-  stage.drain_remaining();
+  session.run_lockstep(
+      scene.duration_s, [&](int64_t, double) { after_frame(); },
+      [&](int64_t, double) { t.force_N.push_back(session.servo().last_sample().force_N); });
   t.stats = stage.stats();
   return t;
 }

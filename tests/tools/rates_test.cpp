@@ -14,6 +14,7 @@
 #include "tools/session/device_factory.h"
 #include "tools/session/lockstep.h"
 #include "tools/session/recorder.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -128,6 +129,85 @@ TEST(Rates, RecordingsAt500HzAnd2kHzTickAtTheirRateAndFollowTheSameHand) {
     // (measured: 36 um and 8 mN at 500 Hz; a servo left at a 1 ms period gives 109 mN there)
     EXPECT_LT(worst_z, 1e-4) << rate << " Hz: handle path differs by " << worst_z << " m";
     EXPECT_LT(worst_f, 0.03) << rate << " Hz: force differs by " << worst_f << " N";
+  }
+}
+
+// A Session at rate_hz in lockstep, logging every tick: the cube pressed by the scripted hand with a purely viscous
+// coupling (stiffness 0, no ramp), so every force sent in contact is -b_c times the servo's velocity estimate.
+struct SessionRun {
+  double period_s = 0;           // the servo's period as the session set it up
+  std::vector<double> t_s, z_m, fz_N;
+  std::vector<int> contact;
+};
+
+SessionRun run_session(double rate_hz) {
+  Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  scene.duration_s = 0.3;  // the press, up to where the hand stops
+  scene.device.coupling_N_per_m = 0.0;
+  scene.device.ramp_s = 0.0;
+  const Model model = load_model(scene).value();
+  auto device = make_device(scene, "", rate_hz);
+  EXPECT_TRUE(device) << device.error().message;
+  const fs::path dir = test::fresh_dir("session_rate_" + std::to_string(static_cast<int>(rate_hz)));
+  fs::create_directories(dir);
+  const std::string csv = (dir / "haptic.csv").string();
+  HapticLog log;
+  const Status opened = log.open(csv);
+  EXPECT_TRUE(opened) << opened.error().message;
+  SessionOutputs out;
+  out.log = &log;
+  SessionRun r;
+  {
+    Session session(scene, model, Rates{rate_hz, 60.0}, device.value().get(), out);
+    r.period_s = session.servo_params().period_s;
+    session.run_lockstep(scene.duration_s, [](int64_t, double) {});
+  }
+  const Status closed = log.close();
+  EXPECT_TRUE(closed) << closed.error().message;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string cell;
+    std::vector<double> v;
+    while (std::getline(ss, cell, ',')) v.push_back(std::stod(cell));
+    r.t_s.push_back(v[1]);
+    r.z_m.push_back(v[4]);
+    r.fz_N.push_back(v[10]);
+    r.contact.push_back(static_cast<int>(v[11]));
+  }
+  return r;
+}
+
+TEST(Rates, SessionAt500HzAnd2kHzTicksAtItsPeriodAndEstimatesVelocityWithIt) {
+  const double b = load_scene(test::source_path("scenes/cube_press.json")).value().device.coupling_damping_Ns_per_m;
+  for (double rate : {500.0, 2000.0}) {
+    const SessionRun r = run_session(rate);
+    EXPECT_DOUBLE_EQ(r.period_s, 1.0 / rate);
+    const auto n = static_cast<std::size_t>(std::lround(0.3 * rate));
+    ASSERT_EQ(r.t_s.size(), n) << rate;
+    // the log's time column: one row every 1 / rate
+    double worst_dt = 0.0;
+    for (std::size_t i = 1; i < n; ++i) worst_dt = std::max(worst_dt, std::abs(r.t_s[i] - r.t_s[i - 1] - 1.0 / rate));
+    EXPECT_LT(worst_dt, 1e-9) << rate;
+    // the handle's velocity from its logged path (central difference over +-5 ms) against the servo's estimate
+    // -F/b_c, in contact while the hand moves steadily down (0.2 .. 0.28 s); an estimate taken over a period
+    // other than 1 / rate is off by the ratio of the two (x2 or x0.5 here)
+    const auto h = static_cast<std::size_t>(std::lround(0.005 * rate));
+    int compared = 0;
+    double worst_rel = 0.0;
+    for (std::size_t i = h; i + h < n; ++i) {
+      if (r.t_s[i] < 0.2 || r.t_s[i] > 0.28 || r.contact[i] == 0) continue;
+      const double v_path = (r.z_m[i + h] - r.z_m[i - h]) / (r.t_s[i + h] - r.t_s[i - h]);
+      const double v_servo = -r.fz_N[i] / b;
+      ASSERT_LT(v_path, -0.02) << rate << " Hz at " << r.t_s[i] << " s: the hand is not moving down";
+      worst_rel = std::max(worst_rel, std::abs(v_servo - v_path) / std::abs(v_path));
+      ++compared;
+    }
+    EXPECT_GT(compared, static_cast<int>(0.05 * rate)) << rate << " Hz: too few ticks in contact";
+    EXPECT_LT(worst_rel, 0.05) << rate << " Hz: velocity estimate off by " << worst_rel * 100 << " %";
+    RecordProperty("velocity_error_pct_" + std::to_string(static_cast<int>(rate)), std::to_string(worst_rel * 100));
   }
 }
 

@@ -6,14 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <memory>
 
 #include "core/scene.h"
 #include "haptics/scripted_device.h"
-#include "haptics/servo.h"
 #include "support/fixtures.h"
-#include "tools/session/frame_stage.h"
+#include "tools/session/device_factory.h"
 #include "tools/session/model.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -27,29 +26,27 @@ Swing run(bool passivity) {
   Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
   scene.device.coupling_N_per_m = scene.device.max_stiffness_N_per_m;  // at the limit
   const Model model = load_model(scene).value();
-  SpscQueue<HapticSample> q(8192);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
   DeviceSpecs specs;
   ScriptedDevice dev(specs, scene.hand, scene.trajectory);
-  ServoParams p;
-  p.mode = scene.mode;
-  p.coupling_N_per_m = scene.device.coupling_N_per_m;
-  p.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
+  // the servo the scene asks for on this device (the coupling at its 700 N/m limit), with or without the guard
+  const Rates rates{1000.0, 60.0};
+  ServoParams p = servo_params_for(scene, specs, rates.servo_hz);
   p.passivity = passivity;
-  Servo servo(p, &dev, &q, tb.get());
+  Session session(scene, model, rates, &dev, p);
+  const Servo& servo = session.servo();
   Swing s;
   auto track = [](double* swing, double lo, double hi) { *swing = std::max(*swing, hi - lo); };
   double lo[3] = {1, 1, 1}, hi[3] = {-1, -1, -1};
+  // the lockstep order driven tick by tick, so the frames due during the stall can be left out
   int64_t frame = 0;
   for (int64_t i = 0; i < 1000; ++i) {
     const double t = i * 1e-3;
     const bool stalled = t >= 0.5 && t < 0.7;
     if (frame / 60.0 <= t + 1e-12) {
-      if (!stalled) stage.frame(frame, t, false);
+      if (!stalled) session.frame_at(frame, t, false);
       ++frame;
     }
-    servo.tick(i, t);
+    session.tick(i, t);
     const double z = servo.last_sample().tool_pos_m.z();
     const int w = t < 0.5 ? (t >= 0.35 ? 0 : -1) : t < 0.7 ? 1 : (t >= 0.85 ? 2 : -1);
     if (w >= 0) lo[w] = std::min(lo[w], z), hi[w] = std::max(hi[w], z);

@@ -3,12 +3,9 @@
 // should not grow with the mesh.
 #include <benchmark/benchmark.h>
 
-#include <memory>
-
 #include "core/scene.h"
-#include "haptics/servo.h"
-#include "tools/session/frame_stage.h"
 #include "tools/session/model.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -33,15 +30,14 @@ void BM_ServoTickInContact(benchmark::State& state) {
   for (int64_t i = 0; i < state.range(0); ++i) model.rest = subdivide_midpoint(model.rest);
   model.grid = GridHierarchy::build(model.rest, model.normalization.cube, scene.grid_levels).value();
   model.bindings = bind_vertices(model.grid, scene.lattice.level, model.rest.vertices_m);
-  SpscQueue<HapticSample> q(1 << 16);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   scene.trajectory = {{0.0, Vec3(0.015, -0.01, 0.0135), false}};
-  FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
-  stage.frame(0, 0.0, false);
   HeldDevice dev;
+  // the default servo without its ramp, at 1 kHz; one frame publishes the patch around the tool
   ServoParams p;
   p.ramp_s = 0;
-  Servo servo(p, &dev, &q, tb.get());
+  Session session(scene, model, Rates{}, &dev, p);
+  session.frame(0, false);
+  Servo& servo = session.servo();
   dev.pos_m = Vec3(0.015, -0.01, 0.03);
   servo.tick(0, 0.0);
   dev.pos_m = Vec3(0.015, -0.01, 0.0135);  // ~1 mm under the surface
@@ -51,11 +47,11 @@ void BM_ServoTickInContact(benchmark::State& state) {
     servo.tick(tick, static_cast<double>(tick) * 1e-3);
     ++tick;
     if ((tick & 1023) == 0)
-      while (q.try_pop(&sink)) {
+      while (session.samples().try_pop(&sink)) {
       }
   }
   state.counters["mesh_triangles"] = static_cast<double>(model.rest.num_triangles());
-  state.counters["patch_triangles"] = tb->read().num_triangles;
+  state.counters["patch_triangles"] = session.local_model().read().num_triangles;
   state.counters["in_contact"] = servo.last_sample().contact == ContactState::kTouch ? 1 : 0;
 }
 BENCHMARK(BM_ServoTickInContact)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMicrosecond)->Repetitions(5)

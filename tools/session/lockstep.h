@@ -1,6 +1,6 @@
 #pragma once
 /// The lockstep driver: one loop that advances a virtual clock through servo ticks and the frames due between
-/// them, so a run is reproducible bit for bit. Used by record, bench sim and bench force.
+/// them, so a run is reproducible bit for bit. Session::run_lockstep drives a session with it.
 
 #include <cstdint>
 

@@ -5,15 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
-#include <memory>
 
 #include "core/rates.h"
-#include "core/spsc_queue.h"
-#include "core/triple_buffer.h"
 #include "haptics/device.h"
-#include "haptics/servo.h"
-#include "tools/session/device_factory.h"
-#include "tools/session/frame_stage.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -51,11 +46,9 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
   specs.workspace_half_m = scene.device.workspace_half_m;
   specs.rate_hz = rates.servo_hz;
   ClampedDevice dev(specs, o.approach_s > 0.0 ? o.start_pos_m : o.device_pos_m, o.device_pos_m, o.approach_s);
-  SpscQueue<HapticSample> q(8192);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  FrameStage stage(scene, model, &q, tb.get(), nullptr, nullptr, nullptr);
-  ServoParams sp = servo_params_for(scene, specs, rates.servo_hz);
-  Servo servo(sp, &dev, &q, tb.get());
+  Session session(scene, model, rates, &dev);
+  const FrameStage& stage = session.stage();
+  const Servo& servo = session.servo();
   ToolHoldResult r;
   const int64_t max_frames = static_cast<int64_t>(std::ceil(o.max_s * rates.frame_hz));
   int64_t tick = 0;
@@ -63,16 +56,18 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
   Vec3 frame_means[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
   int still = 0;
   std::vector<double> sim_ms;
+  // the lockstep order of Session::run_lockstep, driven frame by frame here: the run ends once the object rests,
+  // judged between a frame's ticks and the next frame
   for (int64_t f = 0; f < max_frames; ++f) {
     const double t0 = thread_cpu_ms();
-    stage.frame(f, static_cast<double>(f) / rates.frame_hz, false);
+    session.frame_at(f, static_cast<double>(f) / rates.frame_hz, false);
     sim_ms.push_back(thread_cpu_ms() - t0);
     // the servo ticks due before the next frame (16 or 17 at 1 kHz and 60 Hz)
     const int64_t until = static_cast<int64_t>(std::ceil((f + 1) * rates.servo_hz / rates.frame_hz - 1e-9));
     Vec3 sum = Vec3::Zero();
     int64_t ticks = 0;
     for (; tick < until; ++tick, ++ticks) {
-      servo.tick(tick, static_cast<double>(tick) / rates.servo_hz);
+      session.tick(tick, static_cast<double>(tick) / rates.servo_hz);
       sum += dev.force_N();
     }
     r.frames = f + 1;
@@ -98,7 +93,7 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
     }
   }
   r.force_N = (frame_means[0] + frame_means[1] + frame_means[2]) / 3.0;
-  stage.drain_remaining();
+  session.finish();
   const HapticSample& s = servo.last_sample();
   r.proxy_m = s.proxy_pos_m;
   r.contact_tri = s.contact_tri;
