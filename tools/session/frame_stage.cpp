@@ -72,8 +72,6 @@ void FrameStage::drain() {
 
 void FrameStage::drain_remaining() { drain(); }
 
-
-
 void FrameStage::region_changed() {
   resting_ = false;
   f_ext_N_.assign(region_->lattice()->num_nodes(), Vec3::Zero());
