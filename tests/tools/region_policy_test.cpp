@@ -1,7 +1,8 @@
 // The frame stage's two region policies through their public interface: a LocalRegion is placed at the contact,
 // stays while the contact stays inside it and moves (carrying its deformation over) when the contact leaves it;
 // a CutRegion holds one lattice over every solid cell from the start, never moves it, and a blade drawn through
-// the object cuts springs and splits the mesh while the node count stays what it was.
+// the object cuts springs and splits the mesh while the node count stays what it was. The scene's mode picks
+// which one the frame stage holds.
 #include "tools/session/cut_region.h"
 #include "tools/session/local_region.h"
 
@@ -11,6 +12,7 @@
 #include <string>
 
 #include "core/tri_mesh.h"
+#include "tools/session/frame_stage.h"
 
 namespace palpate {
 namespace {
@@ -248,6 +250,31 @@ TEST(CutRegion, OneWholeObjectLatticeThatNeverMovesAndWhoseSpringsTheBladeCuts) 
   for (std::size_t i = 0; i < nodes0; ++i)
     if (l->rest_m[i].z() > z_plane) held += l->x_m[i].z() == floor ? 1 : 0;
   EXPECT_EQ(held, nodes_above);
+}
+
+TEST(RegionPolicy, ChosenFromTheSceneModeAndSeenThroughTheFrameStage) {
+  for (const char* mode : {"touch", "pull", "cut"}) {
+    SCOPED_TRACE(mode);
+    const Scene scene = box_scene(mode, 2);
+    const Model model = load_model(scene).value();
+    const bool cut = scene.mode == InteractionMode::kCut;
+    FrameStats stats;
+    const auto policy = make_region_policy(scene, model, &stats);
+    EXPECT_EQ(dynamic_cast<const CutRegion*>(policy.get()) != nullptr, cut);
+    EXPECT_EQ(dynamic_cast<const LocalRegion*>(policy.get()) != nullptr, !cut);
+    // the stage shows its policy's lattice, mesh and cut model: the whole object up front in cut mode only
+    SpscQueue<HapticSample> samples(16);
+    TripleBuffer<LocalModel> local;
+    FrameStage stage(scene, model, &samples, &local, nullptr, nullptr, nullptr);
+    EXPECT_EQ(stage.lattice().has_value(), cut);
+    EXPECT_EQ(stage.cut_model() != nullptr, cut);
+    if (cut) {
+      EXPECT_EQ(&stage.triangles(), &stage.cut_model()->triangles());
+      EXPECT_EQ(static_cast<int64_t>(stage.lattice()->cells.size()), model.grid.solid_cells(4));
+    } else {
+      EXPECT_EQ(&stage.triangles(), &model.rest.triangles);
+    }
+  }
 }
 
 }  // namespace
