@@ -5,8 +5,7 @@
 #include <cmath>
 
 #include "core/state_hash.h"
-#include "sim/cut.h"
-#include "sim/region.h"
+#include "sim/deformer.h"
 #include "sim/rest.h"
 
 namespace palpate {
@@ -27,21 +26,24 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
       renderer_(renderer),
       writer_(writer),
       log_(log),
+      step_opts_(step_options(scene.lattice)),
       vertices_m_(model.rest.vertices_m) {
   latest_.tool_pos_m = scene.trajectory.front().pos_m;
   latest_.proxy_pos_m = latest_.tool_pos_m;
   stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
-  if (scene.mode == InteractionMode::kCut) {
-    cut_.emplace(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m);
-    build_cut_lattice();
-  }
+  region_ = make_region_policy(scene, model, &stats_);
+  if (region_->lattice()) region_changed();
+  // a lattice built up front gets its solver's factorisation too, before the first frame's deadline (the same
+  // one the first step would make)
+  if (region_->prepared_ahead() && region_->lattice()) prepare_step(*region_->mutable_lattice(), step_opts_, step_dt_s_, &ws_);
 }
 
 void FrameStage::set_step_dt(double dt_s) {
   const bool changed = dt_s != step_dt_s_;
   step_dt_s_ = dt_s;
-  if (changed && cut_ && lattice_) prepare_step(*lattice_, step_opts_, step_dt_s_, &ws_);
+  if (changed && region_->prepared_ahead() && region_->lattice())
+    prepare_step(*region_->mutable_lattice(), step_opts_, step_dt_s_, &ws_);
 }
 
 void FrameStage::use_budget(BudgetClock* clock) {
@@ -63,88 +65,36 @@ void FrameStage::drain() {
       contact_ = s;
       contact_this_frame_ = true;
     }
-    // the blade cuts whatever it sweeps while the button is held (the servo's in-material test only sets the
-    // resistance: the lattice reaches past the surface, and its springs there must be cut too)
-    if (cut_) cut_->add_sample(s.tool_pos_m, s.blade_axis, (s.buttons & 1u) != 0 && !s.input_rejected);
+    region_->add_sample(s);
     latest_ = s;
   }
 }
 
 void FrameStage::drain_remaining() { drain(); }
 
-void FrameStage::build_lattice_at(const Vec3& p_m) {
-  const int level = scene_.lattice.level;
-  const CellCoord center = model_.grid.cell_of(p_m, level);
-  // a moved region keeps the old cells that are still deformed (beyond 1e-3 of a cell), so nothing snaps back
-  const int radius = scene_.lattice.radius_cells;
-  auto lat = build_lattice(model_.grid, scene_.lattice,
-                           lattice_ ? followed_region_cells(model_.grid, *lattice_, center, radius, 1e-3 * lattice_->cell_m)
-                                    : region_cells(model_.grid, level, center, radius));
-  if (!lat) return;  // no solid cell near the contact: nothing to deform
-  if (lattice_) {
-    carry_state(*lattice_, &lat.value());
-    // vertices of dropped cells go back to rest; the others are deformed again by the new lattice. Normals
-    // that depended on the old region are final now unless they depend on the new one (redone after deform).
-    for (int32_t v : deformer_.vertex_ids()) vertices_m_[v] = model_.rest.vertices_m[v];
-    if (!normals_.empty() && !cut_) update_vertex_normals(vertices_m_, triangles(), model_.adjacency, normal_ids_, &normals_);
-    ++stats_.region_moves;
-  }
-  lattice_ = std::move(lat).value();
-  region_center_ = center;
+void FrameStage::region_changed() {
   resting_ = false;
-  step_opts_ = step_options(scene_.lattice);
-  deformer_.attach(*lattice_, model_.bindings);
-  if (!cut_) normal_dependents(triangles(), model_.adjacency, deformer_.vertex_ids(), &mark_scratch_, &normal_ids_);
-  region_changed_ = true;
-  ++layer_epoch_;
-  f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
-  stats_.lattice_nodes = std::max(stats_.lattice_nodes, lattice_->num_nodes());
-  stats_.lattice_springs = std::max(stats_.lattice_springs, lattice_->springs.size());
-  stats_.lattice_vertices = std::max(stats_.lattice_vertices, deformer_.num_bound_vertices());
+  f_ext_N_.assign(region_->lattice()->num_nodes(), Vec3::Zero());
 }
 
-void FrameStage::build_cut_lattice() {
-  // the blade may go anywhere and cuts must persist: one lattice over every solid cell, never moved
-  const int level = scene_.lattice.level;
-  const int n = model_.grid.cells_per_axis(level);
-  auto lat = build_lattice(model_.grid, scene_.lattice, region_cells(model_.grid, level, {n / 2, n / 2, n / 2}, n));
-  if (!lat) return;
-  lattice_ = std::move(lat).value();
-  step_opts_ = step_options(scene_.lattice);
-  f_ext_N_.assign(lattice_->num_nodes(), Vec3::Zero());
-  floor_z_m_ = lattice_->rest_m.front().z();
-  for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
-  stats_.lattice_nodes = lattice_->num_nodes();
-  stats_.lattice_springs = lattice_->springs.size();
-  stats_.lattice_vertices = vertices_m_.size();
-  // the solver's factorisation too, before the first frame's deadline (the same one the first step would make)
-  prepare_step(*lattice_, step_opts_, step_dt_s_, &ws_);
-}
-
-bool FrameStage::cut_frame() {
-  if (!lattice_) return false;
-  if (cut_->pending().empty()) return false;
-  const CutReport rep = cut_->apply(&*lattice_, &vertices_m_);
-  ++stats_.frames_cutting;
-  stats_.springs_cut += rep.springs_cut;
-  stats_.triangles_added += rep.split.triangles_added;
-  stats_.vertices_added += rep.split.vertices_added;
-  if (rep.springs_cut > 0) stats_.free_nodes = free_nodes(*lattice_);
-  if (rep.changed()) {
-    resting_ = false;
-    normals_.clear();
+void FrameStage::place_region() {
+  // a sphere's centre is outside the surface: the region is built around the surface point under it
+  Vec3 at = contact_.proxy_pos_m;
+  if (scene_.device.sphere_tool) {
+    const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
+    at.setZero();
+    for (int c = 0; c < 3; ++c) at += contact_.contact_bary[c] * vertices_m_[tri[c]];
   }
-  return true;
+  if (region_->place(at, {&vertices_m_, &normals_})) region_changed();
 }
 
 void FrameStage::follow_contact() {
-  if (!scene_.lattice.follow_contact || !contact_this_frame_ || contact_.contact_tri < 0) return;
+  if (!contact_this_frame_ || contact_.contact_tri < 0) return;
   // the material point under the contact, at rest: its cell is where the contact force goes
   const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
   Vec3 p = Vec3::Zero();
   for (int c = 0; c < 3; ++c) p += contact_.contact_bary[c] * model_.rest.vertices_m[tri[c]];
-  const CellCoord cell = model_.grid.cell_of(p, lattice_->level);
-  if (contact_leaves_region(*lattice_, region_center_, cell, scene_.lattice.radius_cells)) build_lattice_at(p);
+  if (region_->follow(p, {&vertices_m_, &normals_})) region_changed();
 }
 
 bool FrameStage::step_lattice_frame() {
@@ -153,39 +103,41 @@ bool FrameStage::step_lattice_frame() {
     ++stats_.frames_resting;
     return false;
   }
+  Lattice& lat = *region_->mutable_lattice();
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_clock_.now_ms();
   if (budget_) budget_->step_begin();
-  const StepReport rep = step_lattice(&*lattice_, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, f_ext_N_, &ws_);
+  const StepReport rep = step_lattice(&lat, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, f_ext_N_, &ws_);
   if (budget_) budget_->step_end();
   stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
   ++stats_.frames_stepped;
-  stats_.node_frames += static_cast<int64_t>(lattice_->num_nodes());
-  stats_.spring_frames += static_cast<int64_t>(lattice_->springs.size());
-  stats_.vertex_frames += static_cast<int64_t>(deformer_.num_bound_vertices());
+  stats_.node_frames += static_cast<int64_t>(lat.num_nodes());
+  stats_.spring_frames += static_cast<int64_t>(lat.springs.size());
+  stats_.vertex_frames += static_cast<int64_t>(region_->bound_vertices());
   stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
   stats_.substeps_total += rep.substeps;
   if (rep.diverged) {
     // a diverged state is counted and replaced by rest, so the run goes on
     ++(rep.finite ? stats_.divergence_events : stats_.nan_events);
-    lattice_->reset_to_rest();
+    lat.reset_to_rest();
   }
-  resting_ = !pushed && lattice_at_rest(*lattice_, f_ext_N_, scene_.lattice.rest_kinetic_J, scene_.lattice.rest_force_N,
+  resting_ = !pushed && lattice_at_rest(lat, f_ext_N_, scene_.lattice.rest_kinetic_J, scene_.lattice.rest_force_N,
                                         &rest_scratch_);
   return true;
 }
 
 PointWeights FrameStage::contact_weights(int32_t tri_id, const Vec3& bary) const {
+  const Lattice& lat = *region_->lattice();
   PointWeights w;
   const auto& tri = model_.rest.triangles[static_cast<std::size_t>(tri_id)];
   for (int c = 0; c < 3; ++c) {
     const VertexBinding& b = model_.bindings[static_cast<std::size_t>(tri[c])];
-    const int32_t slot = lattice_->slot_of_cell[b.cell];
+    const int32_t slot = lat.slot_of_cell[b.cell];
     if (slot < 0) continue;
     const auto tw = trilinear_weights(b.local);
     for (int k = 0; k < 8; ++k) {
-      w.node[w.count] = lattice_->cell_nodes[slot][k];
+      w.node[w.count] = lat.cell_nodes[slot][k];
       w.weight[w.count] = bary[c] * tw[k];
       ++w.count;
     }
@@ -194,6 +146,7 @@ PointWeights FrameStage::contact_weights(int32_t tri_id, const Vec3& bary) const
 }
 
 PointWeights FrameStage::patch_weights(const HapticSample& s) const {
+  const Lattice& lat = *region_->lattice();
   const double radius = scene_.device.tool_radius_m;
   const auto& tri = model_.rest.triangles[static_cast<std::size_t>(s.contact_tri)];
   const Vec3& a0 = model_.rest.vertices_m[tri[0]];
@@ -213,16 +166,16 @@ PointWeights FrameStage::patch_weights(const HapticSample& s) const {
   // vertex or edge holds the contact point this frame
   const Vec3 axis = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   const Vec3 t1 = (axis - axis.dot(n) * n).normalized(), t2 = n.cross(t1);
-  const int level = lattice_->level;
-  const double cell = lattice_->cell_m;
+  const int level = lat.level;
+  const double cell = lat.cell_m;
   // a hair inside the surface, so a sample on a face that lies on a cell plane lands in the solid cell
   const Vec3 in = -1e-3 * cell * n;
   double total = 0.0;
   auto sample = [&](const Vec3& p, double weight) {
-    const int32_t slot = lattice_->slot_of_cell[model_.grid.linear_index(model_.grid.cell_of(p, level), level)];
+    const int32_t slot = lat.slot_of_cell[model_.grid.linear_index(model_.grid.cell_of(p, level), level)];
     if (slot < 0 || !(weight > 0.0)) return;
-    const auto& nodes = lattice_->cell_nodes[static_cast<std::size_t>(slot)];
-    const Vec3 local = ((p - lattice_->rest_m[nodes[0]]) / cell).cwiseMax(0.0).cwiseMin(1.0);
+    const auto& nodes = lat.cell_nodes[static_cast<std::size_t>(slot)];
+    const Vec3 local = ((p - lat.rest_m[nodes[0]]) / cell).cwiseMax(0.0).cwiseMin(1.0);
     const auto tw = trilinear_weights(local);
     for (int k = 0; k < 8; ++k)
       if (!w.add(nodes[k], weight * tw[k])) return;
@@ -276,21 +229,22 @@ int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
 
 void FrameStage::fill_contact_model(LocalModel* m) {
   m->has_contact_model = false;
-  if (!lattice_ || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
+  if (!region_->lattice() || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
+  const Lattice& lat = *region_->lattice();
   const PointWeights w = force_weights(latest_);
   if (w.count == 0) return;
   Mat3 c;
-  if (!compliance_.compute(*lattice_, w, false, &c)) return;
+  if (!compliance_.compute(lat, w, false, &c)) return;
   Vec3 p = Vec3::Zero(), v = Vec3::Zero();
   const auto& tri = model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)];
   for (int k = 0; k < 3; ++k) p += latest_.contact_bary[k] * vertices_m_[tri[k]];
-  for (int i = 0; i < w.count; ++i) v += w.weight[i] * lattice_->v_m_per_s[w.node[i]];
+  for (int i = 0; i < w.count; ++i) v += w.weight[i] * lat.v_m_per_s[w.node[i]];
   m->has_contact_model = true;
   m->contact_p0_m = p;
   m->contact_v0_m_per_s = v;
   m->contact_f0_N = frame_force_obj_N_;
   m->compliance_m_per_N = c;
-  m->model_radius_m = lattice_->cell_m;
+  m->model_radius_m = lat.cell_m;
   ++stats_.contact_models;
 }
 
@@ -302,19 +256,12 @@ void FrameStage::publish_patch() {
                         (scene_.device.sphere_tool ? scene_.device.tool_radius_m : 0.0);
   const Vec3 lo = latest_.tool_pos_m.cwiseMin(latest_.proxy_pos_m) - Vec3::Constant(margin);
   const Vec3 hi = latest_.tool_pos_m.cwiseMax(latest_.proxy_pos_m) + Vec3::Constant(margin);
-  if (cut_) {
-    // the whole blade edge, whose triangles are not in the grid's leaf lists once split
-    const Vec3 end = latest_.tool_pos_m + scene_.blade_length_m * latest_.blade_axis;
-    cut_->triangles_in_box(vertices_m_, lo.cwiseMin(end - Vec3::Constant(margin)), hi.cwiseMax(end + Vec3::Constant(margin)),
-                           &near_tris_);
-  } else {
-    model_.grid.triangles_near(lo, hi, &near_tris_);
-  }
+  region_->patch_candidates(latest_, vertices_m_, lo, hi, margin, &near_tris_);
   // keep the held triangle first, then the nearest ones
   const Vec3 tool = latest_.tool_pos_m;
   const auto& tris = triangles();
-  // cut mode: nearest to the blade edge, so the triangles it crosses are always kept
-  const Vec3 edge = cut_ ? Vec3(scene_.blade_length_m * latest_.blade_axis) : Vec3::Zero();
+  // nearest to the tool, or to the edge the region names (a blade: the triangles it crosses are always kept)
+  const Vec3 edge = region_->patch_edge(latest_);
   auto dist = [&](int32_t t) {
     const auto& tr = tris[static_cast<std::size_t>(t)];
     const Vec3 c = (vertices_m_[tr[0]] + vertices_m_[tr[1]] + vertices_m_[tr[2]]) / 3.0;
@@ -365,16 +312,8 @@ void FrameStage::render(int64_t index, bool block) {
   view.in_contact = latest_.contact != ContactState::kFree;
   view.show_proxy = view.in_contact && latest_.contact != ContactState::kCut;
   view.proxy_pos_m = latest_.proxy_pos_m;
-  // cut mode moves the whole object and changes its topology: drawn in full
-  if (!cut_) {
-    view.moving_vertices = &deformer_.vertex_ids();
-    view.layer_epoch = layer_epoch_;
-  }
-  if (cut_) {
-    view.show_blade = true;
-    view.blade_tip_m = latest_.tool_pos_m;
-    view.blade_end_m = latest_.tool_pos_m + scene_.blade_length_m * latest_.blade_axis;
-  }
+  // what may move (the rest comes from the renderer's cached layer), the blade
+  region_->fill_view(latest_, &view);
   renderer_->draw(view, buf);
   stats_.frames_layered += renderer_->last_draw_layered() ? 1 : 0;
   // the video gets its own copy: its frame index is the scene's, so a skipped frame holds the last one shown
@@ -397,43 +336,30 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   force_sum_N_.setZero();
   frame_samples_ = 0;
   drain();
-  const bool cutting = cut_ && cut_frame();
-  if (!lattice_ && contact_this_frame_) {
-    // a sphere's centre is outside the surface: the region is built around the surface point under it
-    Vec3 at = contact_.proxy_pos_m;
-    if (scene_.device.sphere_tool) {
-      const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-      at.setZero();
-      for (int c = 0; c < 3; ++c) at += contact_.contact_bary[c] * vertices_m_[tri[c]];
-    }
-    build_lattice_at(at);
-  }
+  if (region_->begin_frame({&vertices_m_, &normals_})) resting_ = false;
+  if (!region_->lattice() && contact_this_frame_) place_region();
   frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? object_force(-force_sum_N_ / static_cast<double>(frame_samples_))
                                                                   : Vec3::Zero();
   bool moved = false;
-  if (lattice_) {
+  if (region_->lattice()) {
     follow_contact();
     if (const int nodes = apply_contact_force(&f_ext_N_); nodes > 0) stats_.force_nodes = nodes;
     moved = step_lattice_frame();
-    if (moved && cut_) apply_floor(&*lattice_, floor_z_m_);
+    if (moved) region_->after_step();
   }
   if (moved) {
-    for (std::size_t i = 0; i < lattice_->num_nodes(); ++i)
-      stats_.max_displacement_m = std::max(stats_.max_displacement_m, (lattice_->x_m[i] - lattice_->rest_m[i]).norm());
-    if (cut_) cut_->deform(*lattice_, &vertices_m_);
-    else deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, &vertices_m_);
+    const Lattice& lat = *region_->lattice();
+    for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+      stats_.max_displacement_m = std::max(stats_.max_displacement_m, (lat.x_m[i] - lat.rest_m[i]).norm());
+    region_->deform(&vertices_m_);
   }
-  // normals for the servo's inside test and for shading: only those of the region's vertices and their
-  // neighbours can change, except in cut mode (whole-object lattice, changing topology)
-  if (normals_.empty() || (cut_ && moved)) compute_vertex_normals(vertices_m_, triangles(), &normals_);
-  else if (moved || region_changed_) update_vertex_normals(vertices_m_, triangles(), model_.adjacency, normal_ids_, &normals_);
-  region_changed_ = false;
+  // normals for the servo's inside test and for shading: those the frame can have changed
+  region_->update_normals(moved, {&vertices_m_, &normals_});
   publish_patch();
   stats_.sim_ms.push_back(ms_since(t0));
   stats_.sim_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   if (budget_) budget_->end_frame();
-  if (cutting) stats_.cutting_ms.push_back(stats_.sim_ms.back());
-  else if (stats_.frames_cutting > 0) stats_.after_cut_ms.push_back(stats_.sim_ms.back());
+  region_->end_frame(stats_.sim_ms.back());
   ++stats_.frames;
   const std::size_t rendered = stats_.render_ms.size();
   render(index, block_on_writer);
@@ -444,9 +370,9 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
 
 std::string FrameStage::state_hash() const {
   StateHash h;
-  if (lattice_) {
-    h.add(lattice_->x_m);
-    h.add(lattice_->v_m_per_s);
+  if (const auto& lat = region_->lattice()) {
+    h.add(lat->x_m);
+    h.add(lat->v_m_per_s);
   }
   h.add(vertices_m_);
   return h.hex();

@@ -18,52 +18,20 @@
 #include "render/renderer.h"
 #include "render/video_writer.h"
 #include "sim/cut_model.h"
-#include "sim/deformer.h"
 #include "sim/frame_budget.h"
 #include "sim/integrator.h"
 #include "sim/lattice.h"
+#include "tools/session/frame_stats.h"
 #include "tools/session/haptic_log.h"
 #include "tools/session/live_feed.h"
 #include "tools/session/model.h"
+#include "tools/session/region_policy.h"
 
 namespace palpate {
 
-/// Figures the frame stage collects (read after the run).
-struct FrameStats {
-  std::vector<double> sim_ms;       ///< per frame: drain + step + deform + publish
-  std::vector<double> render_ms;    ///< per rendered frame
-  int64_t frames_layered = 0;       ///< rendered frames that drew only what moves over the cached static layer
-  std::vector<int64_t> written_frames; ///< scene frame index of each PNG, in file order (frame_00000 first)
-  int64_t frames = 0;               ///< frames processed
-  int64_t frames_rendered = 0;      ///< frames handed to the PNG writer
-  int64_t frames_dropped = 0;       ///< realtime: frames not rendered because the writer was full
-  int64_t nan_events = 0;           ///< lattice states that went non-finite (reset to rest)
-  int64_t samples = 0;              ///< servo samples drained
-  double max_displacement_m = 0.0;  ///< largest node displacement from rest
-  int max_substeps = 0;             ///< most substeps in one frame
-  std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< largest region simulated in a frame
-  std::vector<double> step_ms;      ///< per stepped frame: the integrator step alone
-  std::vector<double> sim_cpu_ms;   ///< per frame: sim_ms in the sim thread's CPU time (unaffected by other load)
-  std::vector<double> step_cpu_ms;  ///< per stepped frame: step_ms in CPU time
-  int64_t frames_stepped = 0;       ///< frames whose lattice was stepped
-  int64_t frames_resting = 0;       ///< frames skipped because the lattice was at rest
-  int64_t node_frames = 0, spring_frames = 0, vertex_frames = 0;  ///< sums over frames of what was simulated
-  int64_t region_moves = 0;         ///< times the region followed the contact
-  int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
-  int64_t contact_models = 0;       ///< frames that published a contact model for the servo
-  int force_nodes = 0;              ///< lattice nodes loaded by the contact force in the last frame with contact
-  int64_t substeps_total = 0;       ///< integrator substeps over all stepped frames
-  // cut mode
-  int64_t frames_cutting = 0;       ///< frames that applied blade sweeps
-  int64_t springs_cut = 0;          ///< springs removed by the blade
-  int64_t triangles_added = 0;      ///< growth of the triangle count by mesh splits
-  int64_t vertices_added = 0;       ///< growth of the vertex count by mesh splits
-  int64_t free_nodes = 0;           ///< nodes in pieces cut free of every fixed node (after the last cut)
-  std::vector<double> cutting_ms;   ///< sim_ms of frames that cut
-  std::vector<double> after_cut_ms; ///< sim_ms of frames after the first cut that did not cut
-};
-
-/// Owns the lattice, deformer and render state of one recording. Thread: the sim thread only.
+/// Owns the region policy (and through it the lattice), the deformed mesh and the render state of one
+/// recording; the policy, chosen from the scene's interaction mode, does what differs between a local region
+/// (touch, pull) and the whole-object region the blade cuts (cut). Thread: the sim thread only.
 class FrameStage {
  public:
   /// All pointers must outlive the stage. renderer / writer may be null (no rendering).
@@ -97,18 +65,21 @@ class FrameStage {
   const std::vector<Vec3>& vertices_m() const { return vertices_m_; }
   /// Current vertex normals (those the region can change are recomputed each frame, the rest kept).
   const std::vector<Vec3>& normals() const { return normals_; }
-  /// The lattice, once a contact has built it.
-  const std::optional<Lattice>& lattice() const { return lattice_; }
+  /// The lattice: a local region once a contact has built it; in cut mode the whole object from the start.
+  const std::optional<Lattice>& lattice() const { return region_->lattice(); }
   /// The triangles drawn and touched: the cut mesh in cut mode, else the model's.
-  const std::vector<std::array<int32_t, 3>>& triangles() const { return cut_ ? cut_->triangles() : model_.rest.triangles; }
+  const std::vector<std::array<int32_t, 3>>& triangles() const { return region_->triangles(); }
   /// The cut mesh and its side binding (cut mode only, else null).
-  const CutModel* cut_model() const { return cut_ ? &*cut_ : nullptr; }
+  const CutModel* cut_model() const { return region_->cut_model(); }
 
  private:
   void drain();
-  void build_lattice_at(const Vec3& p_m);
+  // places the region at this frame's first contact
+  void place_region();
   // moves the region when this frame's contact left it (state carried over)
   void follow_contact();
+  // the lattice is new or changed: it steps again, and the node forces fit it
+  void region_changed();
   // steps the lattice unless it rests; true when it moved
   bool step_lattice_frame();
   // the frame's contact force on the lattice nodes; returns how many nodes it went to
@@ -129,10 +100,6 @@ class FrameStage {
   // the object's linearised response at the current contact, for the servo between frames
   void fill_contact_model(LocalModel* m);
   void publish_patch();
-  // cut mode: the whole-object lattice, built once with the stage, and its solver prepared
-  void build_cut_lattice();
-  // cut mode: applies the blade sweeps drained this frame
-  bool cut_frame();
   void render(int64_t index, bool block);
 
   const Scene& scene_;
@@ -145,25 +112,18 @@ class FrameStage {
   LiveFeed* live_ = nullptr;
   HapticLog* log_;
 
-  std::optional<Lattice> lattice_;
-  std::optional<CutModel> cut_;      // cut mode: the cut mesh and side binding
-  double floor_z_m_ = 0.0;           // cut mode: lowest node plane, a floor for pieces cut free
-  MeshDeformer deformer_;
+  FrameStats stats_;                 // (before region_, which records into it)
+  std::unique_ptr<RegionPolicy> region_;  // the lattice region of the scene's interaction mode
   IntegratorWorkspace ws_;
   StepOptions step_opts_;            // from the scene, fixed for the run
   std::optional<FrameBudget> budget_;  // lattice.budget_ms: picks the step options of each frame
   const StepOptions* frame_opts_ = nullptr;  // this frame's options (the budget's), else step_opts_
   ThreadCpuClock cpu_clock_;         // for the CPU-time figures
-  CellCoord region_center_;          // contact cell the region was built around
   bool resting_ = false;             // the lattice is at rest: not stepped until a force acts
   std::vector<Vec3> rest_scratch_;   // forces for the rest check (n)
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)
-  std::vector<int32_t> normal_ids_;  // vertices whose normal the region can change (touch/pull)
-  std::vector<uint8_t> mark_scratch_;// scratch for normal_dependents (n_v)
-  bool region_changed_ = false;      // the region was (re)built this frame: its normals are due
-  uint64_t layer_epoch_ = 0;         // bumped when the moving vertices change (the renderer's cached layer)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
@@ -174,7 +134,6 @@ class FrameStage {
   bool contact_this_frame_ = false;
   Vec3 force_sum_N_ = Vec3::Zero();  // sum of device forces over the frame's samples
   int64_t frame_samples_ = 0;
-  FrameStats stats_;
 };
 
 }  // namespace palpate

@@ -1,0 +1,91 @@
+#include "tools/session/cut_region.h"
+
+#include <algorithm>
+
+#include "core/tri_mesh.h"
+#include "sim/cut.h"
+
+namespace palpate {
+
+CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
+    : scene_(scene),
+      stats_(stats),
+      cut_(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m) {
+  // one lattice over every solid cell: a region centred in the grid reaching all of it
+  const int level = scene.lattice.level;
+  const int n = model.grid.cells_per_axis(level);
+  auto lat = build_lattice(model.grid, scene.lattice, region_cells(model.grid, level, {n / 2, n / 2, n / 2}, n));
+  if (!lat) return;
+  lattice_ = std::move(lat).value();
+  floor_z_m_ = lattice_->rest_m.front().z();
+  for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
+  stats_->lattice_nodes = lattice_->num_nodes();
+  stats_->lattice_springs = lattice_->springs.size();
+  stats_->lattice_vertices = model.rest.vertices_m.size();
+}
+
+void CutRegion::add_sample(const HapticSample& s) {
+  // the blade cuts whatever it sweeps while the button is held (the servo's in-material test only sets the
+  // resistance: the lattice reaches past the surface, and its springs there must be cut too)
+  cut_.add_sample(s.tool_pos_m, s.blade_axis, (s.buttons & 1u) != 0 && !s.input_rejected);
+}
+
+bool CutRegion::begin_frame(const DeformedMesh& mesh) {
+  cutting_ = false;
+  if (!lattice_ || cut_.pending().empty()) return false;
+  const CutReport rep = cut_.apply(&*lattice_, mesh.vertices_m);
+  cutting_ = true;
+  ++stats_->frames_cutting;
+  stats_->springs_cut += rep.springs_cut;
+  stats_->triangles_added += rep.split.triangles_added;
+  stats_->vertices_added += rep.split.vertices_added;
+  if (rep.springs_cut > 0) stats_->free_nodes = free_nodes(*lattice_);
+  if (!rep.changed()) return false;
+  mesh.normals->clear();
+  return true;
+}
+
+bool CutRegion::place(const Vec3& p_m, const DeformedMesh& mesh) {
+  (void)p_m;
+  (void)mesh;
+  return false;
+}
+
+bool CutRegion::follow(const Vec3& p_rest_m, const DeformedMesh& mesh) {
+  (void)p_rest_m;
+  (void)mesh;
+  return false;
+}
+
+void CutRegion::after_step() { apply_floor(&*lattice_, floor_z_m_); }
+
+void CutRegion::deform(std::vector<Vec3>* vertices_m) const { cut_.deform(*lattice_, vertices_m); }
+
+void CutRegion::update_normals(bool moved, const DeformedMesh& mesh) {
+  // the whole object moves and the topology changes: all of them
+  if (moved || mesh.normals->empty()) compute_vertex_normals(*mesh.vertices_m, triangles(), mesh.normals);
+}
+
+void CutRegion::patch_candidates(const HapticSample& latest, const std::vector<Vec3>& vertices_m, const Vec3& lo_m,
+                                 const Vec3& hi_m, double margin_m, std::vector<int32_t>* out) const {
+  // the whole blade edge, whose triangles are not in the grid's leaf lists once split
+  const Vec3 end = latest.tool_pos_m + scene_.blade_length_m * latest.blade_axis;
+  cut_.triangles_in_box(vertices_m, lo_m.cwiseMin(end - Vec3::Constant(margin_m)),
+                        hi_m.cwiseMax(end + Vec3::Constant(margin_m)), out);
+}
+
+Vec3 CutRegion::patch_edge(const HapticSample& latest) const { return scene_.blade_length_m * latest.blade_axis; }
+
+void CutRegion::fill_view(const HapticSample& latest, FrameView* view) const {
+  // moving_vertices stays null: the whole object moves and its topology changes, so it is drawn in full
+  view->show_blade = true;
+  view->blade_tip_m = latest.tool_pos_m;
+  view->blade_end_m = latest.tool_pos_m + scene_.blade_length_m * latest.blade_axis;
+}
+
+void CutRegion::end_frame(double sim_ms) {
+  if (cutting_) stats_->cutting_ms.push_back(sim_ms);
+  else if (stats_->frames_cutting > 0) stats_->after_cut_ms.push_back(sim_ms);
+}
+
+}  // namespace palpate

@@ -1,0 +1,61 @@
+#pragma once
+/// CutRegion (cut): one lattice over every solid cell of the object, built with the region and never moved (the
+/// blade may go anywhere and cuts must persist). The blade's sweeps cut its springs and split the mesh; pieces
+/// cut free fall onto a floor at the lowest node plane.
+
+#include <cstdint>
+#include <vector>
+
+#include "sim/cut_model.h"
+#include "tools/session/region_policy.h"
+
+namespace palpate {
+
+/// The whole-object region. Its node count never changes: a cut removes springs, and the nodes of a piece cut
+/// free of every fixed node stay in the lattice (counted in FrameStats::free_nodes). Every vertex may move and
+/// the topology changes, so normals are recomputed in full and the mesh is drawn in full.
+class CutRegion final : public RegionPolicy {
+ public:
+  /// Builds the whole-object lattice and the uncut mesh's side binding. scene, model and stats must outlive
+  /// the region. No lattice when the object has no solid cell at lattice.level.
+  CutRegion(const Scene& scene, const Model& model, FrameStats* stats);
+
+  const std::vector<std::array<int32_t, 3>>& triangles() const override { return cut_.triangles(); }
+  const CutModel* cut_model() const override { return &cut_; }
+  // the side binding moves the vertices; no deformer is attached
+  std::size_t bound_vertices() const override { return 0; }
+  bool prepared_ahead() const override { return true; }
+  /// Records the blade of each sample: it cuts what it sweeps while the button is held and the reading was
+  /// accepted.
+  void add_sample(const HapticSample& s) override;
+  /// Applies the blade sweeps recorded since the last frame (springs cut, mesh split, *mesh.vertices_m grown,
+  /// normals cleared when anything changed). True when anything changed.
+  bool begin_frame(const DeformedMesh& mesh) override;
+  /// The whole-object lattice is never placed anew.
+  bool place(const Vec3& p_m, const DeformedMesh& mesh) override;
+  /// The whole-object lattice never follows the contact.
+  bool follow(const Vec3& p_rest_m, const DeformedMesh& mesh) override;
+  /// Keeps pieces cut free on the floor.
+  void after_step() override;
+  void deform(std::vector<Vec3>* vertices_m) const override;
+  void update_normals(bool moved, const DeformedMesh& mesh) override;
+  void patch_candidates(const HapticSample& latest, const std::vector<Vec3>& vertices_m, const Vec3& lo_m,
+                        const Vec3& hi_m, double margin_m, std::vector<int32_t>* out) const override;
+  /// The blade edge, so the triangles it crosses are kept first.
+  Vec3 patch_edge(const HapticSample& latest) const override;
+  void fill_view(const HapticSample& latest, FrameView* view) const override;
+  /// Files the frame's cost under cutting_ms (it cut) or after_cut_ms (a later frame that did not).
+  void end_frame(double sim_ms) override;
+
+  /// The floor height for pieces cut free: the lowest node plane.
+  double floor_z_m() const { return floor_z_m_; }
+
+ private:
+  const Scene& scene_;
+  FrameStats* stats_;
+  CutModel cut_;             // the cut mesh and side binding
+  double floor_z_m_ = 0.0;   // lowest node plane
+  bool cutting_ = false;     // this frame applied blade sweeps
+};
+
+}  // namespace palpate

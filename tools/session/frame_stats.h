@@ -1,0 +1,45 @@
+#pragma once
+/// FrameStats: the figures the frame stage and its region policy collect over a recording.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace palpate {
+
+/// Figures the frame stage collects (read after the run).
+struct FrameStats {
+  std::vector<double> sim_ms;       ///< per frame: drain + step + deform + publish
+  std::vector<double> render_ms;    ///< per rendered frame
+  int64_t frames_layered = 0;       ///< rendered frames that drew only what moves over the cached static layer
+  std::vector<int64_t> written_frames; ///< scene frame index of each PNG, in file order (frame_00000 first)
+  int64_t frames = 0;               ///< frames processed
+  int64_t frames_rendered = 0;      ///< frames handed to the PNG writer
+  int64_t frames_dropped = 0;       ///< realtime: frames not rendered because the writer was full
+  int64_t nan_events = 0;           ///< lattice states that went non-finite (reset to rest)
+  int64_t samples = 0;              ///< servo samples drained
+  double max_displacement_m = 0.0;  ///< largest node displacement from rest
+  int max_substeps = 0;             ///< most substeps in one frame
+  std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< largest region simulated in a frame
+  std::vector<double> step_ms;      ///< per stepped frame: the integrator step alone
+  std::vector<double> sim_cpu_ms;   ///< per frame: sim_ms in the sim thread's CPU time (unaffected by other load)
+  std::vector<double> step_cpu_ms;  ///< per stepped frame: step_ms in CPU time
+  int64_t frames_stepped = 0;       ///< frames whose lattice was stepped
+  int64_t frames_resting = 0;       ///< frames skipped because the lattice was at rest
+  int64_t node_frames = 0, spring_frames = 0, vertex_frames = 0;  ///< sums over frames of what was simulated
+  int64_t region_moves = 0;         ///< times the region followed the contact
+  int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
+  int64_t contact_models = 0;       ///< frames that published a contact model for the servo
+  int force_nodes = 0;              ///< lattice nodes loaded by the contact force in the last frame with contact
+  int64_t substeps_total = 0;       ///< integrator substeps over all stepped frames
+  // cut mode
+  int64_t frames_cutting = 0;       ///< frames that applied blade sweeps
+  int64_t springs_cut = 0;          ///< springs removed by the blade
+  int64_t triangles_added = 0;      ///< growth of the triangle count by mesh splits
+  int64_t vertices_added = 0;       ///< growth of the vertex count by mesh splits
+  int64_t free_nodes = 0;           ///< nodes in pieces cut free of every fixed node (after the last cut)
+  std::vector<double> cutting_ms;   ///< sim_ms of frames that cut
+  std::vector<double> after_cut_ms; ///< sim_ms of frames after the first cut that did not cut
+};
+
+}  // namespace palpate

@@ -1,0 +1,83 @@
+#include "tools/session/local_region.h"
+
+#include <algorithm>
+
+#include "core/tri_mesh.h"
+#include "core/vertex_triangles.h"
+#include "sim/region.h"
+
+namespace palpate {
+
+LocalRegion::LocalRegion(const Scene& scene, const Model& model, FrameStats* stats)
+    : scene_(scene), model_(model), stats_(stats) {}
+
+bool LocalRegion::place(const Vec3& p_m, const DeformedMesh& mesh) {
+  if (lattice_) return false;
+  return build_at(p_m, mesh);
+}
+
+bool LocalRegion::follow(const Vec3& p_rest_m, const DeformedMesh& mesh) {
+  if (!lattice_ || !scene_.lattice.follow_contact) return false;
+  // the material point's cell is where the contact force goes: it must be inside the region, off its fixed ring
+  const CellCoord cell = model_.grid.cell_of(p_rest_m, lattice_->level);
+  if (!contact_leaves_region(*lattice_, center_, cell, scene_.lattice.radius_cells)) return false;
+  return build_at(p_rest_m, mesh);
+}
+
+bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh) {
+  const int level = scene_.lattice.level;
+  const CellCoord center = model_.grid.cell_of(p_m, level);
+  // a moved region keeps the old cells that are still deformed (beyond 1e-3 of a cell), so nothing snaps back
+  const int radius = scene_.lattice.radius_cells;
+  auto lat = build_lattice(model_.grid, scene_.lattice,
+                           lattice_ ? followed_region_cells(model_.grid, *lattice_, center, radius, 1e-3 * lattice_->cell_m)
+                                    : region_cells(model_.grid, level, center, radius));
+  if (!lat) return false;  // no solid cell near the contact: nothing to deform
+  std::vector<Vec3>& vertices_m = *mesh.vertices_m;
+  if (lattice_) {
+    carry_state(*lattice_, &lat.value());
+    // vertices of dropped cells go back to rest; the others are deformed again by the new lattice. Normals
+    // that depended on the old region are final now unless they depend on the new one (redone after deform).
+    for (int32_t v : deformer_.vertex_ids()) vertices_m[v] = model_.rest.vertices_m[v];
+    if (!mesh.normals->empty())
+      update_vertex_normals(vertices_m, triangles(), model_.adjacency, normal_ids_, mesh.normals);
+    ++stats_->region_moves;
+  }
+  lattice_ = std::move(lat).value();
+  center_ = center;
+  deformer_.attach(*lattice_, model_.bindings);
+  normal_dependents(triangles(), model_.adjacency, deformer_.vertex_ids(), &mark_scratch_, &normal_ids_);
+  changed_ = true;
+  ++layer_epoch_;
+  stats_->lattice_nodes = std::max(stats_->lattice_nodes, lattice_->num_nodes());
+  stats_->lattice_springs = std::max(stats_->lattice_springs, lattice_->springs.size());
+  stats_->lattice_vertices = std::max(stats_->lattice_vertices, deformer_.num_bound_vertices());
+  return true;
+}
+
+void LocalRegion::deform(std::vector<Vec3>* vertices_m) const {
+  deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, vertices_m);
+}
+
+void LocalRegion::update_normals(bool moved, const DeformedMesh& mesh) {
+  // only the normals of the region's vertices and their neighbours can change
+  if (mesh.normals->empty()) compute_vertex_normals(*mesh.vertices_m, triangles(), mesh.normals);
+  else if (moved || changed_) update_vertex_normals(*mesh.vertices_m, triangles(), model_.adjacency, normal_ids_, mesh.normals);
+  changed_ = false;
+}
+
+void LocalRegion::patch_candidates(const HapticSample& latest, const std::vector<Vec3>& vertices_m, const Vec3& lo_m,
+                                   const Vec3& hi_m, double margin_m, std::vector<int32_t>* out) const {
+  (void)latest;
+  (void)vertices_m;
+  (void)margin_m;
+  model_.grid.triangles_near(lo_m, hi_m, out);
+}
+
+void LocalRegion::fill_view(const HapticSample& latest, FrameView* view) const {
+  (void)latest;
+  view->moving_vertices = &deformer_.vertex_ids();
+  view->layer_epoch = layer_epoch_;
+}
+
+}  // namespace palpate
