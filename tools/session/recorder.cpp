@@ -212,7 +212,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);
     ServoRunnerConfig cfg;
     cfg.rate_hz = rates.servo_hz;
-    cfg.spin_us = opt.spin_us >= 0 ? opt.spin_us : default_spin_us(rates.servo_hz);
+    cfg.spin_us = opt.spin_us >= 0 ? opt.spin_us : ServoRunnerConfig::kAdaptiveSpin;
     cfg.rt.fifo_priority = opt.fifo_priority;
     cfg.rt.cpu = opt.servo_cpu;
     cfg.max_ticks = rates.ticks(scene.duration_s);  // the servo ends on time by itself
@@ -303,7 +303,9 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
                                                              timing.first_overrun_ticks.begin() + timing.overrun_ticks_recorded)},
                 {"rate_hz", rates.servo_hz},
                 {"rate_from", rate_given ? "--servo-rate" : "scene"},
-                {"spin_us", lockstep ? 0 : (opt.spin_us >= 0 ? opt.spin_us : default_spin_us(rates.servo_hz))},
+                {"spin_us", timing.spin.final_ns / 1000}, {"spin_adaptive", timing.spin.adaptive},
+                {"steal_ms", timing.steal_ms >= 0 ? nlohmann::json(timing.steal_ms) : nlohmann::json()},
+                {"involuntary_switches", timing.involuntary_switches >= 0 ? nlohmann::json(timing.involuntary_switches) : nlohmann::json()},
                 {"rt", {{"memory_locked", memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
                         {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};
   j["sim"] = {{"ms", ms_json(fst.sim_ms)},
