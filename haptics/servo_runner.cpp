@@ -116,11 +116,14 @@ void ServoRunner::run() noexcept {
     next_ns += period_ns_;
     if (done_ns > next_ns) {
       const int64_t missed = (done_ns - next_ns) / period_ns_ + 1;
-      if (timing_.overrun_ticks_recorded < ServoTiming::kOverrunTicks)
+      const bool stall = overrun_is_stall(wake_latency_ns, done_ns - woke_ns);
+      if (timing_.overrun_ticks_recorded < ServoTiming::kOverrunTicks) {
+        timing_.first_overrun_stalls[static_cast<std::size_t>(timing_.overrun_ticks_recorded)] = stall;
         timing_.first_overrun_ticks[static_cast<std::size_t>(timing_.overrun_ticks_recorded++)] = tick;
+      }
       timing_.overruns += missed;
       ++timing_.overrun_events;
-      if (overrun_is_stall(wake_latency_ns, done_ns - woke_ns)) {
+      if (stall) {
         timing_.stall_overruns += missed;
         ++timing_.stall_events;
       }

@@ -102,6 +102,7 @@ struct ServoTiming {
   int64_t stall_overruns = 0;       ///< of `overruns`, the periods missed in stalls (overrun_is_stall)
   int64_t stall_events = 0;         ///< of `overrun_events`, the stalls
   std::array<int64_t, kOverrunTicks> first_overrun_ticks{};  ///< tick numbers of the first overruns
+  std::array<bool, kOverrunTicks> first_overrun_stalls{};  ///< whether each of those was a stall
   int overrun_ticks_recorded = 0;   ///< entries used in first_overrun_ticks
   SpinStats spin;                   ///< the spin window used
   // what the machine took during the run, read before and after the loop (never inside it); -1 = unknown
