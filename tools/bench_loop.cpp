@@ -176,18 +176,20 @@ std::string figure(double v, const char* format) {
 }
 
 void print_header() {
-  std::printf("%8s %-11s %5s %8s %7s %7s %7s %9s %7s %9s %6s %8s %8s %8s %8s %6s %6s\n", "rate_hz", "load", "spin",
-              "ticks", "p50_us", "p99_us", "p999_us", "max_us", "slp_p99", "overruns", "stalls", "steal_ms", "invol_cs",
-              "cmp_p50", "cmp_p99", "f_late", "f_drop");
+  std::printf("%8s %-11s %5s %8s %7s %7s %7s %9s %7s %9s %6s %6s %6s %8s %8s %8s %8s %6s %6s\n", "rate_hz", "load",
+              "spin", "ticks", "p50_us", "p99_us", "p999_us", "max_us", "slp_p99", "overruns", "ovr_ev", "stalls",
+              "stl_ev", "steal_ms", "invol_cs", "cmp_p50", "cmp_p99", "f_late", "f_drop");
 }
 
 void print_row(const LoopRun& r) {
   const auto& w = r.timing.wake_latency;
   const std::string spin = std::to_string(r.spin_us) + (r.timing.spin.adaptive ? "a" : "");
-  std::printf("%8.0f %-11s %5s %8lld %7.0f %7.0f %7.0f %9.1f %7.0f %9lld %6lld %8s %8s %8.0f %8.0f %6lld %6lld\n",
+  std::printf("%8.0f %-11s %5s %8lld %7.0f %7.0f %7.0f %9.1f %7.0f %9lld %6lld %6lld %6lld %8s %8s %8.0f %8.0f %6lld "
+              "%6lld\n",
               r.rate_hz, r.load.c_str(), spin.c_str(), static_cast<long long>(r.ticks), w.quantile_us(0.5),
               w.quantile_us(0.99), w.quantile_us(0.999), w.max_us(), r.timing.sleep_late.quantile_us(0.99),
-              static_cast<long long>(r.timing.overruns), static_cast<long long>(r.timing.stall_overruns),
+              static_cast<long long>(r.timing.overruns), static_cast<long long>(r.timing.overrun_events),
+              static_cast<long long>(r.timing.stall_overruns), static_cast<long long>(r.timing.stall_events),
               figure(r.timing.steal_ms, "%.0f").c_str(),
               figure(static_cast<double>(r.timing.involuntary_switches), "%.0f").c_str(),
               r.timing.compute.quantile_us(0.5), r.timing.compute.quantile_us(0.99),
@@ -205,6 +207,14 @@ double highest_clean_rate(const std::vector<double>& rates_hz, const std::vector
     best = rates_hz[i];
   }
   return best;
+}
+
+double highest_rate_clean_but_stalls(const std::vector<double>& rates_hz, const std::vector<long long>& overruns,
+                                     const std::vector<long long>& stall_overruns) {
+  std::vector<long long> own;  // the loop's own overruns at each rate
+  for (std::size_t i = 0; i < overruns.size() && i < stall_overruns.size(); ++i)
+    own.push_back(overruns[i] - stall_overruns[i]);
+  return highest_clean_rate(rates_hz, own);
 }
 
 int run_bench_loop(const BenchLoopOptions& o) {
@@ -226,7 +236,7 @@ int run_bench_loop(const BenchLoopOptions& o) {
   std::vector<LoopRun> runs;
   // per rate, of the first run (the --spin-us window, without the live view): all overruns, and the loop's own
   // (those not from stalls)
-  std::vector<long long> overruns, loop_overruns;
+  std::vector<long long> overruns, stall_overruns;
   if (o.live && o.load != "record") {
     std::fprintf(stderr, "palpate: bench loop: --live needs --load record (the live view shows rendered frames)\n");
     return 2;
@@ -246,18 +256,19 @@ int run_bench_loop(const BenchLoopOptions& o) {
         print_row(r);
         if (w == 0 && !live) {
           overruns.push_back(static_cast<long long>(r.timing.overruns));
-          loop_overruns.push_back(static_cast<long long>(r.timing.overruns - r.timing.stall_overruns));
+          stall_overruns.push_back(static_cast<long long>(r.timing.stall_overruns));
         }
         runs.push_back(r);
       }
     }
   }
   std::printf("spin: window (us) at the end of the run, a = adaptive; slp_p99: how late the sleep returned (p99, us);\n"
-              "stalls: periods missed in overruns that woke or ran > %lld us late; steal_ms: steal time of the servo's "
-              "CPU\n(/proc/stat, 10 ms resolution); invol_cs: the servo thread's involuntary context switches\n",
+              "overruns: periods missed, in ovr_ev events; stalls: periods missed in overruns that woke or ran > %lld us "
+              "late, in stl_ev events;\nsteal_ms: steal time of the servo's "
+              "CPU (/proc/stat, 10 ms resolution); invol_cs: the servo thread's involuntary context switches\n",
               static_cast<long long>(kStallNs / 1000));
   const double best_rate = highest_clean_rate(rates, overruns);
-  const double best_but_stalls = highest_clean_rate(rates, loop_overruns);
+  const double best_but_stalls = highest_rate_clean_but_stalls(rates, overruns, stall_overruns);
   if (o.sweep) {
     if (best_rate > 0.0) std::printf("highest rate with no overruns at it and every lower rate: %.0f Hz\n", best_rate);
     else std::printf("highest rate with no overruns at it and every lower rate: none (%.0f Hz overran)\n", rates.front());

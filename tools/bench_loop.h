@@ -27,8 +27,10 @@ struct BenchLoopOptions {
 /// overran does not count: that run was lucky, not the machine able.
 double highest_clean_rate(const std::vector<double>& rates_hz, const std::vector<long long>& overruns);
 
-/// The sweep's second verdict is the same rule applied to the overruns that were not stalls (overruns minus
-/// ServoTiming::stall_overruns): the highest rate up to which every overrun was a stall the machine took.
+/// The sweep's second verdict: the same rule applied to the overruns that were not stalls (`overruns[i]` minus
+/// `stall_overruns[i]`, ServoTiming's): the highest rate up to which every overrun was a stall the machine took.
+double highest_rate_clean_but_stalls(const std::vector<double>& rates_hz, const std::vector<long long>& overruns,
+                                     const std::vector<long long>& stall_overruns);
 
 /// Runs the benchmark, prints a table; returns the process exit code (errors on stderr).
 int run_bench_loop(const BenchLoopOptions& options);
