@@ -6,8 +6,8 @@
 
 #include <array>
 #include <atomic>
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <thread>
 
 #include "haptics/latency_histogram.h"
@@ -16,8 +16,8 @@
 
 namespace palpate {
 
-/// The fixed sleep-then-spin window at rate_hz (used with --spin-us unset before the adaptive window existed, and
-/// the adaptive window's start): 100 us, but never more than a quarter of the period.
+/// The adaptive window's start at rate_hz, until it has seen enough sleeps: 100 us, but never more than a quarter
+/// of the period.
 inline int default_spin_us(double rate_hz) {
   const double quarter_us = 0.25e6 / rate_hz;
   return quarter_us < 100.0 ? static_cast<int>(quarter_us) : 100;
