@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 struct LoopRun {
   double rate_hz = 0;
   std::string load;
-  int spin_us = 0;
+  int spin_us = 0;  // the window at the end of the run (the adaptive one moves), us
   ServoTiming timing;
   LatencyHistogram frame_latency;
   int64_t frames_late = 0, frames_dropped = 0;
@@ -69,14 +69,18 @@ Status run_servo_alone(const Scene& scene, const BenchLoopOptions& o, int spin_u
   return Ok{};
 }
 
-Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, bool live, LoopRun* out) {
+// spin_us: the window, or ServoRunnerConfig::kAdaptiveSpin
+Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, int spin_us, bool live, LoopRun* out) {
   out->rate_hz = rate_hz;
   out->load = live ? o.load + "+live" : o.load;
   out->live = live;
-  out->spin_us = o.spin_us >= 0 ? o.spin_us : default_spin_us(rate_hz);
   BenchLoopOptions oo = o;
   oo.rate_hz = rate_hz;
-  if (o.load == "none") return run_servo_alone(scene, oo, out->spin_us, out);
+  if (o.load == "none") {
+    auto st = run_servo_alone(scene, oo, spin_us, out);
+    out->spin_us = static_cast<int>(out->timing.spin.final_ns / 1000);
+    return st;
+  }
   RecordOptions ro;
   ro.out_dir = (fs::temp_directory_path() / ("palpate_bench_loop_" + std::to_string(getpid()))).string();
   ro.override_mode = true;
@@ -85,7 +89,7 @@ Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, bo
   ro.quiet = true;
   ro.render = o.load == "record";
   ro.servo_rate_hz = rate_hz;
-  ro.spin_us = out->spin_us;
+  ro.spin_us = spin_us;
   ro.fifo_priority = o.priority;
   std::unique_ptr<LiveFeed> feed;
   std::unique_ptr<LiveServer> server;
@@ -111,11 +115,19 @@ Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, bo
   out->frames_late = r.value().frames_late;
   out->frames_dropped = r.value().frames_dropped;
   out->ticks = out->timing.wake_latency.count();
+  out->spin_us = static_cast<int>(out->timing.spin.final_ns / 1000);
   return Ok{};
+}
+
+// null for the figures that could not be read (-1)
+template <class T>
+nlohmann::json unknown_if_negative(T v) {
+  return v < 0 ? nlohmann::json() : nlohmann::json(v);
 }
 
 nlohmann::json to_json(const LoopRun& r) {
   const auto& w = r.timing.wake_latency;
+  const auto& s = r.timing.sleep_late;
   nlohmann::json buckets = nlohmann::json::array();
   for (int i = 0; i < LatencyHistogram::kBuckets; ++i)
     if (w.bucket(i) > 0) buckets.push_back({i, w.bucket(i)});
@@ -128,6 +140,19 @@ nlohmann::json to_json(const LoopRun& r) {
           {"compute_us", {{"p50", r.timing.compute.quantile_us(0.5)}, {"p99", r.timing.compute.quantile_us(0.99)},
                           {"max", r.timing.compute.max_us()}}},
           {"overruns", r.timing.overruns},
+          {"overrun_events", r.timing.overrun_events},
+          {"stall_overruns", r.timing.stall_overruns},
+          {"stall_events", r.timing.stall_events},
+          {"stall_threshold_us", kStallNs / 1000},
+          {"spin", {{"adaptive", r.timing.spin.adaptive}, {"final_us", r.timing.spin.final_ns / 1000},
+                    {"min_us", r.timing.spin.min_ns / 1000}, {"max_us", r.timing.spin.max_ns / 1000},
+                    {"cap_us", r.timing.spin.cap_ns / 1000}}},
+          {"sleep_late_us", {{"p50", s.quantile_us(0.5)}, {"p99", s.quantile_us(0.99)}, {"max", s.max_us()},
+                             {"count", s.count()}}},
+          {"steal_ms", unknown_if_negative(r.timing.steal_ms)},
+          {"steal_all_cpus_ms", unknown_if_negative(r.timing.steal_all_ms)},
+          {"involuntary_switches", unknown_if_negative(r.timing.involuntary_switches)},
+          {"voluntary_switches", unknown_if_negative(r.timing.voluntary_switches)},
           {"sched_fifo", r.timing.rt.fifo},
           {"cpu", r.timing.rt.cpu},
           {"frame_latency_us", {{"p50", r.frame_latency.quantile_us(0.5)}, {"p99", r.frame_latency.quantile_us(0.99)},
@@ -138,13 +163,33 @@ nlohmann::json to_json(const LoopRun& r) {
           {"live_frames_sent", r.live_frames_sent}};
 }
 
+// "-" for a figure that could not be read
+std::string figure(double v, const char* format) {
+  if (v < 0) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, format, v);
+  return b;
+}
+
+void print_header() {
+  std::printf("%8s %-11s %5s %8s %7s %7s %7s %9s %7s %9s %6s %6s %6s %8s %8s %8s %8s %6s %6s\n", "rate_hz", "load",
+              "spin", "ticks", "p50_us", "p99_us", "p999_us", "max_us", "slp_p99", "overruns", "ovr_ev", "stalls",
+              "stl_ev", "steal_ms", "invol_cs", "cmp_p50", "cmp_p99", "f_late", "f_drop");
+}
+
 void print_row(const LoopRun& r) {
   const auto& w = r.timing.wake_latency;
-  std::printf("%8.0f %-11s %5d %8lld %7.0f %7.0f %7.0f %9.1f %9lld %8.0f %8.0f %6lld %6lld\n", r.rate_hz, r.load.c_str(),
-              r.spin_us, static_cast<long long>(r.ticks), w.quantile_us(0.5), w.quantile_us(0.99), w.quantile_us(0.999),
-              w.max_us(), static_cast<long long>(r.timing.overruns), r.timing.compute.quantile_us(0.5),
-              r.timing.compute.quantile_us(0.99), static_cast<long long>(r.frames_late),
-              static_cast<long long>(r.frames_dropped));
+  const std::string spin = std::to_string(r.spin_us) + (r.timing.spin.adaptive ? "a" : "");
+  std::printf("%8.0f %-11s %5s %8lld %7.0f %7.0f %7.0f %9.1f %7.0f %9lld %6lld %6lld %6lld %8s %8s %8.0f %8.0f %6lld "
+              "%6lld\n",
+              r.rate_hz, r.load.c_str(), spin.c_str(), static_cast<long long>(r.ticks), w.quantile_us(0.5),
+              w.quantile_us(0.99), w.quantile_us(0.999), w.max_us(), r.timing.sleep_late.quantile_us(0.99),
+              static_cast<long long>(r.timing.overruns), static_cast<long long>(r.timing.overrun_events),
+              static_cast<long long>(r.timing.stall_overruns), static_cast<long long>(r.timing.stall_events),
+              figure(r.timing.steal_ms, "%.0f").c_str(),
+              figure(static_cast<double>(r.timing.involuntary_switches), "%.0f").c_str(),
+              r.timing.compute.quantile_us(0.5), r.timing.compute.quantile_us(0.99),
+              static_cast<long long>(r.frames_late), static_cast<long long>(r.frames_dropped));
   if (r.live) std::printf("         (live view: %lld frames sent to the client)\n", static_cast<long long>(r.live_frames_sent));
   std::fflush(stdout);
 }
@@ -158,6 +203,14 @@ double highest_clean_rate(const std::vector<double>& rates_hz, const std::vector
     best = rates_hz[i];
   }
   return best;
+}
+
+double highest_rate_clean_but_stalls(const std::vector<double>& rates_hz, const std::vector<long long>& overruns,
+                                     const std::vector<long long>& stall_overruns) {
+  std::vector<long long> own;  // the loop's own overruns at each rate
+  for (std::size_t i = 0; i < overruns.size() && i < stall_overruns.size(); ++i)
+    own.push_back(overruns[i] - stall_overruns[i]);
+  return highest_clean_rate(rates_hz, own);
 }
 
 int run_bench_loop(const BenchLoopOptions& o) {
@@ -175,31 +228,53 @@ int run_bench_loop(const BenchLoopOptions& o) {
   }
   std::vector<double> rates = o.sweep ? std::vector<double>{1000, 2000, 5000, 10000} : std::vector<double>{o.rate_hz};
   std::printf("servo loop: scene %s, %.1f s per run, load %s\n", o.scene.c_str(), o.seconds, o.load.c_str());
-  std::printf("%8s %-11s %5s %8s %7s %7s %7s %9s %9s %8s %8s %6s %6s\n", "rate_hz", "load", "spin", "ticks", "p50_us",
-              "p99_us", "p999_us", "max_us", "overruns", "cmp_p50", "cmp_p99", "f_late", "f_drop");
+  print_header();
   std::vector<LoopRun> runs;
-  std::vector<long long> overruns;  // per rate, of the run without the live view
+  // per rate, of the first run (the --spin-us window, without the live view): all overruns, and the loop's own
+  // (those not from stalls)
+  std::vector<long long> overruns, stall_overruns;
   if (o.live && o.load != "record") {
     std::fprintf(stderr, "palpate: bench loop: --live needs --load record (the live view shows rendered frames)\n");
     return 2;
   }
+  // the --spin-us window (adaptive when unset), then each --spin-compare window, side by side at each rate
+  std::vector<int> windows{o.spin_us >= 0 ? o.spin_us : ServoRunnerConfig::kAdaptiveSpin};
+  windows.insert(windows.end(), o.spin_compare.begin(), o.spin_compare.end());
   for (double rate : rates) {
-    // with --live: the same run without, then with the live view, side by side
-    for (const bool live : o.live ? std::vector<bool>{false, true} : std::vector<bool>{false}) {
-      LoopRun r;
-      if (auto st = run_one(scene.value(), o, rate, live, &r); !st) {
-        std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
-        return 1;
+    for (std::size_t w = 0; w < windows.size(); ++w) {
+      // with --live: the same run without, then with the live view, side by side
+      for (const bool live : o.live ? std::vector<bool>{false, true} : std::vector<bool>{false}) {
+        LoopRun r;
+        if (auto st = run_one(scene.value(), o, rate, windows[w], live, &r); !st) {
+          std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
+          return 1;
+        }
+        print_row(r);
+        if (w == 0 && !live) {
+          overruns.push_back(static_cast<long long>(r.timing.overruns));
+          stall_overruns.push_back(static_cast<long long>(r.timing.stall_overruns));
+        }
+        runs.push_back(r);
       }
-      print_row(r);
-      if (!live) overruns.push_back(static_cast<long long>(r.timing.overruns));
-      runs.push_back(r);
     }
   }
+  std::printf("spin: window (us) at the end of the run, a = adaptive; slp_p99: how late the sleep returned (p99, us);\n"
+              "overruns: periods missed, in ovr_ev events; stalls: periods missed in overruns that woke or ran > %lld us "
+              "late, in stl_ev events;\nsteal_ms: steal time of the servo's "
+              "CPU (/proc/stat, 10 ms resolution); invol_cs: the servo thread's involuntary context switches\n",
+              static_cast<long long>(kStallNs / 1000));
   const double best_rate = highest_clean_rate(rates, overruns);
+  const double best_but_stalls = highest_rate_clean_but_stalls(rates, overruns, stall_overruns);
   if (o.sweep) {
     if (best_rate > 0.0) std::printf("highest rate with no overruns at it and every lower rate: %.0f Hz\n", best_rate);
     else std::printf("highest rate with no overruns at it and every lower rate: none (%.0f Hz overran)\n", rates.front());
+    if (best_but_stalls != best_rate) {
+      if (best_but_stalls > 0.0)
+        std::printf("highest rate whose overruns, at it and every lower rate, were all stalls the machine took: %.0f Hz\n",
+                    best_but_stalls);
+      else
+        std::printf("highest rate whose overruns, at it and every lower rate, were all stalls the machine took: none\n");
+    }
   }
   if (!runs.front().timing.rt.fifo)
     std::printf("note: SCHED_FIFO was refused (%s); figures are for normal scheduling\n",
@@ -209,7 +284,10 @@ int run_bench_loop(const BenchLoopOptions& o) {
     j["scene"] = o.scene;
     j["runs"] = nlohmann::json::array();
     for (const auto& r : runs) j["runs"].push_back(to_json(r));
-    if (o.sweep) j["highest_rate_clean_up_to_hz"] = best_rate;
+    if (o.sweep) {
+      j["highest_rate_clean_up_to_hz"] = best_rate;
+      j["highest_rate_clean_but_stalls_up_to_hz"] = best_but_stalls;
+    }
     if (auto st = write_file_atomic(o.json_path, j.dump(2) + "\n", "bench json"); !st) {
       std::fprintf(stderr, "palpate: bench loop: %s\n", st.error().message.c_str());
       return 1;

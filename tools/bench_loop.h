@@ -12,7 +12,8 @@ struct BenchLoopOptions {
   double rate_hz = 1000.0;                       ///< servo rate
   double seconds = 5.0;                          ///< run length per rate
   std::string load = "none";                     ///< none | sim | record
-  int spin_us = -1;                              ///< -1 = the recorder's default
+  int spin_us = -1;                              ///< -1 = the adaptive window (the recorder's default)
+  std::vector<int> spin_compare;                 ///< fixed windows (us) also run at each rate, side by side
   int priority = 80;                             ///< SCHED_FIFO priority, 0 = normal scheduling
   bool sweep = false;                            ///< try 1, 2, 5, 10 kHz and report the highest without overruns
   bool live = false;                             ///< record load: each run again with the live view served and a
@@ -25,6 +26,11 @@ struct BenchLoopOptions {
 /// overruns (`overruns[i]` at `rates_hz[i]`); 0 when the lowest rate already overran. A clean rate above one that
 /// overran does not count: that run was lucky, not the machine able.
 double highest_clean_rate(const std::vector<double>& rates_hz, const std::vector<long long>& overruns);
+
+/// The sweep's second verdict: the same rule applied to the overruns that were not stalls (`overruns[i]` minus
+/// `stall_overruns[i]`, ServoTiming's): the highest rate up to which every overrun was a stall the machine took.
+double highest_rate_clean_but_stalls(const std::vector<double>& rates_hz, const std::vector<long long>& overruns,
+                                     const std::vector<long long>& stall_overruns);
 
 /// Runs the benchmark, prints a table; returns the process exit code (errors on stderr).
 int run_bench_loop(const BenchLoopOptions& options);

@@ -191,7 +191,8 @@ int main(int argc, char** argv) {
                 "Draw the whole mesh every frame instead of a cached static layer plus what moves (same pixels)");
   rec->add_option("--device", opt.device, "Device: scripted | shm:NAME (palpate-device) | plugin:PATH.so | replay:PATH (haptic.csv or recording folder)");
   rec->add_option("--spin-us", opt.spin_us,
-                  "realtime: spin this many us before each servo deadline (0 = sleep only; default 100, at most a quarter period)")
+                  "realtime: spin this many us before each servo deadline (0 = sleep only; default: adaptive, the sleep's "
+                  "p99 lateness + 10 us, at most 60 % of the period and 200 us)")
       ->check(CLI::Range(0, 1000));
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
       ->check(CLI::Range(0, 99));
@@ -262,8 +263,11 @@ int main(int argc, char** argv) {
   bloop->add_option("--seconds", lo.seconds, "Seconds per run")->check(palpate::finite_range(0.1, 3600.0))->capture_default_str();
   bloop->add_option("--load", lo.load, "none | sim | record")->check(CLI::IsMember({"none", "sim", "record"}))
       ->capture_default_str();
-  bloop->add_option("--spin-us", lo.spin_us, "Spin this many us before each deadline (default: the recorder's)")
+  bloop->add_option("--spin-us", lo.spin_us,
+                    "Spin this many us before each deadline (default: adaptive, following how late the sleep returns)")
       ->check(CLI::Range(0, 1000));
+  bloop->add_option("--spin-compare", lo.spin_compare, "Fixed windows (us) also run at each rate, side by side")
+      ->delimiter(',')->check(CLI::Range(0, 1000));
   bloop->add_option("--priority", lo.priority, "SCHED_FIFO priority, 0 = normal scheduling")->check(CLI::Range(0, 99))
       ->capture_default_str();
   bloop->add_flag("--sweep", lo.sweep, "Try 1, 2, 5 and 10 kHz; report the highest rate such that it and every lower rate had no overruns");

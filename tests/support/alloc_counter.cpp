@@ -1,5 +1,6 @@
 #include "support/alloc_counter.h"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdlib>
 #include <new>
@@ -7,9 +8,12 @@
 namespace {
 thread_local bool g_counting = false;
 thread_local int64_t g_count = 0;
+std::atomic<bool> g_all_counting{false};
+std::atomic<int64_t> g_all_count{0};
 
 void* counted_alloc(std::size_t n, std::size_t align) {
   if (g_counting) ++g_count;
+  if (g_all_counting.load(std::memory_order_relaxed)) g_all_count.fetch_add(1, std::memory_order_relaxed);
   void* p = align > alignof(std::max_align_t) ? std::aligned_alloc(align, (n + align - 1) / align * align) : std::malloc(n ? n : 1);
   if (!p) throw std::bad_alloc();
   return p;
@@ -37,5 +41,12 @@ AllocationGuard::AllocationGuard() {
 }
 AllocationGuard::~AllocationGuard() { g_counting = false; }
 int64_t AllocationGuard::count() const { return g_count; }
+
+AllThreadsAllocationGuard::AllThreadsAllocationGuard() {
+  g_all_count.store(0);
+  g_all_counting.store(true);
+}
+AllThreadsAllocationGuard::~AllThreadsAllocationGuard() { g_all_counting.store(false); }
+int64_t AllThreadsAllocationGuard::count() const { return g_all_count.load(); }
 
 }  // namespace palpate::test

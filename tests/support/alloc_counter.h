@@ -1,6 +1,6 @@
 #pragma once
-// Counts heap allocations made by this thread while a guard is alive (global operator new is replaced
-// in alloc_counter.cpp, linked into the test executables that include this header).
+// Counts heap allocations made by this thread (or by any thread) while a guard is alive (global operator new is
+// replaced in alloc_counter.cpp, linked into the test executables that include this header).
 
 #include <cstdint>
 
@@ -12,6 +12,16 @@ class AllocationGuard {
   AllocationGuard();
   ~AllocationGuard();
   /// Number of operator new / malloc-through-new calls seen on this thread.
+  int64_t count() const;
+};
+
+/// Allocations counted on every thread since the guard was made: for a loop on a thread the test did not create
+/// (start it first, make the guard, then wait for the loop to end). One at a time. Thread: any.
+class AllThreadsAllocationGuard {
+ public:
+  AllThreadsAllocationGuard();
+  ~AllThreadsAllocationGuard();
+  /// Number of operator new calls seen on any thread.
   int64_t count() const;
 };
 

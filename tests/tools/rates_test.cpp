@@ -219,6 +219,17 @@ TEST(Rates, SweepNamesTheHighestRateBelowWhichNothingOverran) {
   EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {2, 0, 0, 0}), 0.0);
 }
 
+TEST(Rates, SweepsSecondVerdictCountsOnlyTheLoopsOwnOverruns) {
+  // overruns per rate and, of them, the periods missed in stalls the machine took
+  const std::vector<double> rates{1000, 2000, 5000, 10000};
+  EXPECT_DOUBLE_EQ(highest_rate_clean_but_stalls(rates, {9, 12, 28, 392}, {9, 12, 18, 378}), 2000.0);
+  EXPECT_DOUBLE_EQ(highest_rate_clean_but_stalls(rates, {9, 12, 28, 392}, {9, 12, 28, 392}), 10000.0);
+  EXPECT_DOUBLE_EQ(highest_rate_clean_but_stalls(rates, {3, 0, 5, 0}, {2, 0, 5, 0}), 0.0);  // 1 kHz missed one itself
+  EXPECT_DOUBLE_EQ(highest_rate_clean_but_stalls(rates, {0, 0, 4, 0}, {0, 0, 0, 0}), 2000.0);
+  // the first verdict on the same runs is stricter
+  EXPECT_DOUBLE_EQ(highest_clean_rate(rates, {9, 12, 28, 392}), 0.0);
+}
+
 TEST(Rates, SceneServoRateIsUsedAndTheCommandLineOverridesIt) {
   Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
   EXPECT_DOUBLE_EQ(scene.servo_rate_hz, 1000.0);  // no "servo" object: the default

@@ -163,6 +163,12 @@ TEST(Record, RealtimeRunOnRealThreadsKeepsEverySample) {
   EXPECT_EQ(summary["haptic_rows"].get<int64_t>(), ticks);
   EXPECT_GT(summary["servo"]["latency_us"]["count"].get<int64_t>(), 0);
   EXPECT_EQ(summary["nan_events"].get<int64_t>(), 0);
+  // the window used (adaptive by default, within its cap) and what the machine took, read around the run
+  EXPECT_TRUE(summary["servo"]["spin_adaptive"].get<bool>());
+  EXPECT_GT(summary["servo"]["spin_us"].get<int64_t>(), 0);
+  EXPECT_LE(summary["servo"]["spin_us"].get<int64_t>(), max_spin_window_ns(1'000'000) / 1000);
+  EXPECT_GE(summary["servo"]["steal_ms"].get<double>(), 0.0) << summary["servo"].dump();
+  EXPECT_GE(summary["servo"]["involuntary_switches"].get<int64_t>(), 0) << summary["servo"].dump();
 }
 
 }  // namespace

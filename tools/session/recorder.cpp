@@ -190,12 +190,11 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
   WallClock budget_clock;  // realtime frames keep lattice.budget_ms in wall time (lockstep ones have no deadline)
   session.stage().use_budget(&budget_clock);
   RunFigures run;
-  run.spin_us = opt.spin_us >= 0 ? opt.spin_us : default_spin_us(rates.servo_hz);
   std::string mem_refused;
   const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);
   ServoRunnerConfig cfg;
   cfg.rate_hz = rates.servo_hz;
-  cfg.spin_us = run.spin_us;
+  cfg.spin_us = opt.spin_us >= 0 ? opt.spin_us : ServoRunnerConfig::kAdaptiveSpin;
   cfg.rt.fifo_priority = opt.fifo_priority;
   cfg.rt.cpu = opt.servo_cpu;
   cfg.max_ticks = rates.ticks(duration_s);  // the servo ends on time by itself

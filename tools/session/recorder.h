@@ -32,7 +32,7 @@ struct RecordOptions {
   double servo_rate_hz = 0.0;    ///< > 0 overrides the scene's servo.rate_hz: servo ticks per second (lockstep: per
                                  ///< scene-second); device, servo period, passivity guard and bound, and velocity
                                  ///< estimate all follow it
-  int spin_us = -1;              ///< realtime: spin this long before each servo deadline; -1 = default_spin_us(rate)
+  int spin_us = -1;              ///< realtime: spin this long before each servo deadline; -1 = adaptive (SpinWindow)
   int fifo_priority = 80;        ///< realtime: SCHED_FIFO priority for the servo, 0 = normal scheduling
   int servo_cpu = -1;            ///< realtime: CPU to pin the servo to, -1 = the last allowed CPU
   bool lock_memory = true;       ///< realtime: mlockall before starting

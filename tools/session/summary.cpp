@@ -82,7 +82,9 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                                                              timing.first_overrun_ticks.begin() + timing.overrun_ticks_recorded)},
                 {"rate_hz", rate_hz},
                 {"rate_from", in.rate_given ? "--servo-rate" : "scene"},
-                {"spin_us", in.lockstep ? 0 : in.run->spin_us},
+                {"spin_us", timing.spin.final_ns / 1000}, {"spin_adaptive", timing.spin.adaptive},
+                {"steal_ms", timing.steal_ms >= 0 ? nlohmann::json(timing.steal_ms) : nlohmann::json()},
+                {"involuntary_switches", timing.involuntary_switches >= 0 ? nlohmann::json(timing.involuntary_switches) : nlohmann::json()},
                 {"rt", {{"memory_locked", in.run->memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
                         {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};
   j["sim"] = {{"ms", ms_json(fst.sim_ms)},
