@@ -23,36 +23,77 @@ constexpr double kDowndateWorkRatio = 0.3;
 
 }  // namespace
 
-bool DowndatableLLT::downdate(const int* rows, const double* vals, int count, std::vector<double>* w) {
-  // w = P v in the factor's numbering; then, column by column up the elimination tree from its first entry, the
-  // hyperbolic rotation that takes w out of L L^T (L_kk' = sqrt(L_kk^2 - w_k^2), c = L_kk'/L_kk, s = w_k/L_kk,
-  // L_ik' = (L_ik - s w_i)/c, w_i' = c w_i - s L_ik'); w's entries stay within the path's columns
-  double* wv = w->data();
-  int k = -1;
-  for (int i = 0; i < count; ++i) {
-    const int r = m_P.size() > 0 ? m_P.indices()[rows[i]] : rows[i];
-    wv[r] += vals[i];
-    k = k < 0 ? r : std::min(k, r);
+bool DowndatableLLT::downdate(const DowndateColumn* cols, int count) {
+  const auto n = static_cast<std::size_t>(m_matrix.cols());
+  if (on_path_.size() != n) {
+    on_path_.assign(n, 0);
+    w_.assign(n * kBatch, 0.0);
+  }
+  for (int first = 0; first < count; first += kBatch)
+    if (!downdate_batch(cols + first, std::min(kBatch, count - first))) return false;
+  return true;
+}
+
+bool DowndatableLLT::downdate_batch(const DowndateColumn* cols, int count) {
+  // W = P V in the factor's numbering; then, column by column up the union of the columns' elimination-tree paths,
+  // for each of them in order the hyperbolic rotation that takes w_t out of L L^T (L_kk' = sqrt(L_kk^2 - w_tk^2),
+  // c = L_kk'/L_kk, s = w_tk/L_kk, L_ik' = (L_ik - s w_ti)/c, w_ti' = c w_ti - s L_ik'); w_t's entries stay within
+  // its own path's columns, so a column off its path has w_tk = 0 and is left alone by it
+  const int n = static_cast<int>(m_matrix.cols());
+  double* w = w_.data();
+  uint8_t* on_path = on_path_.data();
+  int lowest = n;
+  for (int t = 0; t < count; ++t) {
+    int k = n;
+    for (int e = 0; e < cols[t].count; ++e) {
+      const int r = m_P.size() > 0 ? m_P.indices()[cols[t].rows[e]] : cols[t].rows[e];
+      w[static_cast<std::size_t>(r) * kBatch + t] += cols[t].vals[e];
+      k = std::min(k, r);
+    }
+    if (k == n) continue;
+    lowest = std::min(lowest, k);
+    for (; k >= 0 && !on_path[k]; k = m_parent[k]) on_path[k] = 1;
   }
   const int* lp = m_matrix.outerIndexPtr();
   const int* li = m_matrix.innerIndexPtr();
   double* lx = m_matrix.valuePtr();
+  struct Rotation {
+    int t;
+    double c, s, ic;
+  };
+  Rotation rot[kBatch];
   bool ok = true;
-  for (; k >= 0; k = m_parent[k]) {
-    const double lkk = lx[lp[k]], wk = wv[k];
-    wv[k] = 0.0;
-    const double r2 = lkk * lkk - wk * wk;
-    if (!(r2 > 0.0)) {
-      ok = false;
-      continue;  // keep walking to leave w zero
+  // a parent's number is above its children's: ascending order visits each path from the bottom
+  for (int k = lowest; k < n; ++k) {
+    if (!on_path[k]) continue;
+    on_path[k] = 0;
+    double* wk = w + static_cast<std::size_t>(k) * kBatch;
+    double lkk = lx[lp[k]];
+    int rotations = 0;
+    for (int t = 0; t < count; ++t) {
+      const double wtk = wk[t];
+      wk[t] = 0.0;
+      if (wtk == 0.0 || !ok) continue;
+      const double r2 = lkk * lkk - wtk * wtk;
+      if (!(r2 > 0.0)) {
+        ok = false;  // keep walking to leave W zero
+        continue;
+      }
+      const double r = std::sqrt(r2);
+      rot[rotations++] = {t, r / lkk, wtk / lkk, lkk / r};
+      lkk = r;
     }
-    if (wk == 0.0 || !ok) continue;
-    const double r = std::sqrt(r2), c = r / lkk, s = wk / lkk;
-    lx[lp[k]] = r;
+    if (!ok || rotations == 0) continue;
+    lx[lp[k]] = lkk;
     for (int p = lp[k] + 1; p < lp[k + 1]; ++p) {
-      const int i = li[p];
-      lx[p] = (lx[p] - s * wv[i]) / c;
-      wv[i] = c * wv[i] - s * lx[p];
+      double* wi = w + static_cast<std::size_t>(li[p]) * kBatch;
+      double x = lx[p];
+      for (int q = 0; q < rotations; ++q) {
+        const Rotation& g = rot[q];
+        x = (x - g.s * wi[g.t]) * g.ic;
+        wi[g.t] = g.c * wi[g.t] - g.s * x;
+      }
+      lx[p] = x;
     }
   }
   return ok;
@@ -156,7 +197,6 @@ void LocalGlobalSolver::remember(const Lattice& lat) {
   springs_ = lat.springs;
   mass_ = lat.mass_kg;
   damping_ = lat.damping_Ns_per_m;
-  w_scratch_.assign(static_cast<std::size_t>(a_.rows()), 0.0);
 }
 
 bool LocalGlobalSolver::downdate_removed(const Lattice& lat, double h_s) {
@@ -185,27 +225,26 @@ bool LocalGlobalSolver::downdate_removed(const Lattice& lat, double h_s) {
   double work = 0.0;
   for (int32_t k : removed_) work += llt_.downdate_work(idx_[springs_[k].a], idx_[springs_[k].b]);
   if (work > kDowndateWorkRatio * llt_.factor_work()) return false;
+  cols_.clear();
   for (int32_t k : removed_) {
     const Spring& old = springs_[k];
     const double root_w = std::sqrt(old.k_N_per_m + damping_ / h_s);
-    int rows[2];
-    double vals[2];
-    int count = 0;
+    DowndateColumn c;
     if (idx_[old.a] >= 0) {
-      rows[count] = idx_[old.a];
-      vals[count++] = root_w;
+      c.rows[c.count] = idx_[old.a];
+      c.vals[c.count++] = root_w;
     }
     if (idx_[old.b] >= 0) {
-      rows[count] = idx_[old.b];
-      vals[count++] = -root_w;
+      c.rows[c.count] = idx_[old.b];
+      c.vals[c.count++] = -root_w;
     }
-    if (count == 0) continue;
-    if (!llt_.downdate(rows, vals, count, &w_scratch_)) {
-      ok_ = false;
-      return false;
-    }
-    ++downdates_;
+    if (c.count > 0) cols_.push_back(c);
   }
+  if (!llt_.downdate(cols_.data(), static_cast<int>(cols_.size()))) {
+    ok_ = false;
+    return false;
+  }
+  downdates_ += static_cast<int64_t>(cols_.size());
   springs_ = lat.springs;
   revision_ = lat.revision;
   return true;
