@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <metis.h>
+
 namespace palpate {
 
 namespace {
@@ -22,6 +24,31 @@ int32_t value_index(const Eigen::SparseMatrix<double>& m, int row, int col) {
 constexpr double kDowndateWorkRatio = 0.3;
 
 }  // namespace
+
+void nested_dissection(const Eigen::SparseMatrix<double>& a, Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>* perm) {
+  // METIS wants the graph without its diagonal, in compressed rows (a is symmetric: its columns will do)
+  const int n = static_cast<int>(a.cols());
+  std::vector<idx_t> xadj(static_cast<std::size_t>(n) + 1, 0), adjncy, order(static_cast<std::size_t>(n)),
+      inverse(static_cast<std::size_t>(n));
+  adjncy.reserve(static_cast<std::size_t>(a.nonZeros()));
+  for (int j = 0; j < n; ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, j); it; ++it)
+      if (it.index() != j) adjncy.push_back(static_cast<idx_t>(it.index()));
+    xadj[static_cast<std::size_t>(j) + 1] = static_cast<idx_t>(adjncy.size());
+  }
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_NUMBERING] = 0;
+  idx_t nv = n;
+  // order[k] = the row eliminated k-th, which is what an Eigen ordering gives (the inverse of the permutation the
+  // factor applies)
+  if (n > 1 && METIS_NodeND(&nv, xadj.data(), adjncy.data(), nullptr, options, order.data(), inverse.data()) == METIS_OK) {
+    perm->resize(n);
+    for (int k = 0; k < n; ++k) perm->indices()[k] = static_cast<int>(order[static_cast<std::size_t>(k)]);
+    return;
+  }
+  Eigen::AMDOrdering<int>()(a, *perm);
+}
 
 bool DowndatableLLT::downdate(const DowndateColumn* cols, int count) {
   const auto n = static_cast<std::size_t>(m_matrix.cols());

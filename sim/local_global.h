@@ -30,9 +30,26 @@ struct DowndateColumn {
   int count = 0;
 };
 
-/// Eigen's simplicial LL^T with downdates of its factor (same ordering and pattern; entries that become zero stay
-/// in the pattern).
-class DowndatableLLT : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> {
+/// Writes a fill-reducing ordering of symmetric pattern `a` (both triangles) into *perm as Eigen's orderings do:
+/// METIS's nested dissection of its graph, or Eigen's approximate minimum degree when METIS fails.
+void nested_dissection(const Eigen::SparseMatrix<double>& a, Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>* perm);
+
+/// nested_dissection() as an ordering of Eigen's simplicial Cholesky. On a lattice its elimination tree is
+/// shallower than approximate minimum degree's: on bunny_cut a downdate path holds 45 000 factor entries on average
+/// instead of 75 000 (and the factor 190 000 instead of 194 000).
+template <typename StorageIndex>
+struct NestedDissectionOrdering {
+  using PermutationType = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex>;
+  template <typename MatrixType>
+  void operator()(const MatrixType& a, PermutationType& perm) const {
+    nested_dissection(a, &perm);
+  }
+};
+
+/// Eigen's simplicial LL^T in nested-dissection order, with downdates of its factor (same ordering and pattern;
+/// entries that become zero stay in the pattern).
+class DowndatableLLT
+    : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, NestedDissectionOrdering<int>> {
  public:
   /// Columns taken out together: each sweep goes once up the union of their elimination-tree paths.
   static constexpr int kBatch = 16;
