@@ -112,7 +112,34 @@ bool DowndatableLLT::downdate_batch(const DowndateColumn* cols, int count) {
     }
     if (!ok || rotations == 0) continue;
     lx[lp[k]] = lkk;
-    for (int p = lp[k] + 1; p < lp[k + 1]; ++p) {
+    // four entries at a time: each entry's rotations are a chain of dependent operations, four chains overlap
+    // (distinct rows, so distinct rows of W)
+    const int end = lp[k + 1];
+    int p = lp[k] + 1;
+    for (; p + 4 <= end; p += 4) {
+      double* w0 = w + static_cast<std::size_t>(li[p]) * kBatch;
+      double* w1 = w + static_cast<std::size_t>(li[p + 1]) * kBatch;
+      double* w2 = w + static_cast<std::size_t>(li[p + 2]) * kBatch;
+      double* w3 = w + static_cast<std::size_t>(li[p + 3]) * kBatch;
+      double x0 = lx[p], x1 = lx[p + 1], x2 = lx[p + 2], x3 = lx[p + 3];
+      for (int q = 0; q < rotations; ++q) {
+        const Rotation& g = rot[q];
+        const double a0 = w0[g.t], a1 = w1[g.t], a2 = w2[g.t], a3 = w3[g.t];
+        x0 = (x0 - g.s * a0) * g.ic;
+        x1 = (x1 - g.s * a1) * g.ic;
+        x2 = (x2 - g.s * a2) * g.ic;
+        x3 = (x3 - g.s * a3) * g.ic;
+        w0[g.t] = g.c * a0 - g.s * x0;
+        w1[g.t] = g.c * a1 - g.s * x1;
+        w2[g.t] = g.c * a2 - g.s * x2;
+        w3[g.t] = g.c * a3 - g.s * x3;
+      }
+      lx[p] = x0;
+      lx[p + 1] = x1;
+      lx[p + 2] = x2;
+      lx[p + 3] = x3;
+    }
+    for (; p < end; ++p) {
       double* wi = w + static_cast<std::size_t>(li[p]) * kBatch;
       double x = lx[p];
       for (int q = 0; q < rotations; ++q) {
