@@ -18,9 +18,11 @@ int32_t value_index(const Eigen::SparseMatrix<double>& m, int row, int col) {
   return it != end && *it == row ? static_cast<int32_t>(it - inner) : -1;
 }
 
-// Downdates cost more per entry than a factorisation (two multiply-adds and a division each, scattered through
-// the path's columns): on bunny_cut (1846 nodes, 1 iteration, thread CPU time) a frame whose downdates touch
-// 0.28 of factor_work() stepped in 16.6 ms, one that refactored in 17-30 ms. Past this ratio, refactor.
+// Downdates cost more per entry than a factorisation (three multiplications and two additions each, scattered
+// through the path's columns): on bunny_cut (1846 nodes, nested dissection, 1 iteration, thread CPU time) the
+// frames whose springs' paths add up to 0.11-0.13 of factor_work() downdated in 5-7 ms, and a numeric
+// factorisation takes about 15 ms, so the two break even near 0.3 (paths that share columns cost less together
+// than their sum says, so the estimate errs toward refactoring). Past this ratio, refactor.
 constexpr double kDowndateWorkRatio = 0.3;
 
 }  // namespace
