@@ -5,13 +5,14 @@
 # capsh (libcap2-bin) lets a test run the servo without the right to lock memory.
 # gnuplot-nox draws the benchmarks' --plot figures (pngcairo) from the data and script palpate writes.
 # clang builds the libFuzzer targets (scripts/fuzz.sh, CI's fuzz stage).
+# libmetis-dev orders the local/global solver's sparse factor (nested dissection: shorter downdate paths).
 # cpp-httplib serves the live view (record --serve); Chromium runs its page headless in the `browser` tests.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev libdeflate-dev
+  libeigen3-dev libmetis-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev libdeflate-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
   libavcodec-dev libavformat-dev libswscale-dev libavutil-dev

@@ -55,21 +55,31 @@ bool segment_crosses_quad(const Vec3& p_m, const Vec3& q_m, const BladeQuad& qua
   return true;
 }
 
-bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const std::vector<BladeQuad>& quads, const CutBox& box,
-                         double* t) {
-  if (quads.empty() || !box.overlaps_segment(p_m, q_m, 0.0)) return false;
+CutQuads::CutQuads(const std::vector<BladeQuad>& q) : quads(q), quad_box(q.size()) {
+  chunk_box.resize((q.size() + kChunk - 1) / kChunk);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    quad_box[i].add(q[i]);
+    chunk_box[i / kChunk].add(q[i]);
+    box.add(q[i]);
+  }
+}
+
+bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads, double* t) {
+  // a quad is tested only where the segment's box overlaps the quad's, so a run's box culls its quads at once
+  if (quads.quads.empty() || !quads.box.overlaps_segment(p_m, q_m, 0.0)) return false;
   bool hit = false;
   double best = 2.0;
-  CutBox one;
-  for (const BladeQuad& quad : quads) {
-    one = CutBox{};
-    one.add(quad);
-    if (!one.overlaps_segment(p_m, q_m, 0.0)) continue;
-    double tq = 2.0;
-    if (segment_crosses_quad(p_m, q_m, quad, &tq)) {
-      hit = true;
-      best = std::min(best, tq);
-      if (!t) break;
+  const std::size_t n = quads.quads.size();
+  for (std::size_t c = 0; c < quads.chunk_box.size(); ++c) {
+    if (!quads.chunk_box[c].overlaps_segment(p_m, q_m, 0.0)) continue;
+    for (std::size_t i = c * CutQuads::kChunk; i < std::min(n, (c + 1) * CutQuads::kChunk); ++i) {
+      if (!quads.quad_box[i].overlaps_segment(p_m, q_m, 0.0)) continue;
+      double tq = 2.0;
+      if (segment_crosses_quad(p_m, q_m, quads.quads[i], &tq)) {
+        hit = true;
+        best = std::min(best, tq);
+        if (!t) return true;
+      }
     }
   }
   if (hit && t) *t = best;
@@ -78,10 +88,9 @@ bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const std::vector<Bla
 
 int cut_springs(Lattice* lat, const std::vector<BladeQuad>& quads) {
   if (quads.empty()) return 0;
-  CutBox box;
-  for (const BladeQuad& q : quads) box.add(q);
+  const CutQuads set(quads);
   const std::size_t before = lat->springs.size();
-  auto crossed = [&](const Spring& s) { return segment_crosses_any(lat->rest_m[s.a], lat->rest_m[s.b], quads, box); };
+  auto crossed = [&](const Spring& s) { return segment_crosses_any(lat->rest_m[s.a], lat->rest_m[s.b], set); };
   lat->springs.erase(std::remove_if(lat->springs.begin(), lat->springs.end(), crossed), lat->springs.end());
   const int removed = static_cast<int>(before - lat->springs.size());
   if (removed > 0) {

@@ -34,9 +34,20 @@ struct CutBox {
 /// is degenerate and is never crossed.
 bool segment_crosses_quad(const Vec3& p_m, const Vec3& q_m, const BladeQuad& quad, double* t = nullptr);
 
-/// True when segment p->q crosses any of the quads (box-culled); *t as above over all of them.
-bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const std::vector<BladeQuad>& quads, const CutBox& box,
-                         double* t = nullptr);
+/// Quads with their boxes, for many segment tests against them: the box of all, of each run of kChunk consecutive
+/// quads (a stroke's quads follow the blade, so a run is compact) and of each quad. Copyable.
+struct CutQuads {
+  static constexpr std::size_t kChunk = 16;
+  std::vector<BladeQuad> quads;   ///< the quads
+  std::vector<CutBox> quad_box;   ///< box of each quad
+  std::vector<CutBox> chunk_box;  ///< box of quads [kChunk i, kChunk (i + 1))
+  CutBox box;                     ///< box of all
+  CutQuads() = default;
+  explicit CutQuads(const std::vector<BladeQuad>& q);
+};
+
+/// True when segment p->q crosses any of the quads whose box its box overlaps; *t as above over all of them.
+bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads, double* t = nullptr);
 
 /// Removes every spring whose rest segment crosses a quad (in rest coordinates), updates springs_per_family and touches
 /// the lattice (solver caches are rebuilt) when any was removed. Returns the number removed.

@@ -37,21 +37,19 @@ CutReport CutModel::apply(Lattice* lat, std::vector<Vec3>* vertices_m) {
   return rep;
 }
 
-bool CutModel::block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const std::vector<BladeQuad>& quads,
-                             const CutBox& box) {
+bool CutModel::block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads) {
   const int32_t slot = lat.slot_of_cell[bindings_[v].cell];
   if (slot < 0) return false;
   const uint8_t before = blocked_[v];
   for (int c = 0; c < 8; ++c) {
     if (blocked_[v] & (1u << c)) continue;
-    if (segment_crosses_any(p_m, lat.rest_m[lat.cell_nodes[slot][c]], quads, box))
+    if (segment_crosses_any(p_m, lat.rest_m[lat.cell_nodes[slot][c]], quads))
       blocked_[v] |= static_cast<uint8_t>(1u << c);
   }
   return blocked_[v] != before;
 }
 
-int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m,
-                                       const std::vector<BladeQuad>& quads, const CutBox& box) const {
+int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads) const {
   const CellCoord c = grid_->coord_of(bindings_[v].cell, level_);
   const int n = lat.cells_per_axis;
   int32_t best = -1;
@@ -65,7 +63,7 @@ int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const 
         if (slot < 0) continue;
         for (int32_t node : lat.cell_nodes[slot]) {
           const double d2 = (lat.rest_m[node] - p_m).squaredNorm();
-          if (d2 < best_d2 && !segment_crosses_any(p_m, lat.rest_m[node], quads, box)) {
+          if (d2 < best_d2 && !segment_crosses_any(p_m, lat.rest_m[node], quads)) {
             best_d2 = d2;
             best = node;
           }
@@ -80,8 +78,8 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
   // every test in rest coordinates, so a node's side of the cut does not drift while the object moves
   std::vector<BladeQuad> quads;
   quads_to_rest(*lat, *grid_, quads_W, &last_edge_, &quads);
-  CutBox box;
-  for (const BladeQuad& q : quads) box.add(q);
+  const CutQuads set(quads);
+  const CutBox& box = set.box;
   rep.springs_cut = cut_springs(lat, quads);
 
   const std::size_t old_count = rest_m_.size();
@@ -93,7 +91,7 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
   for (std::size_t v = 0; v < old_count; ++v) {
     const Vec3& p = rest_m_[v];
     if (!box.overlaps_segment(p, p, reach)) continue;
-    if (block_corners(*lat, v, p, quads, box)) ++rep.vertices_rebound;
+    if (block_corners(*lat, v, p, set)) ++rep.vertices_rebound;
   }
   // new vertices: bound at their rest position, tested from a point just off the cut on their own side
   auto off_cut = [&](std::size_t v, int32_t from) { return Vec3(rest_m_[v] + 0.01 * (rest_m_[from] - rest_m_[v])); };
@@ -104,13 +102,13 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
     const bool same_cell = bindings_[v].cell == bindings_[sv.from].cell;
     blocked_.push_back(same_cell ? blocked_[sv.from] : 0);
     fallback_.push_back(same_cell ? fallback_[sv.from] : -1);
-    block_corners(*lat, v, off_cut(v, sv.from), quads, box);
+    block_corners(*lat, v, off_cut(v, sv.from), set);
   }
   // vertices cut off from all their corners follow the nearest node on their side
   for (std::size_t v = 0; v < rest_m_.size(); ++v) {
     if (blocked_[v] != 0xff || fallback_[v] >= 0) continue;
     const Vec3 p = v < old_count ? rest_m_[v] : off_cut(v, created[v - old_count].from);
-    fallback_[v] = nearest_visible_node(*lat, v, p, quads, box);
+    fallback_[v] = nearest_visible_node(*lat, v, p, set);
   }
   return rep;
 }

@@ -64,11 +64,9 @@ class CutModel {
 
  private:
   // marks the corners of vertex v (seen from test point p) that the quads separate it from; true when changed
-  bool block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const std::vector<BladeQuad>& quads,
-                     const CutBox& box);
+  bool block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads);
   // nearest node of the cells around vertex v that the quads do not separate from p (-1 if none)
-  int32_t nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m, const std::vector<BladeQuad>& quads,
-                               const CutBox& box) const;
+  int32_t nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads) const;
 
   const GridHierarchy* grid_;
   int level_;

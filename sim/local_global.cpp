@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <metis.h>
+
 namespace palpate {
 
 namespace {
@@ -16,43 +18,138 @@ int32_t value_index(const Eigen::SparseMatrix<double>& m, int row, int col) {
   return it != end && *it == row ? static_cast<int32_t>(it - inner) : -1;
 }
 
-// Downdates cost more per entry than a factorisation (two multiply-adds and a division each, scattered through
-// the path's columns): on bunny_cut (1846 nodes, 1 iteration, thread CPU time) a frame whose downdates touch
-// 0.28 of factor_work() stepped in 16.6 ms, one that refactored in 17-30 ms. Past this ratio, refactor.
+// Downdates cost more per entry than a factorisation (three multiplications and two additions each, scattered
+// through the path's columns): on bunny_cut (1846 nodes, nested dissection, 1 iteration, thread CPU time) the
+// frames whose springs' paths add up to 0.11-0.13 of factor_work() downdated in 5-7 ms, and a numeric
+// factorisation takes about 15 ms, so the two break even near 0.3 (paths that share columns cost less together
+// than their sum says, so the estimate errs toward refactoring). Past this ratio, refactor.
 constexpr double kDowndateWorkRatio = 0.3;
 
 }  // namespace
 
-bool DowndatableLLT::downdate(const int* rows, const double* vals, int count, std::vector<double>* w) {
-  // w = P v in the factor's numbering; then, column by column up the elimination tree from its first entry, the
-  // hyperbolic rotation that takes w out of L L^T (L_kk' = sqrt(L_kk^2 - w_k^2), c = L_kk'/L_kk, s = w_k/L_kk,
-  // L_ik' = (L_ik - s w_i)/c, w_i' = c w_i - s L_ik'); w's entries stay within the path's columns
-  double* wv = w->data();
-  int k = -1;
-  for (int i = 0; i < count; ++i) {
-    const int r = m_P.size() > 0 ? m_P.indices()[rows[i]] : rows[i];
-    wv[r] += vals[i];
-    k = k < 0 ? r : std::min(k, r);
+void nested_dissection(const Eigen::SparseMatrix<double>& a, Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>* perm) {
+  // METIS wants the graph without its diagonal, in compressed rows (a is symmetric: its columns will do)
+  const int n = static_cast<int>(a.cols());
+  std::vector<idx_t> xadj(static_cast<std::size_t>(n) + 1, 0), adjncy, order(static_cast<std::size_t>(n)),
+      inverse(static_cast<std::size_t>(n));
+  adjncy.reserve(static_cast<std::size_t>(a.nonZeros()));
+  for (int j = 0; j < n; ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, j); it; ++it)
+      if (it.index() != j) adjncy.push_back(static_cast<idx_t>(it.index()));
+    xadj[static_cast<std::size_t>(j) + 1] = static_cast<idx_t>(adjncy.size());
+  }
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_NUMBERING] = 0;
+  idx_t nv = n;
+  // order[k] = the row eliminated k-th, which is what an Eigen ordering gives (the inverse of the permutation the
+  // factor applies)
+  if (n > 1 && METIS_NodeND(&nv, xadj.data(), adjncy.data(), nullptr, options, order.data(), inverse.data()) == METIS_OK) {
+    perm->resize(n);
+    for (int k = 0; k < n; ++k) perm->indices()[k] = static_cast<int>(order[static_cast<std::size_t>(k)]);
+    return;
+  }
+  Eigen::AMDOrdering<int>()(a, *perm);
+}
+
+bool DowndatableLLT::downdate(const DowndateColumn* cols, int count) {
+  const auto n = static_cast<std::size_t>(m_matrix.cols());
+  if (on_path_.size() != n) {
+    on_path_.assign(n, 0);
+    w_.assign(n * kBatch, 0.0);
+  }
+  for (int first = 0; first < count; first += kBatch)
+    if (!downdate_batch(cols + first, std::min(kBatch, count - first))) return false;
+  return true;
+}
+
+bool DowndatableLLT::downdate_batch(const DowndateColumn* cols, int count) {
+  // W = P V in the factor's numbering; then, column by column up the union of the columns' elimination-tree paths,
+  // for each of them in order the hyperbolic rotation that takes w_t out of L L^T (L_kk' = sqrt(L_kk^2 - w_tk^2),
+  // c = L_kk'/L_kk, s = w_tk/L_kk, L_ik' = (L_ik - s w_ti)/c, w_ti' = c w_ti - s L_ik'); w_t's entries stay within
+  // its own path's columns, so a column off its path has w_tk = 0 and is left alone by it
+  const int n = static_cast<int>(m_matrix.cols());
+  double* w = w_.data();
+  uint8_t* on_path = on_path_.data();
+  int lowest = n;
+  for (int t = 0; t < count; ++t) {
+    int k = n;
+    for (int e = 0; e < cols[t].count; ++e) {
+      const int r = m_P.size() > 0 ? m_P.indices()[cols[t].rows[e]] : cols[t].rows[e];
+      w[static_cast<std::size_t>(r) * kBatch + t] += cols[t].vals[e];
+      k = std::min(k, r);
+    }
+    if (k == n) continue;
+    lowest = std::min(lowest, k);
+    for (; k >= 0 && !on_path[k]; k = m_parent[k]) on_path[k] = 1;
   }
   const int* lp = m_matrix.outerIndexPtr();
   const int* li = m_matrix.innerIndexPtr();
   double* lx = m_matrix.valuePtr();
+  struct Rotation {
+    int t;
+    double c, s, ic;
+  };
+  Rotation rot[kBatch];
   bool ok = true;
-  for (; k >= 0; k = m_parent[k]) {
-    const double lkk = lx[lp[k]], wk = wv[k];
-    wv[k] = 0.0;
-    const double r2 = lkk * lkk - wk * wk;
-    if (!(r2 > 0.0)) {
-      ok = false;
-      continue;  // keep walking to leave w zero
+  // a parent's number is above its children's: ascending order visits each path from the bottom
+  for (int k = lowest; k < n; ++k) {
+    if (!on_path[k]) continue;
+    on_path[k] = 0;
+    double* wk = w + static_cast<std::size_t>(k) * kBatch;
+    double lkk = lx[lp[k]];
+    int rotations = 0;
+    for (int t = 0; t < count; ++t) {
+      const double wtk = wk[t];
+      wk[t] = 0.0;
+      if (wtk == 0.0 || !ok) continue;
+      const double r2 = lkk * lkk - wtk * wtk;
+      if (!(r2 > 0.0)) {
+        ok = false;  // keep walking to leave W zero
+        continue;
+      }
+      const double r = std::sqrt(r2);
+      rot[rotations++] = {t, r / lkk, wtk / lkk, lkk / r};
+      lkk = r;
     }
-    if (wk == 0.0 || !ok) continue;
-    const double r = std::sqrt(r2), c = r / lkk, s = wk / lkk;
-    lx[lp[k]] = r;
-    for (int p = lp[k] + 1; p < lp[k + 1]; ++p) {
-      const int i = li[p];
-      lx[p] = (lx[p] - s * wv[i]) / c;
-      wv[i] = c * wv[i] - s * lx[p];
+    if (!ok || rotations == 0) continue;
+    lx[lp[k]] = lkk;
+    // four entries at a time: each entry's rotations are a chain of dependent operations, four chains overlap
+    // (distinct rows, so distinct rows of W)
+    const int end = lp[k + 1];
+    int p = lp[k] + 1;
+    for (; p + 4 <= end; p += 4) {
+      double* w0 = w + static_cast<std::size_t>(li[p]) * kBatch;
+      double* w1 = w + static_cast<std::size_t>(li[p + 1]) * kBatch;
+      double* w2 = w + static_cast<std::size_t>(li[p + 2]) * kBatch;
+      double* w3 = w + static_cast<std::size_t>(li[p + 3]) * kBatch;
+      double x0 = lx[p], x1 = lx[p + 1], x2 = lx[p + 2], x3 = lx[p + 3];
+      for (int q = 0; q < rotations; ++q) {
+        const Rotation& g = rot[q];
+        const double a0 = w0[g.t], a1 = w1[g.t], a2 = w2[g.t], a3 = w3[g.t];
+        x0 = (x0 - g.s * a0) * g.ic;
+        x1 = (x1 - g.s * a1) * g.ic;
+        x2 = (x2 - g.s * a2) * g.ic;
+        x3 = (x3 - g.s * a3) * g.ic;
+        w0[g.t] = g.c * a0 - g.s * x0;
+        w1[g.t] = g.c * a1 - g.s * x1;
+        w2[g.t] = g.c * a2 - g.s * x2;
+        w3[g.t] = g.c * a3 - g.s * x3;
+      }
+      lx[p] = x0;
+      lx[p + 1] = x1;
+      lx[p + 2] = x2;
+      lx[p + 3] = x3;
+    }
+    for (; p < end; ++p) {
+      double* wi = w + static_cast<std::size_t>(li[p]) * kBatch;
+      double x = lx[p];
+      for (int q = 0; q < rotations; ++q) {
+        const Rotation& g = rot[q];
+        x = (x - g.s * wi[g.t]) * g.ic;
+        wi[g.t] = g.c * wi[g.t] - g.s * x;
+      }
+      lx[p] = x;
     }
   }
   return ok;
@@ -156,7 +253,6 @@ void LocalGlobalSolver::remember(const Lattice& lat) {
   springs_ = lat.springs;
   mass_ = lat.mass_kg;
   damping_ = lat.damping_Ns_per_m;
-  w_scratch_.assign(static_cast<std::size_t>(a_.rows()), 0.0);
 }
 
 bool LocalGlobalSolver::downdate_removed(const Lattice& lat, double h_s) {
@@ -185,27 +281,26 @@ bool LocalGlobalSolver::downdate_removed(const Lattice& lat, double h_s) {
   double work = 0.0;
   for (int32_t k : removed_) work += llt_.downdate_work(idx_[springs_[k].a], idx_[springs_[k].b]);
   if (work > kDowndateWorkRatio * llt_.factor_work()) return false;
+  cols_.clear();
   for (int32_t k : removed_) {
     const Spring& old = springs_[k];
     const double root_w = std::sqrt(old.k_N_per_m + damping_ / h_s);
-    int rows[2];
-    double vals[2];
-    int count = 0;
+    DowndateColumn c;
     if (idx_[old.a] >= 0) {
-      rows[count] = idx_[old.a];
-      vals[count++] = root_w;
+      c.rows[c.count] = idx_[old.a];
+      c.vals[c.count++] = root_w;
     }
     if (idx_[old.b] >= 0) {
-      rows[count] = idx_[old.b];
-      vals[count++] = -root_w;
+      c.rows[c.count] = idx_[old.b];
+      c.vals[c.count++] = -root_w;
     }
-    if (count == 0) continue;
-    if (!llt_.downdate(rows, vals, count, &w_scratch_)) {
-      ok_ = false;
-      return false;
-    }
-    ++downdates_;
+    if (c.count > 0) cols_.push_back(c);
   }
+  if (!llt_.downdate(cols_.data(), static_cast<int>(cols_.size()))) {
+    ok_ = false;
+    return false;
+  }
+  downdates_ += static_cast<int64_t>(cols_.size());
   springs_ = lat.springs;
   revision_ = lat.revision;
   return true;

@@ -7,9 +7,10 @@
 /// while the free nodes stay the same and every spring's entries are in the analysed pattern: a cut only removes
 /// springs, so it refactors numerically with zeros where they were; a new lattice is analysed again only when its
 /// pattern differs. Springs removed since the last factorisation (and nothing else changed) are taken out of the
-/// factor by rank-1 downdates instead: removing a spring of weight w between free nodes a and b changes the matrix by
-/// -w (e_a - e_b)(e_a - e_b)^T (-w e_a e_a^T when b is fixed), and each downdate only touches the factor's columns
-/// on the elimination-tree path from a and b to the root.
+/// factor by a downdate instead: removing a spring of weight w between free nodes a and b changes the matrix by
+/// -w (e_a - e_b)(e_a - e_b)^T (-w e_a e_a^T when b is fixed), which only touches the factor's columns on the
+/// elimination-tree path from a and b to the root; the springs a cut removes in one frame go up the union of their
+/// paths together, each column read once per batch of springs instead of once per spring.
 
 #include <cstdint>
 #include <vector>
@@ -21,20 +22,53 @@
 
 namespace palpate {
 
-/// Eigen's simplicial LL^T with rank-1 downdates of its factor (same ordering and pattern; entries that become zero
-/// stay in the pattern).
-class DowndatableLLT : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> {
+/// One column v of a downdate: v = sum_{k < count} vals[k] e_{rows[k]}, rows in A's numbering, count 1 or 2 (the
+/// two ends of a matrix entry, so each is an ancestor-or-self of the other in the elimination tree). Plain data.
+struct DowndateColumn {
+  int rows[2] = {0, 0};
+  double vals[2] = {0.0, 0.0};
+  int count = 0;
+};
+
+/// Writes a fill-reducing ordering of symmetric pattern `a` (both triangles) into *perm as Eigen's orderings do:
+/// METIS's nested dissection of its graph, or Eigen's approximate minimum degree when METIS fails.
+void nested_dissection(const Eigen::SparseMatrix<double>& a, Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>* perm);
+
+/// nested_dissection() as an ordering of Eigen's simplicial Cholesky. On a lattice its elimination tree is
+/// shallower than approximate minimum degree's: on bunny_cut a downdate path holds 45 000 factor entries on average
+/// instead of 75 000 (and the factor 190 000 instead of 194 000).
+template <typename StorageIndex>
+struct NestedDissectionOrdering {
+  using PermutationType = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex>;
+  template <typename MatrixType>
+  void operator()(const MatrixType& a, PermutationType& perm) const {
+    nested_dissection(a, &perm);
+  }
+};
+
+/// Eigen's simplicial LL^T in nested-dissection order, with downdates of its factor (same ordering and pattern;
+/// entries that become zero stay in the pattern).
+class DowndatableLLT
+    : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, NestedDissectionOrdering<int>> {
  public:
-  /// Replaces the factor of A by that of A - v v^T, v = sum_k vals[k] e_{rows[k]} (rows in A's numbering, each an
-  /// ancestor-or-self of the smallest one in the elimination tree, as the two ends of a matrix entry are). w is
-  /// scratch (A's size, all zero; left zero). False when A - v v^T is not positive definite: the factor is then
+  /// Columns taken out together: each sweep goes once up the union of their elimination-tree paths.
+  static constexpr int kBatch = 16;
+  /// Replaces the factor of A by that of A - V V^T, V's columns `cols`. The result is that of count rank-1
+  /// downdates in order, with the same arithmetic, but each factor column on the paths is visited once per kBatch
+  /// columns of V instead of once per column. False when A - V V^T is not positive definite: the factor is then
   /// partly updated and must be refactored.
-  bool downdate(const int* rows, const double* vals, int count, std::vector<double>* w);
+  bool downdate(const DowndateColumn* cols, int count);
   /// Entries a numeric factorisation in the analysed pattern updates (sum of squared column counts).
   double factor_work() const;
   /// Entries a downdate touches whose nonzero rows (A's numbering; -1 = none) are a and b: the column counts on
   /// the elimination-tree path from the first of them.
   double downdate_work(int a, int b) const;
+
+ private:
+  // one batch of at most kBatch columns
+  bool downdate_batch(const DowndateColumn* cols, int count);
+  std::vector<double> w_;      // the batch's columns in the factor's numbering, row-major (n x kBatch; zero between uses)
+  std::vector<uint8_t> on_path_;  // factor columns on the batch's union of paths (n; zero between uses)
 };
 
 /// Solver state for one lattice. Not copyable. Thread: the one stepping thread.
@@ -78,8 +112,8 @@ class LocalGlobalSolver {
   std::vector<Spring> springs_;     // the springs, masses and damping the factor holds
   std::vector<double> mass_;
   double damping_ = 0.0;
-  std::vector<double> w_scratch_;   // downdate vector (nf, zero between uses)
   std::vector<int32_t> removed_;    // indices into springs_ of the springs a cut removed
+  std::vector<DowndateColumn> cols_;  // their columns of the downdate
   Eigen::MatrixX3d b0_, b_, x_;     // constant rhs part, rhs, solution (nf x 3)
 };
 

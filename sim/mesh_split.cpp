@@ -39,8 +39,7 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
     cuts.emplace(unordered_pair_key(tip.edge_lo, tip.edge_hi), c);
   }
   rep.tips_reopened = static_cast<int>(old_tips.size());
-  CutBox box;
-  for (const BladeQuad& q : quads) box.add(q);
+  const CutQuads set(quads);
   const std::vector<Vec3>& x = *rest_m;
 
   // crossed edges, in triangle order so the numbering of new vertices is deterministic
@@ -48,10 +47,12 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
   for (const auto& tri : *triangles) {
     for (int k = 0; k < 3; ++k) {
       const int32_t a = std::min(tri[k], tri[(k + 1) % 3]), b = std::max(tri[k], tri[(k + 1) % 3]);
+      // an edge away from the sweep's box is not crossed: no need to remember it
+      if (!set.box.overlaps_segment(x[a], x[b], 0.0)) continue;
       const uint64_t key = unordered_pair_key(a, b);
       if (tested.count(key) || cuts.count(key)) continue;
       double t = 0.0;
-      const bool hit = segment_crosses_any(x[a], x[b], quads, box, &t) && t > kSplitEdgeEps && t < 1.0 - kSplitEdgeEps;
+      const bool hit = segment_crosses_any(x[a], x[b], set, &t) && t > kSplitEdgeEps && t < 1.0 - kSplitEdgeEps;
       tested.emplace(key, hit ? 1 : 0);
       if (!hit) continue;
       EdgeCut c;

@@ -1,6 +1,9 @@
 // Cutting a block: springs and mesh split by the blade's swept surface, side binding, validity.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <random>
 #include <set>
 
 #include "core/binding.h"
@@ -41,6 +44,51 @@ void straddling(const TriMesh& m, double x0, int* edges, int* tris) {
     *tris += below == 1 || below == 2;
   }
   *edges = static_cast<int>(e.size());
+}
+
+TEST(Cut, CulledSegmentTestsFindWhatTestingEveryQuadFinds) {
+  // a stroke of 100 quads (six runs and a partial one) along an arc that turns and dips, against 4000 segments
+  // of all lengths around it: hit or not and the first crossing as testing every quad without boxes
+  std::vector<BladeQuad> quads;
+  auto edge = [](int i, Vec3* tip, Vec3* end) {
+    const double a = 0.03 * i;
+    *tip = Vec3(0.05 * std::cos(a), 0.05 * std::sin(a), -0.02 + 0.0002 * i);
+    *end = *tip + Vec3(0.01 * std::sin(a), 0.0, 0.04);
+  };
+  for (int i = 0; i < 100; ++i) {
+    BladeQuad q;
+    edge(i, &q.tip0_m, &q.end0_m);
+    edge(i + 1, &q.tip1_m, &q.end1_m);
+    quads.push_back(q);
+  }
+  const CutQuads set(quads);
+  ASSERT_EQ(set.chunk_box.size(), 7u);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.07, 0.07), len(0.0, 1.0);
+  int hits = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    const Vec3 q = p + (k % 2 ? len(rng) : std::pow(len(rng), 3.0)) * 4.0 * Vec3(u(rng), u(rng), u(rng));
+    bool any = false;
+    double first = 2.0;
+    for (const BladeQuad& quad : quads) {
+      double t = 2.0;
+      if (segment_crosses_quad(p, q, quad, &t)) {
+        any = true;
+        first = std::min(first, t);
+      }
+    }
+    double t = -1.0;
+    ASSERT_EQ(segment_crosses_any(p, q, set), any) << "segment " << k;
+    ASSERT_EQ(segment_crosses_any(p, q, set, &t), any) << "segment " << k;
+    if (any) {
+      ASSERT_EQ(t, first) << "segment " << k;
+    }
+    hits += any;
+  }
+  std::printf("%d of 4000 segments cross the stroke\n", hits);
+  EXPECT_GT(hits, 150);  // a good share of them cross it (203)
+  EXPECT_LT(hits, 3800);
 }
 
 TEST(Cut, CuttingABlockInTwoLeavesTwoConsistentPieces) {
