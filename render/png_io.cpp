@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string_view>
 
@@ -48,7 +49,8 @@ void on_png_flush(png_structp) {}
 // Encodes the image into state's buffer; false on failure with state's message set. channels 3: the fourth
 // byte of each pixel is dropped by libpng (png_set_filler). Only plain data lives in this frame, because
 // libpng reports errors with longjmp.
-bool encode_with_libpng(PngWriteState* state, int width, int height, const uint8_t* rgba, int channels, int level) {
+bool encode_with_libpng(PngWriteState* state, int width, int height, const uint8_t* rgba, int channels, int level,
+                        bool bottom_up) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, state, on_png_error, on_png_warning);
   if (png == nullptr) {
     std::snprintf(state->message, sizeof state->message, "png_create_write_struct failed");
@@ -75,7 +77,7 @@ bool encode_with_libpng(PngWriteState* state, int width, int height, const uint8
   if (channels == 3) png_set_filler(png, 0, PNG_FILLER_AFTER);  // rows hold RGBA; the file gets RGB
   const std::size_t row_bytes = static_cast<std::size_t>(width) * 4;
   for (int y = 0; y < height; ++y) {
-    png_write_row(png, rgba + static_cast<std::size_t>(y) * row_bytes);
+    png_write_row(png, rgba + static_cast<std::size_t>(bottom_up ? height - 1 - y : y) * row_bytes);
   }
   png_write_end(png, info);
   png_destroy_write_struct(&png, &info);
@@ -97,6 +99,51 @@ uint8_t* close_chunk(uint8_t* p, uint32_t length) {
   return p + 12 + length;
 }
 
+// The Paeth predictor (PNG specification, filter type 4): whichever of a (left), b (above) and c (upper left)
+// is nearest to a + b - c, ties in that order.
+inline uint8_t paeth(int a, int b, int c) {
+  const int p = a + b - c;
+  const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+  if (pa <= pb && pa <= pc) return static_cast<uint8_t>(a);
+  return static_cast<uint8_t>(pb <= pc ? b : c);
+}
+
+// Filters one row of w RGBA pixels into dst: the filter type byte, then w*C filtered bytes (C = 3 drops the
+// alpha byte). `above` is the row above (zeros for the first row). Returns whether every alpha byte of the row
+// is 255.
+template <PngFilter F, int C>
+bool filter_row_as(const uint8_t* row, const uint8_t* above, std::size_t w, uint8_t* dst) {
+  *dst++ = static_cast<uint8_t>(F);
+  uint8_t all = 0xff;
+  for (std::size_t x = 0; x < w; ++x, row += 4, above += 4, dst += C) {
+    for (int c = 0; c < C; ++c) {
+      uint8_t predicted = 0;
+      if constexpr (F == PngFilter::kSub) predicted = x > 0 ? row[c - 4] : 0;
+      if constexpr (F == PngFilter::kUp) predicted = above[c];
+      if constexpr (F == PngFilter::kPaeth) predicted = x > 0 ? paeth(row[c - 4], above[c], above[c - 4]) : above[c];
+      dst[c] = static_cast<uint8_t>(row[c] - predicted);
+    }
+    all &= row[3];
+  }
+  return all == 0xff;
+}
+
+template <int C>
+bool filter_row_channels(PngFilter filter, const uint8_t* row, const uint8_t* above, std::size_t w, uint8_t* dst) {
+  switch (filter) {
+    case PngFilter::kNone: return filter_row_as<PngFilter::kNone, C>(row, above, w, dst);
+    case PngFilter::kSub: return filter_row_as<PngFilter::kSub, C>(row, above, w, dst);
+    case PngFilter::kUp: return filter_row_as<PngFilter::kUp, C>(row, above, w, dst);
+    case PngFilter::kPaeth: return filter_row_as<PngFilter::kPaeth, C>(row, above, w, dst);
+  }
+  return filter_row_as<PngFilter::kUp, C>(row, above, w, dst);
+}
+
+bool filter_row(PngFilter filter, int channels, const uint8_t* row, const uint8_t* above, std::size_t w, uint8_t* dst) {
+  return channels == 3 ? filter_row_channels<3>(filter, row, above, w, dst)
+                       : filter_row_channels<4>(filter, row, above, w, dst);
+}
+
 constexpr uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 constexpr std::size_t kIhdrChunk = 12 + 13;
 constexpr std::size_t kIendChunk = 12;
@@ -115,7 +162,7 @@ bool alpha_opaque(const uint8_t* rgba, std::size_t pixels) {
 
 PngEncoder::PngEncoder(PngCodec codec, int level) : codec_(codec) {
   if (codec_ == PngCodec::kLibdeflate) {
-    level_ = level == 0 ? 2 : std::clamp(level, 1, 12);
+    level_ = level == 0 ? 1 : std::clamp(level, 1, 12);
     compressor_ = libdeflate_alloc_compressor(level_);
   } else {
     level_ = level == 0 ? 1 : std::clamp(level, 1, 9);
@@ -132,58 +179,58 @@ Status PngEncoder::encode(int width, int height, const uint8_t* rgba, const std:
                       std::to_string(kMaxSizePx));
   }
   if (rgba == nullptr) return make_error("png '", name, "': no pixel data");
+  if (codec_ == PngCodec::kLibdeflate) return encode_libdeflate(width, height, rgba, name);
   last_rgb_ = !keep_alpha_ && alpha_opaque(rgba, static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-  const int channels = last_rgb_ ? 3 : 4;
-  return codec_ == PngCodec::kZlib ? encode_zlib(width, height, rgba, channels, name)
-                                   : encode_libdeflate(width, height, rgba, channels, name);
+  return encode_zlib(width, height, rgba, last_rgb_ ? 3 : 4, name);
 }
 
 Status PngEncoder::encode_zlib(int width, int height, const uint8_t* rgba, int channels, const std::string& name) {
   // worst case: the filtered rows stored uncompressed (zlib adds 5 bytes per 16 KiB block), plus the chunks
   const std::size_t raw = static_cast<std::size_t>(height) * (1 + static_cast<std::size_t>(width) * channels);
-  out_.resize(raw + raw / 1000 + 4096);
+  out_size_ = 0;
+  if (out_.size() < raw + raw / 1000 + 4096) out_.resize(raw + raw / 1000 + 4096);
   PngWriteState state;
   state.data = out_.data();
   state.capacity = out_.size();
-  if (!encode_with_libpng(&state, width, height, rgba, channels, level_))
+  if (!encode_with_libpng(&state, width, height, rgba, channels, level_, bottom_up_))
     return make_error("png '", name, "': libpng: ", state.message);
-  out_.resize(state.size);
+  out_size_ = state.size;
   return Ok{};
 }
 
-Status PngEncoder::encode_libdeflate(int width, int height, const uint8_t* rgba, int channels,
-                                     const std::string& name) {
+Status PngEncoder::encode_libdeflate(int width, int height, const uint8_t* rgba, const std::string& name) {
   if (compressor_ == nullptr) return make_error("png '", name, "': libdeflate: no compressor (out of memory)");
   const auto w = static_cast<std::size_t>(width);
-  const std::size_t stride = 1 + w * static_cast<std::size_t>(channels);
-  filtered_.resize(static_cast<std::size_t>(height) * stride);
-  // SUB filter (type 1): each byte minus the same channel of the pixel to its left (0 left of the first pixel);
-  // the alpha byte is dropped here for RGB
-  for (int y = 0; y < height; ++y) {
-    const uint8_t* src = rgba + static_cast<std::size_t>(y) * w * 4;
-    uint8_t* dst = filtered_.data() + static_cast<std::size_t>(y) * stride;
-    *dst++ = 1;
-    if (channels == 3) {
-      uint8_t l0 = 0, l1 = 0, l2 = 0;
-      for (std::size_t x = 0; x < w; ++x, src += 4, dst += 3) {
-        dst[0] = static_cast<uint8_t>(src[0] - l0);
-        dst[1] = static_cast<uint8_t>(src[1] - l1);
-        dst[2] = static_cast<uint8_t>(src[2] - l2);
-        l0 = src[0], l1 = src[1], l2 = src[2];
-      }
-    } else {
-      uint8_t l0 = 0, l1 = 0, l2 = 0, l3 = 0;
-      for (std::size_t x = 0; x < w; ++x, src += 4, dst += 4) {
-        dst[0] = static_cast<uint8_t>(src[0] - l0);
-        dst[1] = static_cast<uint8_t>(src[1] - l1);
-        dst[2] = static_cast<uint8_t>(src[2] - l2);
-        dst[3] = static_cast<uint8_t>(src[3] - l3);
-        l0 = src[0], l1 = src[1], l2 = src[2], l3 = src[3];
-      }
+  const std::size_t row_bytes = w * 4;
+  if (filtered_.size() < static_cast<std::size_t>(height) * (1 + row_bytes))
+    filtered_.resize(static_cast<std::size_t>(height) * (1 + row_bytes));
+  if (zero_row_.size() != row_bytes) zero_row_.assign(row_bytes, 0);
+  auto source_row = [&](int y) {
+    return rgba + static_cast<std::size_t>(bottom_up_ ? height - 1 - y : y) * row_bytes;
+  };
+  // filters every row with `channels` bytes per pixel; RGB (3) stops at the first row that is not opaque
+  auto filter_rows = [&](int channels) {
+    const std::size_t stride = 1 + w * static_cast<std::size_t>(channels);
+    for (int y = 0; y < height; ++y) {
+      const bool opaque = filter_row(filter_, channels, source_row(y), y > 0 ? source_row(y - 1) : zero_row_.data(),
+                                     w, filtered_.data() + static_cast<std::size_t>(y) * stride);
+      if (!opaque && channels == 3) return false;
     }
+    return true;
+  };
+  // opaque frames are filtered as RGB straight away, the alpha bytes checked in the same pass; a frame found
+  // translucent is filtered again as RGBA
+  int channels = 3;
+  if (keep_alpha_ || !filter_rows(3)) {
+    channels = 4;
+    filter_rows(4);
   }
-  const std::size_t bound = libdeflate_zlib_compress_bound(compressor_, filtered_.size());
-  out_.resize(sizeof kSignature + kIhdrChunk + 12 + bound + kIendChunk);
+  last_rgb_ = channels == 3;
+  const std::size_t filtered_size = static_cast<std::size_t>(height) * (1 + w * static_cast<std::size_t>(channels));
+  const std::size_t bound = libdeflate_zlib_compress_bound(compressor_, filtered_size);
+  out_size_ = 0;
+  if (out_.size() < sizeof kSignature + kIhdrChunk + 12 + bound + kIendChunk)
+    out_.resize(sizeof kSignature + kIhdrChunk + 12 + bound + kIendChunk);
   uint8_t* p = out_.data();
   std::memcpy(p, kSignature, sizeof kSignature);
   p += sizeof kSignature;
@@ -196,12 +243,12 @@ Status PngEncoder::encode_libdeflate(int width, int height, const uint8_t* rgba,
   p = close_chunk(p, 13);
   // one IDAT holding the whole zlib stream
   std::memcpy(p + 4, "IDAT", 4);
-  const std::size_t z = libdeflate_zlib_compress(compressor_, filtered_.data(), filtered_.size(), p + 8, bound);
+  const std::size_t z = libdeflate_zlib_compress(compressor_, filtered_.data(), filtered_size, p + 8, bound);
   if (z == 0 || z > 0x7fffffffu) return make_error("png '", name, "': libdeflate: compression failed");
   p = close_chunk(p, static_cast<uint32_t>(z));
   std::memcpy(p + 4, "IEND", 4);
   p = close_chunk(p, 0);
-  out_.resize(static_cast<std::size_t>(p - out_.data()));
+  out_size_ = static_cast<std::size_t>(p - out_.data());
   return Ok{};
 }
 

@@ -22,8 +22,10 @@ PngWriter::PngWriter(std::string dir, int width, int height, int pool_size, cons
     free_.push_back(buffer.data());
   }
   queue_.resize(n);
+  encoded_.resize(2 * n);
   png_ms_.reserve(1024);
   for (int i = 0; i < std::max(config_.threads, 1); ++i) threads_.emplace_back([this] { run(); });
+  committer_ = std::thread([this] { commit_run(); });
 }
 
 PngWriter::~PngWriter() { finish(); }
@@ -72,6 +74,13 @@ void PngWriter::finish() {
   buffer_free_.notify_all();
   for (auto& t : threads_)
     if (t.joinable()) t.join();
+  // every frame an encoder took is with the committer now
+  {
+    std::lock_guard<std::mutex> lock(commit_mutex_);
+    encoders_done_ = true;
+  }
+  commit_ready_.notify_all();
+  if (committer_.joinable()) committer_.join();
 }
 
 std::string PngWriter::first_error() const {
@@ -110,29 +119,65 @@ void PngWriter::run() {
       free_.push_back(job.buffer);
     }
     buffer_free_.notify_one();
-    Result<AtomicFile> file = written.ok() ? AtomicFile::open(path, "png") : Result<AtomicFile>(written.error());
-    if (file) {
-      const auto& bytes = encoder.bytes();
-      file.value().write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
-      written = file.value().sync();
-    } else {
-      written = file.error();
-    }
-    const std::chrono::duration<double, std::milli> elapsed = std::chrono::steady_clock::now() - start;
-    // renames in submission order: a frame appears only after every frame before it
-    std::unique_lock<std::mutex> turn(rename_mutex_);
-    rename_turn_.wait(turn, [&] { return next_rename_ == job.seq; });
-    if (written.ok()) written = file.value().commit();
+    Encoded done;
     if (written.ok()) {
-      png_ms_.push_back(elapsed.count());
+      Result<AtomicFile> file = AtomicFile::open(path, "png");
+      if (file) {
+        const auto bytes = encoder.bytes();
+        file.value().write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+        done.file = std::move(file).value();
+      } else {
+        done.error = file.error().message;
+      }
+    } else {
+      done.error = written.error().message;
+    }
+    done.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    done.ready = true;
+    // to the committer; at most encoded_.size() frames wait there (the earliest always has room)
+    {
+      std::unique_lock<std::mutex> lock(commit_mutex_);
+      const auto slots = static_cast<int64_t>(encoded_.size());
+      commit_space_.wait(lock, [&] { return job.seq - next_rename_ < slots; });
+      encoded_[static_cast<std::size_t>(job.seq % slots)] = std::move(done);
+      ++delivered_;
+    }
+    commit_ready_.notify_one();
+  }
+}
+
+void PngWriter::commit_run() {
+  const auto slots = static_cast<int64_t>(encoded_.size());
+  for (;;) {
+    Encoded frame;
+    {
+      std::unique_lock<std::mutex> lock(commit_mutex_);
+      Encoded* next = &encoded_[static_cast<std::size_t>(next_rename_ % slots)];
+      commit_ready_.wait(lock, [&] { return next->ready || (encoders_done_ && next_rename_ == delivered_); });
+      if (!next->ready) return;
+      frame = std::move(*next);
+      next->ready = false;
+    }
+    // fsync, then the rename: a frame appears only complete and after every frame before it
+    Status written = Ok{};
+    if (!frame.error.empty()) {
+      written = make_error(frame.error);
+    } else {
+      written = frame.file.sync();
+      if (written.ok()) written = frame.file.commit();
+    }
+    if (written.ok()) {
+      png_ms_.push_back(frame.ms);
       frames_written_.fetch_add(1, std::memory_order_relaxed);
     } else {
-      if (file) file.value().discard();
+      frame.file.discard();
       record_error(written.error().message);
     }
-    ++next_rename_;
-    turn.unlock();
-    rename_turn_.notify_all();
+    {
+      std::lock_guard<std::mutex> lock(commit_mutex_);
+      ++next_rename_;
+    }
+    commit_space_.notify_all();
   }
 }
 

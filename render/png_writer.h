@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "render/png_io.h"
 
 namespace palpate {
@@ -22,9 +23,10 @@ struct PngWriterConfig {
 
 /// Encoder threads with a fixed pool of frame buffers (allocated in the constructor only); not copyable.
 /// Frames are written as <dir>/frame_%05d.png; the directory must exist. With several threads, frames are
-/// encoded and written (to a temporary, fsynced) in parallel, each thread taking the next frame queued, and
-/// renamed to their final names strictly in the order submitted: the folder only ever holds a complete, gapless
-/// prefix of the sequence. A buffer is free again as soon as its frame is encoded.
+/// encoded and written to a temporary in parallel, each thread taking the next frame queued; one more thread
+/// fsyncs the temporaries and renames them to their final names strictly in the order submitted, so the
+/// encoders never wait for the disk and the folder only ever holds a complete, gapless prefix of the sequence.
+/// A buffer is free again as soon as its frame is encoded.
 /// Thread: acquire/submit/finish from one producer thread; the counters from any thread.
 class PngWriter {
  public:
@@ -50,7 +52,8 @@ class PngWriter {
   int write_errors() const { return write_errors_.load(std::memory_order_relaxed); }
   /// The first error message, empty when none.
   std::string first_error() const;
-  /// Milliseconds spent encoding and writing each written frame (on its thread), in order; valid after finish().
+  /// Milliseconds spent encoding and writing each written frame to its temporary (on its encoder thread; the
+  /// fsync and rename after it are not counted), in order; valid after finish().
   const std::vector<double>& png_ms() const { return png_ms_; }
 
  private:
@@ -60,7 +63,16 @@ class PngWriter {
     int64_t seq = 0;  // submission order
   };
 
+  // an encoded frame waiting for its turn to be synced and renamed
+  struct Encoded {
+    bool ready = false;
+    AtomicFile file;    // written, not yet synced (when error is empty)
+    std::string error;  // encoding or opening failed
+    double ms = 0.0;    // encode + write
+  };
+
   void run();
+  void commit_run();
   void record_error(const std::string& message);
 
   const std::string dir_;
@@ -81,15 +93,20 @@ class PngWriter {
 
   int64_t next_seq_ = 0;                 // seq of the next job submitted
 
-  std::mutex rename_mutex_;
-  std::condition_variable rename_turn_;  // threads wait for the frames before theirs to be renamed
-  int64_t next_rename_ = 0;              // seq whose turn it is
+  std::mutex commit_mutex_;
+  std::condition_variable commit_ready_;  // committer waits: the next frame encoded, or the encoders gone
+  std::condition_variable commit_space_;  // encoders wait: a free slot in encoded_
+  std::vector<Encoded> encoded_;          // ring by seq (capacity 2 x pool_size): frames ahead of the renames
+  int64_t next_rename_ = 0;               // seq whose turn it is (committer)
+  int64_t delivered_ = 0;                 // frames handed to the committer
+  bool encoders_done_ = false;
 
   std::atomic<int> frames_written_{0};
   std::atomic<int> write_errors_{0};
-  std::vector<double> png_ms_;  // written in rename order under rename_mutex_, read after join
+  std::vector<double> png_ms_;  // written in rename order by the committer, read after join
   bool finished_ = false;       // producer side only
   std::vector<std::thread> threads_;
+  std::thread committer_;
 };
 
 }  // namespace palpate

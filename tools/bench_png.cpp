@@ -30,6 +30,7 @@ struct Candidate {
   PngCodec codec;
   int level;
   bool keep_alpha;
+  PngFilter filter;  // libdeflate only (libpng+zlib filters with SUB)
   std::unique_ptr<PngEncoder> encoder;
   std::vector<double> ms;      // per encode, wall
   std::vector<double> cpu_ms;  // per encode, this thread's CPU time (what the load of other processes leaves out)
@@ -150,14 +151,21 @@ Result<std::string> run_bench_png(const BenchPngOptions& o_in) {
   }
 
   std::vector<Candidate> cands;
-  cands.push_back({"libpng+zlib L1 RGBA", PngCodec::kZlib, 1, true, nullptr, {}, {}, 0, true});
-  cands.push_back({"libpng+zlib L1 RGB", PngCodec::kZlib, 1, false, nullptr, {}, {}, 0, true});
-  cands.push_back({"libdeflate L1 RGB", PngCodec::kLibdeflate, 1, false, nullptr, {}, {}, 0, true});
-  cands.push_back({"libdeflate L2 RGB (used)", PngCodec::kLibdeflate, 2, false, nullptr, {}, {}, 0, true});
-  cands.push_back({"libdeflate L4 RGB", PngCodec::kLibdeflate, 4, false, nullptr, {}, {}, 0, true});
+  // libdeflate L2 SUB was the default before; L1 with no filter is used now
+  cands.push_back({"libpng+zlib L1 RGBA", PngCodec::kZlib, 1, true, PngFilter::kSub, nullptr, {}, {}, 0, true});
+  cands.push_back({"libpng+zlib L1 RGB", PngCodec::kZlib, 1, false, PngFilter::kSub, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L2 RGB sub", PngCodec::kLibdeflate, 2, false, PngFilter::kSub, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L2 RGB up", PngCodec::kLibdeflate, 2, false, PngFilter::kUp, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L2 RGB paeth", PngCodec::kLibdeflate, 2, false, PngFilter::kPaeth, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L2 RGB none", PngCodec::kLibdeflate, 2, false, PngFilter::kNone, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L1 RGB sub", PngCodec::kLibdeflate, 1, false, PngFilter::kSub, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L1 RGB up", PngCodec::kLibdeflate, 1, false, PngFilter::kUp, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L1 RGB none (used)", PngCodec::kLibdeflate, 1, false, PngFilter::kNone, nullptr, {}, {}, 0, true});
+  cands.push_back({"libdeflate L4 RGB none", PngCodec::kLibdeflate, 4, false, PngFilter::kNone, nullptr, {}, {}, 0, true});
   for (auto& c : cands) {
     c.encoder = std::make_unique<PngEncoder>(c.codec, c.level);
     c.encoder->set_keep_alpha(c.keep_alpha);
+    c.encoder->set_filter(c.filter);
   }
   // side by side: each frame goes through every encoder in turn, so machine load falls on all alike
   int rgb_frames = 0;
@@ -186,7 +194,7 @@ Result<std::string> run_bench_png(const BenchPngOptions& o_in) {
                 frames.size(), dir.string().c_str(), frames.front().width, frames.front().height, rgb_frames,
                 o.repetitions);
   out += line;
-  std::snprintf(line, sizeof line, "%-26s %8s %8s %8s %10s %8s %9s\n", "encoder", "cpu_p50", "wall_p50", "wall_p90",
+  std::snprintf(line, sizeof line, "%-30s %8s %8s %8s %10s %8s %9s\n", "encoder", "cpu_p50", "wall_p50", "wall_p90",
                 "kB/frame", "speedup", "lossless");
   out += line;
   nlohmann::json j;
@@ -197,7 +205,7 @@ Result<std::string> run_bench_png(const BenchPngOptions& o_in) {
   for (const auto& c : cands) {
     const double cpu = percentile(c.cpu_ms, 0.5), p50 = percentile(c.ms, 0.5), p90 = percentile(c.ms, 0.9);
     const double kb = c.bytes / static_cast<double>(frames.size()) / 1024.0;
-    std::snprintf(line, sizeof line, "%-26s %8.2f %8.2f %8.2f %10.1f %7.2fx %9s\n", c.name, cpu, p50, p90, kb,
+    std::snprintf(line, sizeof line, "%-30s %8.2f %8.2f %8.2f %10.1f %7.2fx %9s\n", c.name, cpu, p50, p90, kb,
                   base / cpu, c.exact ? "yes" : "NO");
     out += line;
     j["rows"].push_back({{"encoder", c.name}, {"cpu_p50_ms", cpu}, {"wall_p50_ms", p50}, {"wall_p90_ms", p90},
