@@ -103,7 +103,10 @@ void PngWriter::run() {
     std::snprintf(name, sizeof name, "frame_%05d.png", job.index);
     const std::string path = dir_ + "/" + name;
     const auto start = std::chrono::steady_clock::now();
-    Status written = encoder.encode(width_, height_, job.buffer, path);
+    // after a frame failed (a full disk) the rest are not encoded: none of them could follow it
+    Status written = failed_.load(std::memory_order_acquire)
+                         ? Status(make_error("png '", path, "': not written after an earlier frame failed"))
+                         : encoder.encode(width_, height_, job.buffer, path);
     // the pixels are in the encoder's output now: the buffer goes back to the producer before the disk work
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -122,12 +125,16 @@ void PngWriter::run() {
     // renames in submission order: a frame appears only after every frame before it
     std::unique_lock<std::mutex> turn(rename_mutex_);
     rename_turn_.wait(turn, [&] { return next_rename_ == job.seq; });
+    // a frame after a failed one is never renamed, so the folder keeps a gapless prefix
+    if (written.ok() && failed_.load(std::memory_order_acquire))
+      written = make_error("png '", path, "': not written after an earlier frame failed");
     if (written.ok()) written = file.value().commit();
     if (written.ok()) {
       png_ms_.push_back(elapsed.count());
       frames_written_.fetch_add(1, std::memory_order_relaxed);
     } else {
       if (file) file.value().discard();
+      failed_.store(true, std::memory_order_release);
       record_error(written.error().message);
     }
     ++next_rename_;

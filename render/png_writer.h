@@ -24,7 +24,9 @@ struct PngWriterConfig {
 /// Frames are written as <dir>/frame_%05d.png; the directory must exist. With several threads, frames are
 /// encoded and written (to a temporary, fsynced) in parallel, each thread taking the next frame queued, and
 /// renamed to their final names strictly in the order submitted: the folder only ever holds a complete, gapless
-/// prefix of the sequence. A buffer is free again as soon as its frame is encoded.
+/// prefix of the sequence. Once a frame fails (a full disk: the error names it with errno's text), no later
+/// frame is renamed, nor encoded if it has not started: each counts as a write error and first_error() stays
+/// the failed frame's. A buffer is free again as soon as its frame is encoded.
 /// Thread: acquire/submit/finish from one producer thread; the counters from any thread.
 class PngWriter {
  public:
@@ -87,6 +89,7 @@ class PngWriter {
 
   std::atomic<int> frames_written_{0};
   std::atomic<int> write_errors_{0};
+  std::atomic<bool> failed_{false};  // a frame failed: later ones are dropped (set in rename order)
   std::vector<double> png_ms_;  // written in rename order under rename_mutex_, read after join
   bool finished_ = false;       // producer side only
   std::vector<std::thread> threads_;
