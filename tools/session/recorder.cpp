@@ -383,7 +383,7 @@ Result<RecordResult> record_scene(const Scene& scene_in, const RecordOptions& op
     f.max_force_N = sc.max_force_N;
     opt.live->finish(f);
   }
-  if (!summary_status) return summary_status.error();
+  if (!summary_status && log_status && !(writer && writer->write_errors() > 0)) return summary_status.error();  // a full disk: the first file that failed
   if (writer && writer->write_errors() > 0)
     return make_error(std::to_string(writer->write_errors()), " frame(s) could not be written: ", writer->first_error());
   if (!video_status) return video_status.error();
