@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -177,9 +178,21 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
   std::istringstream in(head);
   std::string word;
   in >> word;
-  if (word.size() >= 3 && word.ends_with("OFF")) {
+  // assimp reads a .off file as OFF whatever its first word: a keyword holding "OFF" ("OFF", "COFF", "NOFF",
+  // "nOFF" with a dimension after it, also "OFF99"), or none at all, the counts coming first
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool keyword = word.find("OFF") != std::string::npos;
+  if (keyword || ext == ".off") {
     // OFF: vertex and face counts follow the keyword and any '#' comments; at least "0 0 0\n" per vertex
     double nv = 0, nf = 0;
+    if (!keyword) {
+      in.clear();
+      in.seekg(0);
+    } else if (word.find("nOFF") != std::string::npos) {
+      double dimension = 0;
+      if (!(in >> dimension)) return {};  // assimp reports the malformed header itself
+    }
     while (in >> std::ws && in.peek() == '#') std::getline(in, word);
     // counts that are not where the first kHeaderScanBytes can show them are not trusted (assimp would
     // reserve whatever they say)
@@ -195,9 +208,22 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
     return msg.str();
   }
   if (word != "ply") return {};
-  const std::size_t end = head.find("end_header");
+  // the first line that is the word end_header (assimp's reader skips a line it does not know, such as
+  // "xend_header", and reads on through the binary body as header, past the end of its buffer)
+  std::size_t end = std::string::npos;
+  for (std::size_t at = head.find("end_header"); at != std::string::npos; at = head.find("end_header", at + 1)) {
+    std::size_t line_start = at;
+    while (line_start > 0 && (head[line_start - 1] == ' ' || head[line_start - 1] == '\t')) --line_start;
+    const std::size_t after = at + 10;
+    if ((line_start == 0 || head[line_start - 1] == '\n') &&
+        (after == head.size() || std::isspace(static_cast<unsigned char>(head[after])))) {
+      end = at;
+      break;
+    }
+  }
   // assimp's PLY reader never returns on a header without end_header: it is refused here, however short
-  if (end == std::string::npos) return "PLY header: no end_header in the first " + std::to_string(std::min(head.size(), kHeaderScanBytes)) + " bytes";
+  if (end == std::string::npos)
+    return "PLY header: no end_header line in the first " + std::to_string(std::min(head.size(), kHeaderScanBytes)) + " bytes";
   const bool ascii = head.find("format ascii") < end;
   const bool big_endian = head.find("format binary_big_endian") < end;
   double need_bytes = 0;

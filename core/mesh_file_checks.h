@@ -9,7 +9,7 @@
 namespace palpate {
 
 /// The checks load_mesh() makes before the reader sees a file: a regular file of at most kMaxMeshFileBytes, OFF
-/// and PLY header counts the file's size can hold (PLY: a header with end_header in its first 64 KiB, whole
+/// and PLY header counts the file's size can hold (PLY: a header with an end_header line in its first 64 KiB, whole
 /// non-negative counts, and in a binary file every list's entries within the bytes left), and XML (Collada
 /// and others) nested at most kMaxXmlNesting deep. Errors as load_mesh()'s.
 Status check_mesh_file(const std::string& path);
