@@ -275,6 +275,17 @@ TEST_F(MeshIoTest, PlyEndHeaderMustBeALineOfItsOwn) {
   EXPECT_TRUE(check_mesh_file(write("crlf.ply", "ply\r\nformat ascii 1.0\r\nelement vertex 0\r\nend_header\r\n")));
 }
 
+// found by the mesh fuzzer: short vertex lines in an ASCII PLY shift its values so the face list reads as empty;
+// assimp's triangulation aborted the process on such a face (ai_assert numOut != pMesh->mNumFaces)
+TEST_F(MeshIoTest, AnEmptyFaceIsAnErrorNotAnAbort) {
+  const std::string path = write("short.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                              "end_header\n0 0 0\n1 1\n0 0\n0 1 0\n3 0 1 2\n");
+  auto r = load_mesh(path);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, "mesh '" + path + "': face 0 has no vertex indices");
+}
+
 TEST_F(MeshIoTest, OffFaceIndexBeyondTheVertexListIsAnError) {
   const std::string path = write("bad_index.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
   const auto r = load_mesh(path);
