@@ -207,7 +207,8 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
         << " faces, more than the " << size_bytes << "-byte file can hold";
     return msg.str();
   }
-  if (word != "ply") return {};
+  // a .ply file is read as PLY whatever its first word ("plyply" hung assimp's reader on a header with no end)
+  if (word != "ply" && ext != ".ply") return {};
   // the first line that is the word end_header (assimp's reader skips a line it does not know, such as
   // "xend_header", and reads on through the binary body as header, past the end of its buffer)
   std::size_t end = std::string::npos;
@@ -378,6 +379,11 @@ Status check_mesh_file(const std::string& path) {
   const int64_t size = size_r.value();
   const std::string implausible = implausible_counts(path, static_cast<double>(size));
   if (!implausible.empty()) return make_error(who, implausible);
+  // assimp reads a .off file as OFF: every face line must list the indices it declares, within the vertex list
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".off")
+    if (const std::string face = off_face_problem(path); !face.empty()) return make_error(who, face);
   // assimp's XML readers (Collada and others) recurse once per nesting level: a deep file would overflow the stack
   int64_t deep_line = 0;
   if (const int depth = xml_nesting(path, kMaxXmlNesting, &deep_line); depth > kMaxXmlNesting)
@@ -386,10 +392,7 @@ Status check_mesh_file(const std::string& path) {
   return Ok{};
 }
 
-// The first face of an ASCII OFF file with a vertex index outside its vertex list ("face 1 vertex index 9 is
-// beyond the vertex list (size 4)"), else empty. Read only once assimp said an index was out of range (its
-// message names no face).
-std::string off_face_out_of_range(const std::string& path) {
+std::string off_face_problem(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   std::stringstream text;
   text << file.rdbuf();
@@ -424,12 +427,16 @@ std::string off_face_out_of_range(const std::string& path) {
     if (!next_line()) return {};
   for (long long f = 0; f < nf && next_line(); ++f) {
     std::istringstream face(line);
-    long long n = 0, index = 0;
+    long long n = 0, index = 0, listed = 0;
     face >> n;
-    for (long long k = 0; k < n && face >> index; ++k)
+    for (; listed < n && face >> index; ++listed)
       if (index < 0 || index >= nv)
         return "face " + std::to_string(f) + " vertex index " + std::to_string(index) +
                " is beyond the vertex list (size " + std::to_string(nv) + ")";
+    // assimp's reader would read the missing indices past the end of the file (a crash)
+    if (listed < n)
+      return "face " + std::to_string(f) + " declares " + std::to_string(n) + " vertex indices, its line lists " +
+             std::to_string(listed);
   }
   return {};
 }

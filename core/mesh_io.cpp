@@ -231,7 +231,7 @@ Result<TriMesh> load_mesh(const std::string& path) {
     if (!repaired.empty()) {
       // assimp's OFF reader clamps the index and names no face: find the face for the message
       if (repaired.find("OFF:") != std::string::npos)
-        if (const std::string face = off_face_out_of_range(path); !face.empty()) return make_error(who, face);
+        if (const std::string face = off_face_problem(path); !face.empty()) return make_error(who, face);
       return make_error(who, "malformed faces (assimp: ", repaired, ")");
     }
     SceneMerger merger(&mesh);

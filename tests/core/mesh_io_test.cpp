@@ -286,6 +286,22 @@ TEST_F(MeshIoTest, AnEmptyFaceIsAnErrorNotAnAbort) {
   EXPECT_EQ(r.error().message, "mesh '" + path + "': face 0 has no vertex indices");
 }
 
+// found by the mesh fuzzer: a face line listing fewer indices than it declares made assimp's OFF reader read past
+// the end of the file (SIGSEGV in a release build), and a .ply file whose first word is not "ply" was not
+// checked, so a header with no end_header hung assimp's PLY reader
+TEST_F(MeshIoTest, OffFaceListingTooFewIndicesAndAnyPlyHeaderAreRefused) {
+  const std::string path = write("short_face.off", "OFF\r4 4 0\r0 0 0\r1 0 0\r0 1 0\r0 4 1\r#99 0 0\r12\r3 1 0\r0\r");
+  auto r = load_mesh(path);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, "mesh '" + path + "': face 0 declares 12 vertex indices, its line lists 0");
+  const std::string ply = write("plyply.ply", "plyply\nformat ascii 1.\nfo0\nelement verrtm");
+  ASSERT_FALSE(check_mesh_file(ply));
+  EXPECT_EQ(check_mesh_file(ply).error().message, "mesh '" + ply + "': PLY header: no end_header line in the first 41 bytes");
+  // faces with extra values after their indices (colours) are whole
+  auto ok = load_mesh(write("colours.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
+  ASSERT_TRUE(ok) << ok.error().message;
+}
+
 TEST_F(MeshIoTest, OffFaceIndexBeyondTheVertexListIsAnError) {
   const std::string path = write("bad_index.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
   const auto r = load_mesh(path);
