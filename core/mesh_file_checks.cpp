@@ -422,9 +422,14 @@ std::string off_face_problem(const std::string& path) {
   } else {
     first >> nf;
   }
-  if (nv < 0 || nf < 0) return {};
-  for (long long v = 0; v < nv; ++v)
+  // assimp reads counts split over lines, then its vertex and face lines out of step (past the file's end)
+  if (nv < 0 || nf < 0) return "OFF header: no vertex and face counts on one line";
+  for (long long v = 0; v < nv; ++v) {
     if (!next_line()) return {};
+    std::istringstream vertex(line);
+    double x = 0, y = 0, z = 0;
+    if (!(vertex >> x >> y >> z)) return "vertex " + std::to_string(v) + ": fewer than 3 coordinates on its line";
+  }
   for (long long f = 0; f < nf && next_line(); ++f) {
     std::istringstream face(line);
     long long n = 0, index = 0, listed = 0;

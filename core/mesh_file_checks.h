@@ -12,7 +12,7 @@ namespace palpate {
 /// and PLY header counts the file's size can hold (PLY: a header with an end_header line in its first 64 KiB, whole
 /// non-negative counts, and in a binary file every list's entries within the bytes left; checked for any .ply
 /// or .off file whatever its first word), every face line of a .off file listing the indices it declares within
-/// its vertex list (off_face_problem), and XML (Collada
+/// its vertex list, counts on one line and vertex lines of 3 coordinates (off_face_problem), and XML (Collada
 /// and others) nested at most kMaxXmlNesting deep. Errors as load_mesh()'s.
 Status check_mesh_file(const std::string& path);
 

@@ -297,6 +297,11 @@ TEST_F(MeshIoTest, OffFaceListingTooFewIndicesAndAnyPlyHeaderAreRefused) {
   const std::string ply = write("plyply.ply", "plyply\nformat ascii 1.\nfo0\nelement verrtm");
   ASSERT_FALSE(check_mesh_file(ply));
   EXPECT_EQ(check_mesh_file(ply).error().message, "mesh '" + ply + "': PLY header: no end_header line in the first 41 bytes");
+  // counts split over lines, and a short vertex line, put assimp's reader out of step (SIGSEGV as well)
+  const std::string split = write("split.off", "OFF\r2\r1 0 00 0 0\r4 4 0\r0 \r10");
+  EXPECT_EQ(load_mesh(split).error().message, "mesh '" + split + "': OFF header: no vertex and face counts on one line");
+  const std::string short_vertex = write("short_vertex.off", "OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(load_mesh(short_vertex).error().message, "mesh '" + short_vertex + "': vertex 1: fewer than 3 coordinates on its line");
   // faces with extra values after their indices (colours) are whole
   auto ok = load_mesh(write("colours.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
   ASSERT_TRUE(ok) << ok.error().message;
