@@ -401,9 +401,12 @@ std::string off_face_problem(const std::string& path) {
   std::istringstream lines(all);
   std::string line;
   // the next line that is neither blank nor a comment
+  bool body = false;           // past the counts: assimp takes a comment line there for a vertex or a face
+  bool comment_in_body = false;
   auto next_line = [&]() {
     while (std::getline(lines, line)) {
       const std::size_t hash = line.find('#');
+      if (body && hash != std::string::npos && hash == line.find_first_not_of(" \t")) comment_in_body = true;
       if (hash != std::string::npos) line.erase(hash);
       if (line.find_first_not_of(" \t") != std::string::npos) return true;
     }
@@ -424,16 +427,20 @@ std::string off_face_problem(const std::string& path) {
   }
   // assimp reads counts split over lines, then its vertex and face lines out of step (past the file's end)
   if (nv < 0 || nf < 0) return "OFF header: no vertex and face counts on one line";
+  body = true;
   for (long long v = 0; v < nv; ++v) {
     if (!next_line()) return {};
     std::istringstream vertex(line);
     double x = 0, y = 0, z = 0;
+    if (comment_in_body) return "a comment line inside the vertex and face lists (before vertex " + std::to_string(v) + ")";
     if (!(vertex >> x >> y >> z)) return "vertex " + std::to_string(v) + ": fewer than 3 coordinates on its line";
   }
   for (long long f = 0; f < nf && next_line(); ++f) {
+    if (comment_in_body) return "a comment line inside the vertex and face lists (before face " + std::to_string(f) + ")";
     std::istringstream face(line);
     long long n = 0, index = 0, listed = 0;
-    face >> n;
+    // a face of no indices (or no count) crashes assimp's reader
+    if (!(face >> n) || n < 1) return "face " + std::to_string(f) + " declares no vertex indices";
     for (; listed < n && face >> index; ++listed)
       if (index < 0 || index >= nv)
         return "face " + std::to_string(f) + " vertex index " + std::to_string(index) +
