@@ -397,16 +397,24 @@ std::string off_face_problem(const std::string& path) {
   std::stringstream text;
   text << file.rdbuf();
   std::string all = text.str();
-  std::replace(all.begin(), all.end(), '\r', '\n');
+  // CRLF and CR-only line ends read as LF, one line end each (an empty line is a line of its own)
+  std::string unified;
+  unified.reserve(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (all[i] == '\r' && i + 1 < all.size() && all[i + 1] == '\n') continue;
+    unified += all[i] == '\r' ? '\n' : all[i];
+  }
+  all = std::move(unified);
   std::istringstream lines(all);
   std::string line;
   // the next line that is neither blank nor a comment
-  bool body = false;           // past the counts: assimp takes a comment line there for a vertex or a face
-  bool comment_in_body = false;
+  bool body = false;         // past the counts: assimp takes a blank or comment line there for a vertex or a face
+  bool gap_in_body = false;
   auto next_line = [&]() {
     while (std::getline(lines, line)) {
       const std::size_t hash = line.find('#');
-      if (body && hash != std::string::npos && hash == line.find_first_not_of(" \t")) comment_in_body = true;
+      const std::size_t first = line.find_first_not_of(" \t");
+      if (body && (first == std::string::npos || first == hash)) gap_in_body = true;
       if (hash != std::string::npos) line.erase(hash);
       if (line.find_first_not_of(" \t") != std::string::npos) return true;
     }
@@ -432,11 +440,11 @@ std::string off_face_problem(const std::string& path) {
     if (!next_line()) return {};
     std::istringstream vertex(line);
     double x = 0, y = 0, z = 0;
-    if (comment_in_body) return "a comment line inside the vertex and face lists (before vertex " + std::to_string(v) + ")";
+    if (gap_in_body) return "a blank or comment line inside the vertex and face lists (before vertex " + std::to_string(v) + ")";
     if (!(vertex >> x >> y >> z)) return "vertex " + std::to_string(v) + ": fewer than 3 coordinates on its line";
   }
   for (long long f = 0; f < nf && next_line(); ++f) {
-    if (comment_in_body) return "a comment line inside the vertex and face lists (before face " + std::to_string(f) + ")";
+    if (gap_in_body) return "a blank or comment line inside the vertex and face lists (before face " + std::to_string(f) + ")";
     std::istringstream face(line);
     long long n = 0, index = 0, listed = 0;
     // a face of no indices (or no count) crashes assimp's reader

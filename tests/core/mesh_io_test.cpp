@@ -307,7 +307,12 @@ TEST_F(MeshIoTest, OffFaceListingTooFewIndicesAndAnyPlyHeaderAreRefused) {
   EXPECT_EQ(load_mesh(empty).error().message, "mesh '" + empty + "': face 0 declares no vertex indices");
   const std::string comment = write("comment.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n# faces\n3 0 1 2\n3 0 1 3\n");
   EXPECT_EQ(load_mesh(comment).error().message,
-            "mesh '" + comment + "': a comment line inside the vertex and face lists (before face 0)");
+            "mesh '" + comment + "': a blank or comment line inside the vertex and face lists (before face 0)");
+  const std::string blank = write("blank.off", "OFF\r4 4 0\r0 0 0\r1 0 0\r0 1 0\r0 0 1\r3 0 2 1\r  \r3 0 1 3\r3 0 3 2\r3 1 2 3\r");
+  EXPECT_EQ(load_mesh(blank).error().message,
+            "mesh '" + blank + "': a blank or comment line inside the vertex and face lists (before face 1)");
+  // CRLF line ends are no blank lines
+  EXPECT_TRUE(load_mesh(write("crlf.off", "OFF\r\n4 4 0\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n0 0 1\r\n3 0 2 1\r\n3 0 1 3\r\n3 0 3 2\r\n3 1 2 3\r\n")));
   // comments before the counts are fine
   EXPECT_TRUE(load_mesh(write("head_comment.off", "OFF\n# made by hand\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")));
   // faces with extra values after their indices (colours) are whole
