@@ -23,6 +23,35 @@ Status check_output_target(const std::string& path, const std::string& what) {
   return Ok{};
 }
 
+namespace {
+
+// Cuts the file at `path` after its last newline (to nothing when it has none), so what a failed write left of
+// a line-oriented log is whole lines; shrinking needs no free space. Reads backwards from the end in blocks.
+void cut_after_last_newline(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  struct stat st {};
+  off_t keep = 0;
+  if (::fstat(fd, &st) == 0) {
+    char block[4096];
+    for (off_t end = st.st_size; end > 0 && keep == 0;) {
+      const off_t start = end > static_cast<off_t>(sizeof block) ? end - static_cast<off_t>(sizeof block) : 0;
+      const ssize_t n = ::pread(fd, block, static_cast<std::size_t>(end - start), start);
+      if (n != end - start) break;  // unreadable: cut to nothing rather than keep a torn line
+      for (ssize_t i = n - 1; i >= 0; --i)
+        if (block[i] == '\n') {
+          keep = start + i + 1;
+          break;
+        }
+      end = start;
+    }
+    if (keep < st.st_size) (void)::ftruncate(fd, keep);
+  }
+  ::close(fd);
+}
+
+}  // namespace
+
 AtomicFile::~AtomicFile() { discard(); }
 
 AtomicFile::AtomicFile(AtomicFile&& o) noexcept
@@ -102,7 +131,8 @@ Status AtomicFile::commit(bool keep_partial) {
     if (std::rename(tmp.c_str(), path_.c_str()) == 0) return Ok{};
     fail(std::string("rename from '") + tmp + "': " + std::strerror(errno));
   } else if (keep_partial) {
-    return make_error(what_, " '", path_, "': ", error_, " (partial data kept in ", tmp, ")");
+    cut_after_last_newline(tmp);
+    return make_error(what_, " '", path_, "': ", error_, " (partial data kept in ", tmp, ", up to its last whole line)");
   }
   ::unlink(tmp.c_str());
   return make_error(what_, " '", path_, "': ", error_);

@@ -42,7 +42,8 @@ class AtomicFile {
   /// as commit's; after a failure commit() reports it again and removes the temporary.
   Status sync();
   /// Flushes, fsyncs and closes the temporary (unless sync() did), checks the final path again and renames. On failure the
-  /// temporary is removed unless keep_partial (then the error says where the partial data is).
+  /// temporary is removed unless keep_partial: then it is cut after its last newline (a line-oriented log such as
+  /// haptic.csv keeps its whole rows, never half a row a full disk tore) and the error says where it is kept.
   Status commit(bool keep_partial = false);
   /// Closes and removes the temporary without touching the final path.
   void discard();

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -177,9 +178,21 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
   std::istringstream in(head);
   std::string word;
   in >> word;
-  if (word.size() >= 3 && word.ends_with("OFF")) {
+  // assimp reads a .off file as OFF whatever its first word: a keyword holding "OFF" ("OFF", "COFF", "NOFF",
+  // "nOFF" with a dimension after it, also "OFF99"), or none at all, the counts coming first
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool keyword = word.find("OFF") != std::string::npos;
+  if (keyword || ext == ".off") {
     // OFF: vertex and face counts follow the keyword and any '#' comments; at least "0 0 0\n" per vertex
     double nv = 0, nf = 0;
+    if (!keyword) {
+      in.clear();
+      in.seekg(0);
+    } else if (word.find("nOFF") != std::string::npos) {
+      double dimension = 0;
+      if (!(in >> dimension)) return {};  // assimp reports the malformed header itself
+    }
     while (in >> std::ws && in.peek() == '#') std::getline(in, word);
     // counts that are not where the first kHeaderScanBytes can show them are not trusted (assimp would
     // reserve whatever they say)
@@ -194,10 +207,24 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
         << " faces, more than the " << size_bytes << "-byte file can hold";
     return msg.str();
   }
-  if (word != "ply") return {};
-  const std::size_t end = head.find("end_header");
+  // a .ply file is read as PLY whatever its first word ("plyply" hung assimp's reader on a header with no end)
+  if (word != "ply" && ext != ".ply") return {};
+  // the first line that is the word end_header (assimp's reader skips a line it does not know, such as
+  // "xend_header", and reads on through the binary body as header, past the end of its buffer)
+  std::size_t end = std::string::npos;
+  for (std::size_t at = head.find("end_header"); at != std::string::npos; at = head.find("end_header", at + 1)) {
+    std::size_t line_start = at;
+    while (line_start > 0 && (head[line_start - 1] == ' ' || head[line_start - 1] == '\t')) --line_start;
+    const std::size_t after = at + 10;
+    if ((line_start == 0 || head[line_start - 1] == '\n') &&
+        (after == head.size() || std::isspace(static_cast<unsigned char>(head[after])))) {
+      end = at;
+      break;
+    }
+  }
   // assimp's PLY reader never returns on a header without end_header: it is refused here, however short
-  if (end == std::string::npos) return "PLY header: no end_header in the first " + std::to_string(std::min(head.size(), kHeaderScanBytes)) + " bytes";
+  if (end == std::string::npos)
+    return "PLY header: no end_header line in the first " + std::to_string(std::min(head.size(), kHeaderScanBytes)) + " bytes";
   const bool ascii = head.find("format ascii") < end;
   const bool big_endian = head.find("format binary_big_endian") < end;
   double need_bytes = 0;
@@ -352,6 +379,11 @@ Status check_mesh_file(const std::string& path) {
   const int64_t size = size_r.value();
   const std::string implausible = implausible_counts(path, static_cast<double>(size));
   if (!implausible.empty()) return make_error(who, implausible);
+  // assimp reads a .off file as OFF: every face line must list the indices it declares, within the vertex list
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".off")
+    if (const std::string face = off_face_problem(path); !face.empty()) return make_error(who, face);
   // assimp's XML readers (Collada and others) recurse once per nesting level: a deep file would overflow the stack
   int64_t deep_line = 0;
   if (const int depth = xml_nesting(path, kMaxXmlNesting, &deep_line); depth > kMaxXmlNesting)
@@ -360,21 +392,29 @@ Status check_mesh_file(const std::string& path) {
   return Ok{};
 }
 
-// The first face of an ASCII OFF file with a vertex index outside its vertex list ("face 1 vertex index 9 is
-// beyond the vertex list (size 4)"), else empty. Read only once assimp said an index was out of range (its
-// message names no face).
-std::string off_face_out_of_range(const std::string& path) {
+std::string off_face_problem(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   std::stringstream text;
   text << file.rdbuf();
   std::string all = text.str();
-  std::replace(all.begin(), all.end(), '\r', '\n');
+  // CRLF and CR-only line ends read as LF, one line end each (an empty line is a line of its own)
+  std::string unified;
+  unified.reserve(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (all[i] == '\r' && i + 1 < all.size() && all[i + 1] == '\n') continue;
+    unified += all[i] == '\r' ? '\n' : all[i];
+  }
+  all = std::move(unified);
   std::istringstream lines(all);
   std::string line;
   // the next line that is neither blank nor a comment
+  bool body = false;         // past the counts: assimp takes a blank or comment line there for a vertex or a face
+  bool gap_in_body = false;
   auto next_line = [&]() {
     while (std::getline(lines, line)) {
       const std::size_t hash = line.find('#');
+      const std::size_t first = line.find_first_not_of(" \t");
+      if (body && (first == std::string::npos || first == hash)) gap_in_body = true;
       if (hash != std::string::npos) line.erase(hash);
       if (line.find_first_not_of(" \t") != std::string::npos) return true;
     }
@@ -393,17 +433,30 @@ std::string off_face_out_of_range(const std::string& path) {
   } else {
     first >> nf;
   }
-  if (nv < 0 || nf < 0) return {};
-  for (long long v = 0; v < nv; ++v)
+  // assimp reads counts split over lines, then its vertex and face lines out of step (past the file's end)
+  if (nv < 0 || nf < 0) return "OFF header: no vertex and face counts on one line";
+  body = true;
+  for (long long v = 0; v < nv; ++v) {
     if (!next_line()) return {};
+    std::istringstream vertex(line);
+    double x = 0, y = 0, z = 0;
+    if (gap_in_body) return "a blank or comment line inside the vertex and face lists (before vertex " + std::to_string(v) + ")";
+    if (!(vertex >> x >> y >> z)) return "vertex " + std::to_string(v) + ": fewer than 3 coordinates on its line";
+  }
   for (long long f = 0; f < nf && next_line(); ++f) {
+    if (gap_in_body) return "a blank or comment line inside the vertex and face lists (before face " + std::to_string(f) + ")";
     std::istringstream face(line);
-    long long n = 0, index = 0;
-    face >> n;
-    for (long long k = 0; k < n && face >> index; ++k)
+    long long n = 0, index = 0, listed = 0;
+    // a face of no indices (or no count) crashes assimp's reader
+    if (!(face >> n) || n < 1) return "face " + std::to_string(f) + " declares no vertex indices";
+    for (; listed < n && face >> index; ++listed)
       if (index < 0 || index >= nv)
         return "face " + std::to_string(f) + " vertex index " + std::to_string(index) +
                " is beyond the vertex list (size " + std::to_string(nv) + ")";
+    // assimp's reader would read the missing indices past the end of the file (a crash)
+    if (listed < n)
+      return "face " + std::to_string(f) + " declares " + std::to_string(n) + " vertex indices, its line lists " +
+             std::to_string(listed);
   }
   return {};
 }

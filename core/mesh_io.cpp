@@ -86,6 +86,28 @@ std::string face_repair_error() {
   return {};
 }
 
+// Checks the faces a reader made before assimp's post-processing sees them, and sets each mesh's primitive types
+// from its faces. A reader fed a damaged file can make a face of no indices (an ASCII PLY whose vertex lines
+// are short) or flag polygons it did not make: assimp's triangulation then aborts the process on an internal
+// assertion (numOut != pMesh->mNumFaces) instead of reporting an error. Returns the first empty face, else empty.
+std::string check_faces(aiScene* scene) {
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    aiMesh* mesh = scene->mMeshes[m];
+    if (mesh == nullptr) continue;
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const unsigned n = mesh->mFaces[f].mNumIndices;
+      if (n == 0) return "face " + std::to_string(f) + " has no vertex indices";
+      if (n == 1) types |= aiPrimitiveType_POINT;
+      else if (n == 2) types |= aiPrimitiveType_LINE;
+      else if (n == 3) types |= aiPrimitiveType_TRIANGLE;
+      else types |= aiPrimitiveType_POLYGON;
+    }
+    mesh->mPrimitiveTypes = types;
+  }
+  return {};
+}
+
 // merges the scene's meshes into one list of triangles, welding vertices at identical positions
 class SceneMerger {
  public:
@@ -192,7 +214,13 @@ Result<TriMesh> load_mesh(const std::string& path) {
     Assimp::Importer importer;
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                            aiProcess_ValidateDataStructure;
-    const aiScene* scene = importer.ReadFile(path, flags);
+    // read first, post-processed once each mesh's primitive types say what its faces are (see below)
+    const aiScene* scene = importer.ReadFile(path, 0);
+    if (scene != nullptr) {
+      // the importer owns the scene and post-processes it in place
+      if (const std::string empty = check_faces(const_cast<aiScene*>(scene)); !empty.empty()) return make_error(who, empty);
+      scene = importer.ApplyPostProcessing(flags);
+    }
     if (scene == nullptr) {
       std::string message = importer.GetErrorString();
       if (message.empty()) message = "assimp could not read the file";
@@ -203,7 +231,7 @@ Result<TriMesh> load_mesh(const std::string& path) {
     if (!repaired.empty()) {
       // assimp's OFF reader clamps the index and names no face: find the face for the message
       if (repaired.find("OFF:") != std::string::npos)
-        if (const std::string face = off_face_out_of_range(path); !face.empty()) return make_error(who, face);
+        if (const std::string face = off_face_problem(path); !face.empty()) return make_error(who, face);
       return make_error(who, "malformed faces (assimp: ", repaired, ")");
     }
     SceneMerger merger(&mesh);

@@ -19,7 +19,7 @@ namespace palpate {
 /// of <n> entries, more than the <m> bytes left in the file", "XML elements nested deeper than the limit of 256
 /// levels (line <n>)", "NaN coordinate at vertex <i>", "degenerate: the model spans only <x> units, ...", assimp's own message,
 /// "malformed faces (assimp: <message>)" when the reader skipped or repaired faces or their vertex indices,
-/// "face 3 vertex index 9 is beyond the vertex list (size 4)", or "no triangles". Thread: any; the first call
+/// "face 3 vertex index 9 is beyond the vertex list (size 4)", "face 0 has no vertex indices", or "no triangles". Thread: any; the first call
 /// attaches an error stream to assimp's
 /// global DefaultLogger (creating one if none exists).
 Result<TriMesh> load_mesh(const std::string& path);

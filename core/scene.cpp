@@ -255,9 +255,7 @@ void read_trajectory(ObjectReader& top, Scene* s, std::string* err) {
   const Json* t = top.take("trajectory");
   if (!t) return;
   if (!t->is_array() || t->empty()) return top.fail("trajectory", "must be a non-empty array of keyframes");
-  if (t->size() > static_cast<std::size_t>(kMaxKeyframes))
-    return top.fail("trajectory", std::to_string(t->size()) + " keyframes, more than the limit of " +
-                                      std::to_string(kMaxKeyframes));
+  // (more than kMaxKeyframes were refused while parsing, before they were kept)
   for (std::size_t i = 0; i < t->size() && err->empty(); ++i) {
     const std::string p = "trajectory[" + std::to_string(i) + "].";
     ObjectReader r((*t)[i], p, err);
@@ -329,44 +327,91 @@ std::string printable(const std::string& s) {
   return s.size() > 80 ? out + "..." : out;
 }
 
-// Parses JSON and notes in *duplicate the first key that appears twice in one object (nlohmann keeps the last
-// silently): "duplicate key 'lattice.level'". Throws nlohmann's exceptions for invalid JSON.
-Json parse_strict(const std::string& text, std::string* duplicate) {
+// Builds the JSON tree from the parser's events, in time linear in the text (nlohmann's callback parser scans
+// the whole parent array after every object, quadratic in a long trajectory), and on the way notes the first
+// key that appears twice in one object (nlohmann keeps the last silently: "duplicate key 'lattice.level'") and
+// counts the top-level trajectory's keyframes, keeping none past kMaxKeyframes (the rest are only counted).
+class StrictJsonBuilder {
+ public:
+  using number_integer_t = Json::number_integer_t;
+  using number_unsigned_t = Json::number_unsigned_t;
+  using number_float_t = Json::number_float_t;
+  using string_t = Json::string_t;
+  using binary_t = Json::binary_t;
+
+  Json root;
+  std::string duplicate;      // "duplicate key '<path>'", or empty
+  std::string syntax_error;   // the parser's message for invalid JSON, or empty
+  std::size_t keyframes = 0;  // elements of the top-level "trajectory" array, kept or not
+
+  bool null() { return add(Json(nullptr), false, false); }
+  bool boolean(bool v) { return add(Json(v), false, false); }
+  bool number_integer(number_integer_t v) { return add(Json(v), false, false); }
+  bool number_unsigned(number_unsigned_t v) { return add(Json(v), false, false); }
+  bool number_float(number_float_t v, const string_t& /*text*/) { return add(Json(v), false, false); }
+  bool string(string_t& v) { return add(Json(std::move(v)), false, false); }
+  bool binary(binary_t& v) { return add(Json::binary(std::move(v)), false, false); }
+  bool start_object(std::size_t /*elements*/) { return add(Json::object(), true, true); }
+  bool start_array(std::size_t /*elements*/) { return add(Json::array(), true, false); }
+  bool end_object() { return close(); }
+  bool end_array() { return close(); }
+  bool key(string_t& k) {
+    Level& top = stack_.back();
+    if (!top.keys.insert(k).second && duplicate.empty())
+      duplicate = "duplicate key '" + printable(top.path.empty() ? k : top.path + "." + k) + "'";
+    last_key_ = std::move(k);
+    return true;
+  }
+  bool parse_error(std::size_t /*position*/, const std::string& /*last_token*/, const Json::exception& e) {
+    syntax_error = e.what();
+    return false;
+  }
+
+ private:
   struct Level {
+    Json* value = nullptr;  // null: counted, not kept
     std::set<std::string> keys;
     std::string path;  // key path of this object or array
     bool object = false;
+    bool trajectory = false;
   };
-  std::vector<Level> stack;
-  std::string last_key;
-  auto cb = [&](int /*depth*/, Json::parse_event_t event, Json& parsed) {
-    switch (event) {
-      case Json::parse_event_t::object_start:
-      case Json::parse_event_t::array_start: {
-        std::string p = stack.empty() ? "" : stack.back().path;
-        if (!stack.empty() && stack.back().object) p += (p.empty() ? "" : ".") + last_key;
-        else if (!stack.empty()) p += "[]";
-        stack.push_back({{}, p, event == Json::parse_event_t::object_start});
-        break;
-      }
-      case Json::parse_event_t::object_end:
-      case Json::parse_event_t::array_end:
-        if (!stack.empty()) stack.pop_back();
-        break;
-      case Json::parse_event_t::key:
-        last_key = parsed.is_string() ? parsed.get<std::string>() : std::string();
-        if (!stack.empty() && !stack.back().keys.insert(last_key).second && duplicate->empty()) {
-          const std::string& p = stack.back().path;
-          *duplicate = "duplicate key '" + printable(p.empty() ? last_key : p + "." + last_key) + "'";
+
+  // places a value in the open object or array (or as the root), and opens it if it is one
+  bool add(Json&& v, bool opens, bool object) {
+    Json* slot = nullptr;
+    std::string path;
+    bool trajectory = false;
+    if (stack_.empty()) {
+      root = std::move(v);
+      slot = &root;
+    } else {
+      Level& top = stack_.back();
+      path = top.path;
+      if (top.object) {
+        path += (path.empty() ? "" : ".") + last_key_;
+        trajectory = opens && !object && stack_.size() == 1 && last_key_ == "trajectory";
+        if (top.value) slot = &((*top.value)[last_key_] = std::move(v));
+      } else {
+        path += "[]";
+        const bool kept = !top.trajectory || ++keyframes <= static_cast<std::size_t>(kMaxKeyframes);
+        if (top.value && kept) {
+          top.value->push_back(std::move(v));
+          slot = &top.value->back();
         }
-        break;
-      case Json::parse_event_t::value:
-        break;
+      }
     }
+    if (opens) stack_.push_back({slot, {}, std::move(path), object, trajectory});
     return true;
-  };
-  return Json::parse(text, cb);
-}
+  }
+
+  bool close() {
+    stack_.pop_back();
+    return true;
+  }
+
+  std::vector<Level> stack_;
+  std::string last_key_;
+};
 
 // Where JSON text first nests arrays and objects deeper than `limit` (its line), else 0. Brackets inside strings
 // do not count. The parser's key paths would otherwise cost memory quadratic in the depth.
@@ -401,15 +446,15 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   if (const int64_t line = json_too_deep(json_text, kMaxJsonNesting); line > 0)
     return make_error(who, "JSON nested deeper than the limit of ", std::to_string(kMaxJsonNesting), " levels (line ",
                       std::to_string(line), ")");
-  Json j;
-  std::string duplicate;
-  try {
-    j = parse_strict(json_text, &duplicate);
-  } catch (const Json::exception& e) {
-    // parse_error, and out_of_range for a number no double holds (1e400)
-    return make_error(who, "invalid JSON: ", e.what());
-  }
-  if (!duplicate.empty()) return make_error(who, duplicate);
+  StrictJsonBuilder built;
+  // a parse_error, or an out_of_range for a number no double holds (1e400), arrives as the builder's syntax_error
+  if (!Json::sax_parse(json_text, &built) || !built.syntax_error.empty())
+    return make_error(who, "invalid JSON: ", built.syntax_error.empty() ? std::string("not parsed") : built.syntax_error);
+  if (!built.duplicate.empty()) return make_error(who, built.duplicate);
+  if (built.keyframes > static_cast<std::size_t>(kMaxKeyframes))
+    return make_error(who, "trajectory: ", std::to_string(built.keyframes), " keyframes, more than the limit of ",
+                      std::to_string(kMaxKeyframes));
+  const Json& j = built.root;
   Scene s;
   s.path = path;
   std::string err;

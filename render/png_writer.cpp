@@ -112,7 +112,10 @@ void PngWriter::run() {
     std::snprintf(name, sizeof name, "frame_%05d.png", job.index);
     const std::string path = dir_ + "/" + name;
     const auto start = std::chrono::steady_clock::now();
-    Status written = encoder.encode(width_, height_, job.buffer, path);
+    // after a frame failed (a full disk) the rest are not encoded: none of them could follow it
+    Status written = failed_.load(std::memory_order_acquire)
+                         ? Status(make_error("png '", path, "': not written after an earlier frame failed"))
+                         : encoder.encode(width_, height_, job.buffer, path);
     // the pixels are in the encoder's output now: the buffer goes back to the producer before the disk work
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -162,6 +165,9 @@ void PngWriter::commit_run() {
     Status written = Ok{};
     if (!frame.error.empty()) {
       written = make_error(frame.error);
+    } else if (failed_.load(std::memory_order_acquire)) {
+      // a frame after a failed one is never renamed, so the folder keeps a gapless prefix
+      written = make_error("png '", frame.file.path(), "': not written after an earlier frame failed");
     } else {
       written = frame.file.sync();
       if (written.ok()) written = frame.file.commit();
@@ -171,6 +177,7 @@ void PngWriter::commit_run() {
       frames_written_.fetch_add(1, std::memory_order_relaxed);
     } else {
       frame.file.discard();
+      failed_.store(true, std::memory_order_release);
       record_error(written.error().message);
     }
     {

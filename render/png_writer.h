@@ -26,6 +26,8 @@ struct PngWriterConfig {
 /// encoded and written to a temporary in parallel, each thread taking the next frame queued; one more thread
 /// fsyncs the temporaries and renames them to their final names strictly in the order submitted, so the
 /// encoders never wait for the disk and the folder only ever holds a complete, gapless prefix of the sequence.
+/// Once a frame fails (a full disk: the error names it with errno's text), no later frame is renamed, nor encoded
+/// if it has not started: each counts as a write error and first_error() stays the failed frame's.
 /// A buffer is free again as soon as its frame is encoded.
 /// Thread: acquire/submit/finish from one producer thread; the counters from any thread.
 class PngWriter {
@@ -103,6 +105,7 @@ class PngWriter {
 
   std::atomic<int> frames_written_{0};
   std::atomic<int> write_errors_{0};
+  std::atomic<bool> failed_{false};  // a frame failed: later ones are dropped (set by the committer)
   std::vector<double> png_ms_;  // written in rename order by the committer, read after join
   bool finished_ = false;       // producer side only
   std::vector<std::thread> threads_;

@@ -91,5 +91,44 @@ TEST(AtomicFile, AFailedWriteNamesTheFileAndLeavesNothing) {
   EXPECT_FALSE(fs::exists(path + ".tmp"));
 }
 
+// a log kept after a failed write (here EFBIG past a file size limit; on a full disk ENOSPC) ends after its last
+// whole line, never inside the line the failure tore
+TEST(AtomicFile, AKeptPartialEndsAfterItsLastWholeLine) {
+  const std::string dir = test::fresh_dir("atomic_partial");
+  fs::create_directories(dir);
+  const std::string path = dir + "/haptic.csv";
+  std::string lines;
+  for (int i = 0; i < 100; ++i) {
+    std::string line = std::to_string(i) + ",";
+    line += std::string(99 - line.size(), 'x') + "\n";  // 100 bytes a line
+    lines += line;
+  }
+  Status st = Ok{};
+  {
+    test::FileSizeLimit limit(4096);
+    auto f = AtomicFile::open(path, "log", ".partial");
+    ASSERT_TRUE(f) << f.error().message;
+    for (int i = 0; i < 100; ++i) f.value().write(std::string_view(lines).substr(static_cast<std::size_t>(i) * 100, 100));
+    st = f.value().commit(/*keep_partial=*/true);
+  }
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error().message, "log '" + path + "': File too large (partial data kept in " + path +
+                                    ".partial, up to its last whole line)");
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(slurp(path + ".partial"), lines.substr(0, 4000));  // 40 whole lines of the 4096 bytes written
+
+  // no newline at all: nothing of the torn line is kept
+  {
+    test::FileSizeLimit limit(4096);
+    auto f = AtomicFile::open(path, "log", ".partial");
+    ASSERT_TRUE(f) << f.error().message;
+    f.value().write(std::string(10000, 'y'));
+    st = f.value().commit(/*keep_partial=*/true);
+  }
+  ASSERT_FALSE(st.ok());
+  EXPECT_TRUE(fs::exists(path + ".partial"));
+  EXPECT_EQ(fs::file_size(path + ".partial"), 0u);
+}
+
 }  // namespace
 }  // namespace palpate

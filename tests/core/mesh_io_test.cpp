@@ -229,7 +229,7 @@ TEST_F(MeshIoTest, PlyHeaderWithoutEndInTheScannedBytesIsRefused) {
   std::string header = "ply\nformat ascii 1.0\nelement vertex 2000000000\n";
   while (header.size() < 70000) header += "comment padding padding padding padding padding padding\n";
   const std::string path = write("endless.ply", header + "end_header\n0 0 0\n");
-  expect_error(load_mesh(path), path, "PLY header: no end_header in the first 65536 bytes");
+  expect_error(load_mesh(path), path, "PLY header: no end_header line in the first 65536 bytes");
 }
 
 TEST_F(MeshIoTest, PlyHeaderWithCarriageReturnLineEndsIsChecked) {
@@ -243,6 +243,81 @@ TEST_F(MeshIoTest, PlyHeaderWithCarriageReturnLineEndsIsChecked) {
 TEST_F(MeshIoTest, OffCommentsWithCarriageReturnsAreChecked) {
   const std::string path = write("cr.off", "OFF\r# comment\r353535235358 6 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r");
   expect_error(load_mesh(path), path, "header declares 353535235358 vertices and 6 faces, more than the");
+}
+
+// found by the mesh fuzzer: assimp reads any .off file as OFF and reserves what its counts say, whether the
+// header word is "OFF99" or missing (15.7 GB and 148 s before these were checked)
+TEST_F(MeshIoTest, OffCountsAreCheckedWhateverTheHeaderWord) {
+  for (const std::string& head : {std::string("OFF99 \n"), std::string("COFF\n"), std::string("nOFF 3\n"), std::string()}) {
+    const std::string path = write("word.off", head + "999999999 999999999 0\n0 0 0\n");
+    expect_error(load_mesh(path), path, "header declares 999999999 vertices and 999999999 faces, more than the");
+  }
+  // an OFF keyword in a file of another extension is checked as before
+  const std::string obj = write("off_inside.obj", "NOFF 999999999 999999999 0\n");
+  expect_error(load_mesh(obj), obj, "header declares 999999999 vertices and 999999999 faces");
+  // a valid file with the counts on the keyword's line still loads
+  auto ok = load_mesh(write("ok.off", "OFF 4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
+  ASSERT_TRUE(ok) << ok.error().message;
+  EXPECT_EQ(ok.value().triangles.size(), 4u);
+}
+
+// found by the mesh fuzzer: a header line that only contains end_header ("xend_header") does not end the header
+// for assimp, which then reads the binary body as header text past its buffer (a crash under ASan)
+TEST_F(MeshIoTest, PlyEndHeaderMustBeALineOfItsOwn) {
+  const std::string head = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 4\nproperty list uchar int vertex_indices\n";
+  const std::string path = write("xend.ply", head + "csieend_header\n" + std::string(40, '\0'));
+  ASSERT_FALSE(check_mesh_file(path));
+  EXPECT_EQ(check_mesh_file(path).error().message,
+            "mesh '" + path + "': PLY header: no end_header line in the first " + std::to_string(head.size() + 55) + " bytes");
+  // indented, or with CRLF line ends, it still ends the header
+  EXPECT_TRUE(check_mesh_file(write("indented.ply", "ply\nformat ascii 1.0\nelement vertex 0\n  end_header\n")));
+  EXPECT_TRUE(check_mesh_file(write("crlf.ply", "ply\r\nformat ascii 1.0\r\nelement vertex 0\r\nend_header\r\n")));
+}
+
+// found by the mesh fuzzer: short vertex lines in an ASCII PLY shift its values so the face list reads as empty;
+// assimp's triangulation aborted the process on such a face (ai_assert numOut != pMesh->mNumFaces)
+TEST_F(MeshIoTest, AnEmptyFaceIsAnErrorNotAnAbort) {
+  const std::string path = write("short.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                              "end_header\n0 0 0\n1 1\n0 0\n0 1 0\n3 0 1 2\n");
+  auto r = load_mesh(path);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, "mesh '" + path + "': face 0 has no vertex indices");
+}
+
+// found by the mesh fuzzer: a face line listing fewer indices than it declares made assimp's OFF reader read past
+// the end of the file (SIGSEGV in a release build), and a .ply file whose first word is not "ply" was not
+// checked, so a header with no end_header hung assimp's PLY reader
+TEST_F(MeshIoTest, OffFaceListingTooFewIndicesAndAnyPlyHeaderAreRefused) {
+  const std::string path = write("short_face.off", "OFF\r4 4 0\r0 0 0\r1 0 0\r0 1 0\r0 4 1\r12\r3 1 0\r0\r");
+  auto r = load_mesh(path);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, "mesh '" + path + "': face 0 declares 12 vertex indices, its line lists 0");
+  const std::string ply = write("plyply.ply", "plyply\nformat ascii 1.\nfo0\nelement verrtm");
+  ASSERT_FALSE(check_mesh_file(ply));
+  EXPECT_EQ(check_mesh_file(ply).error().message, "mesh '" + ply + "': PLY header: no end_header line in the first 41 bytes");
+  // counts split over lines, and a short vertex line, put assimp's reader out of step (SIGSEGV as well)
+  const std::string split = write("split.off", "OFF\r2\r1 0 00 0 0\r4 4 0\r0 \r10");
+  EXPECT_EQ(load_mesh(split).error().message, "mesh '" + split + "': OFF header: no vertex and face counts on one line");
+  const std::string short_vertex = write("short_vertex.off", "OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(load_mesh(short_vertex).error().message, "mesh '" + short_vertex + "': vertex 1: fewer than 3 coordinates on its line");
+  // a face of no indices, and a comment line among the faces (which assimp reads as such a face), crashed it too
+  const std::string empty = write("empty_face.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(load_mesh(empty).error().message, "mesh '" + empty + "': face 0 declares no vertex indices");
+  const std::string comment = write("comment.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n# faces\n3 0 1 2\n3 0 1 3\n");
+  EXPECT_EQ(load_mesh(comment).error().message,
+            "mesh '" + comment + "': a blank or comment line inside the vertex and face lists (before face 0)");
+  const std::string blank = write("blank.off", "OFF\r4 4 0\r0 0 0\r1 0 0\r0 1 0\r0 0 1\r3 0 2 1\r  \r3 0 1 3\r3 0 3 2\r3 1 2 3\r");
+  EXPECT_EQ(load_mesh(blank).error().message,
+            "mesh '" + blank + "': a blank or comment line inside the vertex and face lists (before face 1)");
+  // CRLF line ends are no blank lines
+  EXPECT_TRUE(load_mesh(write("crlf.off", "OFF\r\n4 4 0\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n0 0 1\r\n3 0 2 1\r\n3 0 1 3\r\n3 0 3 2\r\n3 1 2 3\r\n")));
+  // comments before the counts are fine
+  EXPECT_TRUE(load_mesh(write("head_comment.off", "OFF\n# made by hand\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")));
+  // faces with extra values after their indices (colours) are whole
+  auto ok = load_mesh(write("colours.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
+  ASSERT_TRUE(ok) << ok.error().message;
 }
 
 TEST_F(MeshIoTest, OffFaceIndexBeyondTheVertexListIsAnError) {
@@ -298,7 +373,7 @@ TEST_F(MeshIoTest, PlyWithoutEndHeaderOrWithAnImpossibleListIsRefused) {
                            "property float z\nelement face 1\nproperty list uint int vertex_indices\n";
   const std::string no_end = write("no_end.ply", head);
   ASSERT_FALSE(check_mesh_file(no_end));
-  EXPECT_EQ(check_mesh_file(no_end).error().message, "mesh '" + no_end + "': PLY header: no end_header in the first " +
+  EXPECT_EQ(check_mesh_file(no_end).error().message, "mesh '" + no_end + "': PLY header: no end_header line in the first " +
                                                          std::to_string(head.size()) + " bytes");
   std::string body(36, '\0');
   const std::string list = write("list.ply", head + "end_header\n" + body + std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0'));

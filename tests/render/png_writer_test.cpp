@@ -156,6 +156,32 @@ TEST(PngWriter, WriteFailuresAreCountedWithTheFirstPath) {
   EXPECT_TRUE(writer.png_ms().empty());
 }
 
+// a frame that cannot be written (here a folder in its place; on a full disk ENOSPC) ends the sequence: no later
+// frame is renamed, so the folder keeps the gapless prefix before it and no temporary
+TEST(PngWriter, AFailedFrameEndsTheSequenceWithoutAGap) {
+  test::ScratchDir dir("png_writer_gap");
+  std::filesystem::create_directory(frame_path(dir, 3));
+  PngWriterConfig config;
+  config.threads = 2;
+  PngWriter writer(dir.str(), kW, kH, 4, config);
+  for (int i = 0; i < 8; ++i) {
+    uint8_t* buffer = writer.acquire(true);
+    ASSERT_NE(buffer, nullptr);
+    fill_frame(buffer, i);
+    writer.submit(i, buffer);
+  }
+  writer.finish();
+  EXPECT_EQ(writer.frames_written(), 3);
+  EXPECT_EQ(writer.write_errors(), 5);
+  EXPECT_NE(writer.first_error().find(frame_path(dir, 3) + "': is not a regular file"), std::string::npos)
+      << writer.first_error();
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(read_png(frame_path(dir, i)).ok()) << i;
+  EXPECT_TRUE(std::filesystem::is_directory(frame_path(dir, 3)));
+  for (int i = 4; i < 8; ++i) EXPECT_FALSE(std::filesystem::exists(frame_path(dir, i))) << i;
+  for (const auto& e : std::filesystem::directory_iterator(dir.str()))
+    EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+}
+
 TEST(PngWriter, SubmitAfterFinishAndForeignBuffersAreErrors) {
   test::ScratchDir dir("png_writer");
   PngWriter writer(dir.str(), kW, kH, 2);

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 const std::string kCorpus = "tests/hostile";
 // seconds one input may take: 120, or $PALPATE_HOSTILE_TIME_LIMIT_S (the AddressSanitizer stage of .ci/run
-// gives 300: refusing 100001 keyframes takes 7 s in a release build and 2 minutes under the sanitizers)
+// gives 300: the slowest inputs, such as a 64 MiB replay line, take far longer under the sanitizers)
 int time_limit_s() {
   const char* env = std::getenv("PALPATE_HOSTILE_TIME_LIMIT_S");
   const int s = env ? std::atoi(env) : 0;

@@ -303,7 +303,8 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
     f.max_force_N = sc.max_force_N;
     opt.live->finish(f);
   }
-  if (!summary_status) return summary_status.error();
+  // a full disk: the first file that failed is named, not summary.json, which fails after it
+  if (!summary_status && log_status && !(rec.writer && rec.writer->write_errors() > 0)) return summary_status.error();
   if (rec.writer && rec.writer->write_errors() > 0)
     return make_error(std::to_string(rec.writer->write_errors()), " frame(s) could not be written: ",
                       rec.writer->first_error());
