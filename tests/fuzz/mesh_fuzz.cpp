@@ -4,7 +4,8 @@
 // limits and the vertex bindings), with the limits a user gets: a Model or a one-line error naming the mesh,
 // never a crash, a hang, a leak or undefined behaviour; a loaded model holds finite vertices inside its
 // normalisation cube and triangles that index them. Built once per format hint (PALPATE_FUZZ_MESH_EXT: off,
-// ply, obj, stl, dae), each from its own seeds in tests/fuzz/corpus/mesh_<ext>/.
+// ply, obj, stl, dae), each from its own seeds in tests/fuzz/corpus/mesh_<ext>/. The reader runs in this process
+// (LLVMFuzzerInitialize), not in the child palpate forks for it.
 #include <unistd.h>
 
 #include <cstddef>
@@ -13,6 +14,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "core/mesh_io.h"
 #include "core/scene.h"
 #include "tools/session/model.h"
 
@@ -47,6 +49,13 @@ palpate::Scene scene_for(const std::string& mesh_path) {
 }
 
 }  // namespace
+
+// the reader runs in this process here (palpate forks a child for it): its crashes are the findings, and a child
+// per input would hide its coverage and cost a fork each
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  palpate::set_default_mesh_reader_isolation(palpate::MeshReaderIsolation::in_process);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   static FuzzFile file;
