@@ -20,6 +20,7 @@
 #include "sim/stability.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
+#include "tools/bench_mesh.h"
 #include "tools/bench_model.h"
 #include "tools/bench_png.h"
 #include "tools/bench_scale.h"
@@ -349,6 +350,13 @@ int main(int argc, char** argv) {
   bpng->add_option("--reps", po.repetitions, "Passes over the frames")->check(CLI::Range(1, 1000))->capture_default_str();
   bpng->add_option("--json", po.json_path, "Write the rows as JSON");
 
+  auto* bmesh = bench->add_subcommand("mesh", "Mesh loading with the reader in a child process against in this "
+                                      "process, alternately (median and fastest ms, ratio)");
+  palpate::BenchMeshOptions mso;
+  bmesh->add_option("files", mso.files, "Valid mesh files (e.g. scenes/bunny.obj)")->required();
+  bmesh->add_option("--reps", mso.repetitions, "Loads per way and file")->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -416,7 +424,7 @@ int main(int argc, char** argv) {
                  "implicit_euler, local_global, rk4\n", mo_integrator.c_str());
     return 2;
   }
-  if (*bscale || *bmat || *bsim || *bpng) {
+  if (*bscale || *bmat || *bsim || *bpng || *bmesh) {
     // the table (and any JSON) first; the plot is drawn after, so a missing gnuplot loses neither
     palpate::PlotSpec plot;
     std::string plot_path;
@@ -429,6 +437,8 @@ int main(int argc, char** argv) {
       plot_path = mo.plot_path;
     } else if (*bpng) {
       table = palpate::run_bench_png(po);
+    } else if (*bmesh) {
+      table = palpate::run_bench_mesh(mso);
     } else if (so.box_cells.empty()) {
       table = palpate::run_bench_sim(bsim_scene, so, &plot);
       plot_path = so.plot_path;
