@@ -4,6 +4,7 @@
 # fuzzer finds go to build-fuzz/corpus/<target>/ (the committed seeds are only read); a crash, a leak, undefined
 # behaviour, a timeout or running out of memory stops the script with the input saved as
 # build-fuzz/findings/<target>-crash-<hash> (replay: build-fuzz/bin/palpate_fuzz_<target> FILE).
+# SECONDS 0 runs every committed seed of each target once (a regression check that cannot find anything new).
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   targets: scene replay_csv shm_pose mesh_off mesh_ply mesh_obj
 #   mesh_stl mesh_dae (the mesh load path, one per format hint). mesh_off and mesh_dae run only when named: they
 #   still find crashes inside the system's assimp within a minute (an OFF face line of unreadable indices after
@@ -29,9 +30,16 @@ for t in "${targets[@]}"; do
   mkdir -p "build-fuzz/corpus/$t"
   rm -f "build-fuzz/findings/$t-"*
   status=0
-  build-fuzz/bin/palpate_fuzz_"$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
-    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=15 -max_len=65536 -print_final_stats=1 \
-    -artifact_prefix="build-fuzz/findings/$t-" >"build-fuzz/fuzz-$t.log" 2>&1 || status=$?
+  if [ "$seconds" = 0 ]; then
+    # each seed file once: libFuzzer runs the files it is given and exits
+    build-fuzz/bin/palpate_fuzz_"$t" -rss_limit_mb=2048 -timeout=15 -artifact_prefix="build-fuzz/findings/$t-" \
+      "tests/fuzz/corpus/$t"/* >"build-fuzz/fuzz-$t.log" 2>&1 || status=$?
+    grep -c '^Executed ' "build-fuzz/fuzz-$t.log" | sed "s/^/seeds run: /" || true
+  else
+    build-fuzz/bin/palpate_fuzz_"$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
+      -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=15 -max_len=65536 -print_final_stats=1 \
+      -artifact_prefix="build-fuzz/findings/$t-" >"build-fuzz/fuzz-$t.log" 2>&1 || status=$?
+  fi
   grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb|INFO: seed corpus|Done)' "build-fuzz/fuzz-$t.log" || true
   if [ "$status" -ne 0 ]; then
     tail -n 60 "build-fuzz/fuzz-$t.log" >&2
