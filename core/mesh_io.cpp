@@ -267,7 +267,7 @@ void set_default_mesh_reader_isolation(MeshReaderIsolation isolation) {
 }
 
 double mesh_reader_time_limit_s(int64_t file_bytes) {
-  return 60.0 + 60.0 * static_cast<double>(std::max<int64_t>(file_bytes, 0)) / 100e6;
+  return 10.0 + 60.0 * static_cast<double>(std::max<int64_t>(file_bytes, 0)) / 100e6;
 }
 
 Result<TriMesh> load_mesh(const std::string& path, const MeshReadOptions& options) {
