@@ -88,6 +88,7 @@ Eigen::Vector2d Renderer::project(const Vec3& p_m) const {
 }
 
 void Renderer::draw(const FrameView& view, uint8_t* rgba) {
+  ++draws_;
   ctx_->make_current();
   const GlApi& gl = ctx_->gl();
   // both paths draw into the renderer's own framebuffer when there is one, so their pixels compare exactly

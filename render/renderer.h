@@ -57,10 +57,15 @@ class Renderer {
   void set_layered(bool on) { layered_ = on; }
   /// Whether the last draw() used the cached layer.
   bool last_draw_layered() const { return last_layered_; }
+  /// Frames drawn so far (calls of draw()).
+  int64_t draws() const { return draws_; }
   /// Times the cached layer was redrawn.
   int64_t layer_builds() const { return layer_builds_; }
   /// Pixel coordinates (x right, y down, origin top-left) of a world point; NaN when behind the camera.
   Eigen::Vector2d project(const Vec3& p_m) const;
+  /// Size in pixels of the frames draw() reads (the context's).
+  int width() const { return ctx_->width(); }
+  int height() const { return ctx_->height(); }
   /// Replaces the camera (e.g. an orbiting view).
   void set_camera(const Camera& camera);
   /// The current camera.
@@ -111,6 +116,7 @@ class Renderer {
   std::size_t layer_vertices_ = 0, layer_triangles_ = 0;  // mesh size the layer was drawn for
   bool last_layered_ = false;
   int64_t layer_builds_ = 0;
+  int64_t draws_ = 0;
 };
 
 }  // namespace palpate

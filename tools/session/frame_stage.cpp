@@ -293,14 +293,7 @@ void FrameStage::publish_patch() {
   local_model_->publish();
 }
 
-void FrameStage::render(int64_t index, bool block) {
-  if (!renderer_ || !writer_) return;
-  const auto t0 = std::chrono::steady_clock::now();
-  uint8_t* buf = writer_->acquire(block);
-  if (!buf) {
-    ++stats_.frames_dropped;
-    return;
-  }
+FrameView FrameStage::current_view() const {
   FrameView view{};
   view.vertices_m = &vertices_m_;
   view.triangles = &triangles();
@@ -314,6 +307,24 @@ void FrameStage::render(int64_t index, bool block) {
   view.proxy_pos_m = latest_.proxy_pos_m;
   // what may move (the rest comes from the renderer's cached layer), the blade
   region_->fill_view(latest_, &view);
+  return view;
+}
+
+void FrameStage::warm_up() {
+  if (!renderer_) return;
+  warm_rgba_.resize(static_cast<std::size_t>(renderer_->width()) * static_cast<std::size_t>(renderer_->height()) * 4);
+  renderer_->draw(current_view(), warm_rgba_.data());
+}
+
+void FrameStage::render(int64_t index, bool block) {
+  if (!renderer_ || !writer_) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  uint8_t* buf = writer_->acquire(block);
+  if (!buf) {
+    ++stats_.frames_dropped;
+    return;
+  }
+  const FrameView view = current_view();
   renderer_->draw(view, buf);
   stats_.frames_layered += renderer_->last_draw_layered() ? 1 : 0;
   // the video gets its own copy: its frame index is the scene's, so a skipped frame holds the last one shown

@@ -55,6 +55,10 @@ class FrameStage {
   void use_budget(BudgetClock* clock);
   /// The budget controller, when one runs.
   const FrameBudget* budget() const { return budget_ ? &*budget_ : nullptr; }
+  /// Draws the current state once without writing it anywhere: a realtime run calls it before its clock starts,
+  /// so the first frame's deadline does not pay for the renderer's one-time set-up (the GL driver compiles its
+  /// shaders on the first draw: tens of ms). Frames drawn afterwards are the same pixels. No-op without a renderer.
+  void warm_up();
   /// Drains and logs samples left after the last frame.
   void drain_remaining();
   /// 16-hex-digit hash of lattice state and deformed mesh.
@@ -101,6 +105,8 @@ class FrameStage {
   void fill_contact_model(LocalModel* m);
   void publish_patch();
   void render(int64_t index, bool block);
+  // what a frame drawn now shows
+  FrameView current_view() const;
 
   const Scene& scene_;
   const Model& model_;
@@ -124,6 +130,7 @@ class FrameStage {
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)
+  std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step

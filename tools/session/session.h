@@ -78,6 +78,8 @@ class Session {
   void frame(int64_t index, bool block_on_writer) { frame_at(index, frame_time_s(index), block_on_writer); }
   /// Frame `index` at scene time t_s.
   void frame_at(int64_t index, double t_s, bool block_on_writer) { stage_.frame(index, t_s, block_on_writer); }
+  /// Draws the current state once, written nowhere (FrameStage::warm_up): before a realtime clock starts.
+  void warm_up() { stage_.warm_up(); }
   /// Scene time of frame `index`.
   double frame_time_s(int64_t index) const { return static_cast<double>(index) * rates_.frame_period_s(); }
   /// Drains and logs the samples left after the last frame (the servo must have stopped).

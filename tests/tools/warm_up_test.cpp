@@ -1,0 +1,121 @@
+// FrameStage::warm_up, which a realtime run calls before its clock starts: it draws the current state once into a
+// buffer of its own, so nothing is written for it, and the frames drawn afterwards are byte for byte those of a
+// stage that never warmed up (the layered path included: the box is pressed, so a lattice region forms).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "render/png_writer.h"
+#include "render/renderer.h"
+#include "support/fixtures.h"
+#include "tools/session/frame_stage.h"
+
+namespace palpate {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kBox = R"({
+  "mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 12, "size_m": 0.06},
+  "grid": {"levels": 4},
+  "lattice": {"level": 4, "radius_cells": 1, "node_mass_kg": 0.003,
+              "stiffness_N_per_m": {"structural": 60, "shear": 30, "bend": 15},
+              "damping_Ns_per_m": 0.06, "fix_floor": true},
+  "interaction": {"mode": "touch"},
+  "trajectory": [{"t_s": 0.0, "pos_m": [0.0, 0.0, 0.05]}],
+  "render": {"width": 96, "height": 72, "style": "both", "backend": "osmesa"},
+  "duration_s": 1.0
+})";
+
+constexpr int kFrames = 20;
+
+struct PressRun {
+  int64_t draws_before_first_frame = 0;  // renderer draws made before frame 0
+  int written_before_first_frame = 0;    // files the writer had written before frame 0
+  int written = 0;
+  int64_t layered = 0;
+};
+
+// The box pressed at the centre of its top face for kFrames frames, drawn into dir; warm: warm_up() first.
+PressRun pressed_box(const std::string& dir, bool warm) {
+  const Scene scene = parse_scene(kBox, "box.json").value();
+  const Model model = load_model(scene).value();
+  auto ctx = create_gl_context(scene.render.width, scene.render.height, RenderBackend::kOsmesa);
+  EXPECT_TRUE(ctx) << ctx.error().message;
+  const auto& box = model.rest;
+  Vec3 lo = box.vertices_m[0], hi = box.vertices_m[0];
+  for (const Vec3& v : box.vertices_m) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  Renderer renderer(ctx.value().get(), scene.render.style,
+                    Camera::framing(lo, hi, static_cast<double>(scene.render.width) / scene.render.height));
+  fs::create_directories(dir);
+  PngWriter writer(dir, scene.render.width, scene.render.height, 3);
+  SpscQueue<HapticSample> samples(4096);
+  TripleBuffer<LocalModel> local;
+  FrameStage stage(scene, model, &samples, &local, &renderer, &writer, nullptr);
+  PressRun r;
+  if (warm) stage.warm_up();
+  r.draws_before_first_frame = renderer.draws();
+  r.written_before_first_frame = writer.frames_written();
+  // the top-face triangle nearest the centre
+  int32_t tri = -1;
+  Vec3 c = Vec3::Zero();
+  double best = 1e9;
+  for (std::size_t t = 0; t < box.triangles.size(); ++t) {
+    const auto& tr = box.triangles[t];
+    const Vec3 m = (box.vertices_m[tr[0]] + box.vertices_m[tr[1]] + box.vertices_m[tr[2]]) / 3.0;
+    if (m.z() < hi.z() - 1e-4 || m.head<2>().norm() >= best) continue;
+    best = m.head<2>().norm(), tri = static_cast<int32_t>(t), c = m;
+  }
+  EXPECT_GE(tri, 0);
+  int64_t tick = 0;
+  for (int f = 0; f < kFrames; ++f) {
+    for (int k = 0; k < 16; ++k) {
+      HapticSample s;
+      s.tick = tick++;
+      s.t_s = static_cast<double>(s.tick) * 1e-3;
+      s.tool_pos_m = c - Vec3(0, 0, 0.002);
+      s.proxy_pos_m = c;
+      s.contact = ContactState::kTouch;
+      s.contact_tri = tri;
+      s.contact_bary = Vec3::Constant(1.0 / 3.0);
+      s.force_N = Vec3(0, 0, 0.6);
+      EXPECT_TRUE(samples.try_push(s));
+    }
+    stage.frame(f, f / 60.0, true);
+  }
+  writer.finish();
+  r.written = writer.frames_written();
+  r.layered = stage.stats().frames_layered;
+  return r;
+}
+
+std::string bytes_of(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(FrameStage, WarmUpDrawsOnceWritesNothingAndLeavesEveryFrameUnchanged) {
+  const std::string cold_dir = test::fresh_dir("warm_up_cold"), warm_dir = test::fresh_dir("warm_up_warm");
+  const PressRun cold = pressed_box(cold_dir, false);
+  const PressRun warm = pressed_box(warm_dir, true);
+  EXPECT_EQ(cold.draws_before_first_frame, 0);
+  EXPECT_EQ(warm.draws_before_first_frame, 1);  // it did draw
+  EXPECT_EQ(warm.written_before_first_frame, 0);  // and wrote nothing
+  ASSERT_EQ(cold.written, kFrames);
+  ASSERT_EQ(warm.written, kFrames);
+  EXPECT_GT(warm.layered, 0);  // the cached-layer path ran after the warm-up
+  int differing = 0;
+  for (const auto& entry : fs::directory_iterator(cold_dir)) {
+    const fs::path other = fs::path(warm_dir) / entry.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other;
+    differing += bytes_of(entry.path()) == bytes_of(other) ? 0 : 1;
+  }
+  EXPECT_EQ(differing, 0);
+}
+
+}  // namespace
+}  // namespace palpate
