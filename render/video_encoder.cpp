@@ -136,8 +136,11 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::open(const std::string& path
     ctx->thread_count = 1;
     if (im->fmt->oformat->flags & AVFMT_GLOBALHEADER) ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     AVDictionary* opts = nullptr;
-    av_dict_set(&opts, "preset", "veryfast", 0);
-    av_dict_set(&opts, "crf", "20", 0);
+    // ultrafast at CRF 26 against veryfast at CRF 20 on bunny_pull (six alternating recordings on a quiet machine):
+    // encode p50 2.5 vs 3.3 ms a frame, 11 % less CPU per run, PSNR against the PNG frames 50.1 vs 44.0 dB, files
+    // 1.8x larger (509 vs 285 kB for 4 s); the recording is then 4.1x faster than real time instead of 3.6x
+    av_dict_set(&opts, "preset", "ultrafast", 0);
+    av_dict_set(&opts, "crf", "26", 0);
     rc = avcodec_open2(ctx, codec, &opts);
     av_dict_free(&opts);
     if (rc < 0) {
