@@ -1,85 +1,197 @@
 #include "sim/contact_compliance.h"
 
 #include <algorithm>
+#include <limits>
+#include <vector>
 
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
+#include <Eigen/OrderingMethods>
 
 namespace palpate {
 
 namespace {
 constexpr double kSingularPivot = 1e-10;  // relative pivot below which K is taken as singular
+
+// K's block (row, col), row != col, of one spring (two springs on one pair give two entries, summed when used)
+struct OffBlock {
+  int32_t col = 0, row = 0;
+  Mat3 k = Mat3::Zero();
+};
 }  // namespace
 
+// K is assembled and factorised as n x n 3x3 blocks (one per node pair), K = L D L^T with L block unit lower
+// triangular and D block diagonal: every operation is a fixed-size 3x3 product instead of a scalar one with its own
+// index, and the ordering and elimination tree are those of the node graph (9 times fewer entries than the dofs').
+// The scalar pivots are those of an LDL^T of K with each node's three dofs eliminated together.
 struct ContactCompliance::Impl {
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  std::vector<int32_t> dof_of_node;  // first dof of each free node, -1 for fixed (n)
+  std::vector<int32_t> free_of_node;  // free-node number of each node, -1 for fixed (n)
+  std::vector<int32_t> order;         // order[k] = the free node eliminated k-th (nf)
+  std::vector<int32_t> pos;           // pos[f] = when free node f is eliminated (nf)
+  // K's strict upper triangle in elimination order, by column: rows up_row[up_ptr[k] .. up_ptr[k+1]) < k
+  std::vector<int32_t> up_ptr, up_row;
+  std::vector<Mat3> up_val, diag;     // its blocks, and K's diagonal blocks (nf)
+  // L's strict lower triangle by column (rows l_row[l_ptr[j] ..+ l_nz[j]) > j) and D^-1
+  std::vector<int32_t> parent, l_ptr, l_nz, l_row, flag, pattern;
+  std::vector<Mat3> l_val, d_inv, y;
+  std::vector<OffBlock> off;
   std::size_t nodes = 0, springs = 0;
   bool ok = false;
+
+  bool factor(const Lattice& lat);
 };
+
+bool ContactCompliance::Impl::factor(const Lattice& lat) {
+  const std::size_t n = lat.num_nodes();
+  free_of_node.assign(n, -1);
+  int32_t nf = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!lat.fixed[i]) free_of_node[i] = nf++;
+  if (nf == 0) return false;
+  const auto unf = static_cast<std::size_t>(nf);
+  // material stiffness k u u^T per spring (positive semi-definite), assembled over free nodes
+  diag.assign(unf, Mat3::Zero());
+  off.clear();
+  for (const Spring& s : lat.springs) {
+    const Vec3 d = lat.x_m[s.b] - lat.x_m[s.a];
+    const double len = d.norm();
+    if (!(len > 0.0)) continue;
+    const Vec3 u = d / len;
+    const Mat3 k = s.k_N_per_m * u * u.transpose();
+    const int32_t fa = free_of_node[static_cast<std::size_t>(s.a)], fb = free_of_node[static_cast<std::size_t>(s.b)];
+    if (fa >= 0) diag[static_cast<std::size_t>(fa)] += k;
+    if (fb >= 0) diag[static_cast<std::size_t>(fb)] += k;
+    if (fa >= 0 && fb >= 0 && fa != fb) {
+      off.push_back({fa, fb, -k});
+      off.push_back({fb, fa, -k});
+    }
+  }
+  // fill-reducing ordering of the node graph (both triangles, pattern only)
+  std::sort(off.begin(), off.end(), [](const OffBlock& a, const OffBlock& b) { return a.col != b.col ? a.col < b.col : a.row < b.row; });
+  {
+    Eigen::SparseMatrix<double> g(nf, nf);
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(off.size() + unf);
+    for (int32_t f = 0; f < nf; ++f) t.emplace_back(f, f, 1.0);
+    for (const OffBlock& e : off) t.emplace_back(e.row, e.col, 1.0);
+    g.setFromTriplets(t.begin(), t.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+    Eigen::AMDOrdering<int>()(g, perm);
+    order.assign(perm.indices().data(), perm.indices().data() + nf);
+  }
+  pos.assign(unf, 0);
+  for (int32_t k = 0; k < nf; ++k) pos[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
+  // the strict upper triangle in elimination order (a pair's entries stay apart; the factorisation adds them)
+  up_ptr.assign(unf + 1, 0);
+  for (const OffBlock& e : off)
+    if (pos[static_cast<std::size_t>(e.row)] < pos[static_cast<std::size_t>(e.col)]) ++up_ptr[static_cast<std::size_t>(pos[static_cast<std::size_t>(e.col)]) + 1];
+  for (std::size_t k = 0; k < unf; ++k) up_ptr[k + 1] += up_ptr[k];
+  up_row.assign(static_cast<std::size_t>(up_ptr[unf]), 0);
+  up_val.assign(up_row.size(), Mat3::Zero());
+  std::vector<int32_t>& next = flag;  // fill position per column
+  next.assign(up_ptr.begin(), up_ptr.end() - 1);
+  for (const OffBlock& e : off) {
+    const int32_t r = pos[static_cast<std::size_t>(e.row)], c = pos[static_cast<std::size_t>(e.col)];
+    if (r >= c) continue;
+    const auto at = static_cast<std::size_t>(next[static_cast<std::size_t>(c)]++);
+    up_row[at] = r;
+    up_val[at] = e.k;
+  }
+  // elimination tree and column counts of L (up-looking: row k of L is the tree reach of column k's rows)
+  parent.assign(unf, -1);
+  l_nz.assign(unf, 0);
+  flag.assign(unf, -1);
+  for (int32_t k = 0; k < nf; ++k) {
+    flag[static_cast<std::size_t>(k)] = k;
+    for (int32_t p = up_ptr[static_cast<std::size_t>(k)]; p < up_ptr[static_cast<std::size_t>(k) + 1]; ++p)
+      for (int32_t i = up_row[static_cast<std::size_t>(p)]; flag[static_cast<std::size_t>(i)] != k; i = parent[static_cast<std::size_t>(i)]) {
+        if (parent[static_cast<std::size_t>(i)] == -1) parent[static_cast<std::size_t>(i)] = k;
+        ++l_nz[static_cast<std::size_t>(i)];
+        flag[static_cast<std::size_t>(i)] = k;
+      }
+  }
+  l_ptr.assign(unf + 1, 0);
+  for (std::size_t k = 0; k < unf; ++k) l_ptr[k + 1] = l_ptr[k] + l_nz[k];
+  l_row.assign(static_cast<std::size_t>(l_ptr[unf]), 0);
+  l_val.assign(l_row.size(), Mat3::Zero());
+  d_inv.assign(unf, Mat3::Zero());
+  y.assign(unf, Mat3::Zero());
+  pattern.assign(unf, 0);
+  // numeric: row k of L from the triangular solve L D l_k^T = K(0:k, k), then D_k = K_kk - sum_i L_ki D_i L_ki^T
+  double d_max = 0.0, d_min = std::numeric_limits<double>::infinity();
+  for (int32_t k = 0; k < nf; ++k) {
+    const auto uk = static_cast<std::size_t>(k);
+    int32_t top = nf;
+    flag[uk] = k;
+    l_nz[uk] = 0;
+    for (int32_t p = up_ptr[uk]; p < up_ptr[uk + 1]; ++p) {
+      int32_t i = up_row[static_cast<std::size_t>(p)];
+      y[static_cast<std::size_t>(i)] += up_val[static_cast<std::size_t>(p)];
+      int32_t len = 0;
+      for (; flag[static_cast<std::size_t>(i)] != k; i = parent[static_cast<std::size_t>(i)]) {
+        pattern[static_cast<std::size_t>(len++)] = i;
+        flag[static_cast<std::size_t>(i)] = k;
+      }
+      while (len > 0) pattern[static_cast<std::size_t>(--top)] = pattern[static_cast<std::size_t>(--len)];
+    }
+    Mat3 d = diag[static_cast<std::size_t>(order[uk])];
+    for (; top < nf; ++top) {
+      const auto i = static_cast<std::size_t>(pattern[static_cast<std::size_t>(top)]);
+      const Mat3 yi = y[i];  // D_i L_ki^T
+      y[i].setZero();
+      const auto p0 = static_cast<std::size_t>(l_ptr[i]), p1 = p0 + static_cast<std::size_t>(l_nz[i]);
+      for (std::size_t p = p0; p < p1; ++p) y[static_cast<std::size_t>(l_row[p])].noalias() -= l_val[p] * yi;
+      const Mat3 lki = yi.transpose() * d_inv[i];
+      d.noalias() -= lki * yi;
+      l_row[p1] = k;
+      l_val[p1] = lki;
+      ++l_nz[i];
+    }
+    d = 0.5 * (d + d.transpose());
+    // the block's scalar pivots: its own LDL^T, dof by dof
+    const double p0 = d(0, 0);
+    const double p1 = p0 != 0.0 ? d(1, 1) - d(1, 0) * d(1, 0) / p0 : 0.0;
+    const double p2 = p1 != 0.0 ? d(2, 2) - d(2, 0) * d(2, 0) / p0 -
+                                      (d(2, 1) - d(2, 0) * d(1, 0) / p0) * (d(2, 1) - d(2, 0) * d(1, 0) / p0) / p1
+                                : 0.0;
+    if (p0 == 0.0 || p1 == 0.0 || p2 == 0.0) return false;
+    d_max = std::max({d_max, p0, p1, p2});
+    d_min = std::min({d_min, p0, p1, p2});
+    d_inv[uk] = d.inverse();
+  }
+  // a pivot at round-off level of the largest means a free motion (nothing fixed, a piece cut free): the system is
+  // singular even when no pivot is exactly zero
+  return d_max > 0.0 && d_min > kSingularPivot * d_max;
+}
 
 ContactCompliance::ContactCompliance() : impl_(std::make_unique<Impl>()) {}
 ContactCompliance::~ContactCompliance() = default;
 
 bool ContactCompliance::compute(const Lattice& lat, const PointWeights& w, bool refactor, Mat3* c_m_per_N) {
   Impl& m = *impl_;
-  const std::size_t n = lat.num_nodes();
-  if (refactor || n != m.nodes || lat.springs.size() != m.springs || !m.ok) {
-    m.nodes = n;
+  if (refactor || lat.num_nodes() != m.nodes || lat.springs.size() != m.springs || !m.ok) {
+    m.nodes = lat.num_nodes();
     m.springs = lat.springs.size();
-    m.dof_of_node.assign(n, -1);
-    // number free nodes consecutively, 3 dofs each
-    int32_t dofs = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (!lat.fixed[i]) m.dof_of_node[i] = 3 * dofs++;
-    const int32_t size = 3 * dofs;
-    if (size == 0) return m.ok = false;
-    // material stiffness k u u^T per spring (positive semi-definite), assembled over free dofs
-    std::vector<Eigen::Triplet<double>> trip;
-    trip.reserve(lat.springs.size() * 36);
-    for (const Spring& s : lat.springs) {
-      const Vec3 d = lat.x_m[s.b] - lat.x_m[s.a];
-      const double len = d.norm();
-      if (!(len > 0.0)) continue;
-      const Vec3 u = d / len;
-      const Mat3 k = s.k_N_per_m * u * u.transpose();
-      const int32_t da = m.dof_of_node[s.a], db = m.dof_of_node[s.b];
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) {
-          if (da >= 0) trip.emplace_back(da + r, da + c, k(r, c));
-          if (db >= 0) trip.emplace_back(db + r, db + c, k(r, c));
-          if (da >= 0 && db >= 0) {
-            trip.emplace_back(da + r, db + c, -k(r, c));
-            trip.emplace_back(db + r, da + c, -k(r, c));
-          }
-        }
-    }
-    Eigen::SparseMatrix<double> kmat(size, size);
-    kmat.setFromTriplets(trip.begin(), trip.end());
-    m.ldlt.compute(kmat);
-    m.ok = m.ldlt.info() == Eigen::Success;
-    if (!m.ok) return false;
-    // a pivot at round-off level of the largest means a free motion (nothing fixed, a piece cut free): the
-    // system is singular even when the factorisation "succeeds"
-    const Eigen::VectorXd d = m.ldlt.vectorD();
-    double d_max = 0.0, d_min = 0.0;
-    for (Eigen::Index i = 0; i < d.size(); ++i) {
-      d_max = i == 0 ? d[i] : std::max(d_max, d[i]);
-      d_min = i == 0 ? d[i] : std::min(d_min, d[i]);
-    }
-    m.ok = d_max > 0.0 && d_min > kSingularPivot * d_max;
+    m.ok = m.factor(lat);
     if (!m.ok) return false;
   }
-  // W: the point force's share on each free dof (3 columns, one per force direction)
-  Eigen::MatrixXd wmat = Eigen::MatrixXd::Zero(m.ldlt.rows(), 3);
+  // C = W^T K^-1 W = Z^T D^-1 Z with Z = L^-1 W (W: the point force's share on each free node, one 3x3 block
+  // w I per node): a forward solve only
+  std::vector<Mat3>& z = m.y;  // zero between uses
   for (int i = 0; i < w.count; ++i) {
-    const int32_t d = m.dof_of_node[static_cast<std::size_t>(w.node[i])];
-    if (d < 0) continue;
-    for (int r = 0; r < 3; ++r) wmat(d + r, r) += w.weight[i];
+    const int32_t f = m.free_of_node[static_cast<std::size_t>(w.node[i])];
+    if (f >= 0) z[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])].diagonal().array() += w.weight[i];
   }
-  const Eigen::MatrixXd x = m.ldlt.solve(wmat);
-  if (m.ldlt.info() != Eigen::Success || !x.allFinite()) return false;
-  const Mat3 c = wmat.transpose() * x;
+  Mat3 c = Mat3::Zero();
+  const std::size_t nf = m.d_inv.size();
+  for (std::size_t j = 0; j < nf; ++j) {
+    const Mat3 zj = z[j];
+    if (zj.isZero(0.0)) continue;
+    z[j].setZero();
+    for (auto p = static_cast<std::size_t>(m.l_ptr[j]); p < static_cast<std::size_t>(m.l_ptr[j] + m.l_nz[j]); ++p)
+      z[static_cast<std::size_t>(m.l_row[p])].noalias() -= m.l_val[p] * zj;
+    c.noalias() += zj.transpose() * m.d_inv[j] * zj;
+  }
+  if (!c.allFinite()) return false;
   // symmetric by construction up to round-off
   *c_m_per_N = 0.5 * (c + c.transpose());
   return true;
