@@ -34,6 +34,7 @@ struct ContactCompliance::Impl {
   std::vector<int32_t> parent, l_ptr, l_nz, l_row, flag, pattern;
   std::vector<Mat3> l_val, d_inv, y;
   std::vector<OffBlock> off;
+  uint64_t revision = 0;  // the factored lattice's
   std::size_t nodes = 0, springs = 0;
   bool ok = false;
 
@@ -168,7 +169,8 @@ ContactCompliance::~ContactCompliance() = default;
 
 bool ContactCompliance::compute(const Lattice& lat, const PointWeights& w, bool refactor, Mat3* c_m_per_N) {
   Impl& m = *impl_;
-  if (refactor || lat.num_nodes() != m.nodes || lat.springs.size() != m.springs || !m.ok) {
+  if (refactor || lat.revision != m.revision || lat.num_nodes() != m.nodes || lat.springs.size() != m.springs || !m.ok) {
+    m.revision = lat.revision;
     m.nodes = lat.num_nodes();
     m.springs = lat.springs.size();
     m.ok = m.factor(lat);

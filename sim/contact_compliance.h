@@ -34,8 +34,8 @@ struct PointWeights {
   }
 };
 
-/// Factorises the lattice's stiffness (rebuilt when the lattice's node or spring count changes or refresh is
-/// asked) and condenses it to a point. Thread: the sim thread. Not copyable.
+/// Factorises the lattice's stiffness (again when given another lattice or revision, or its node or spring count
+/// changes, or refactor is asked) and condenses it to a point. Thread: the sim thread. Not copyable.
 class ContactCompliance {
  public:
   ContactCompliance();

@@ -185,5 +185,25 @@ TEST(ContactCompliance, DeformedBlockLatticeMatchesADenseSolve) {
   }
 }
 
+TEST(ContactCompliance, AnotherLatticeOfTheSameSizeIsFactoredAnew) {
+  // a region moved by a cell has as many nodes and springs as before: the lattice's revision says it is new
+  LatticeSpec spec = test::spec_for(4, 40, 20, 10);
+  const Lattice a = test::make_block(4, 3, spec);
+  Lattice b = a;
+  for (std::size_t i = 0; i < b.num_nodes(); ++i) b.x_m[i] += 0.2 * b.cell_m * Vec3(std::sin(3.0 * i), std::cos(5.0 * i), 0.5);
+  b.touch();
+  PointWeights w;
+  for (int32_t i = 0; i < static_cast<int32_t>(a.num_nodes()); i += 7) ASSERT_TRUE(w.add(i, 1.0));
+  for (int i = 0; i < w.count; ++i) w.weight[i] = 1.0 / w.count;
+  ContactCompliance cc;
+  Mat3 c;
+  ASSERT_TRUE(cc.compute(a, w, true, &c));
+  const Mat3 ref_a = dense_compliance(a, w), ref_b = dense_compliance(b, w);
+  EXPECT_LT((c - ref_a).norm(), 1e-10 * ref_a.norm());
+  ASSERT_GT((ref_b - ref_a).norm(), 1e-3 * ref_a.norm());
+  ASSERT_TRUE(cc.compute(b, w, false, &c));
+  EXPECT_LT((c - ref_b).norm(), 1e-10 * ref_b.norm());
+}
+
 }  // namespace
 }  // namespace palpate
