@@ -75,6 +75,48 @@ TEST(FrameStage, NormalsKeptOnlyWhereTheRegionReachesEqualTheWholeMeshs) {
   EXPECT_GT(stage.stats().max_displacement_m, 1e-4);
 }
 
+TEST(FrameStage, ContactModelWaitsOneFrameAfterTheRegionIsPlacedOrMoved) {
+  // the sliding contact of the test above: on the frame that places the region and on each that moves it the servo
+  // gets no contact model (the compliance factor waits a frame), on every other frame in contact it gets one
+  const Scene scene = parse_scene(kBox, "box.json").value();
+  const Model model = load_model(scene).value();
+  SpscQueue<HapticSample> samples(4096);
+  TripleBuffer<LocalModel> local;
+  FrameStage stage(scene, model, &samples, &local, nullptr, nullptr, nullptr);
+  int64_t tick = 0, moves = 0, without = 0, with = 0;
+  for (int f = 0; f < 60; ++f) {
+    const double x = -0.02 + 0.04 * f / 60.0;
+    Vec3 c = Vec3::Zero();
+    const int32_t tri = top_triangle_near(model.rest, x, 0.0, &c);
+    ASSERT_GE(tri, 0);
+    for (int k = 0; k < 16; ++k) {
+      HapticSample s;
+      s.tick = tick++;
+      s.tool_pos_m = c - Vec3(0, 0, 0.002);
+      s.proxy_pos_m = c;
+      s.contact = ContactState::kTouch;
+      s.contact_tri = tri;
+      s.contact_bary = Vec3::Constant(1.0 / 3.0);
+      s.force_N = Vec3(0, 0, 0.6);
+      ASSERT_TRUE(samples.try_push(s));
+    }
+    const bool had_lattice = stage.lattice().has_value();
+    stage.frame(f, f / 60.0, true);
+    const bool changed = !had_lattice || stage.stats().region_moves > moves;
+    moves = stage.stats().region_moves;
+    const LocalModel& m = local.read();
+    ASSERT_EQ(m.frame, stage.stats().frames - 1);
+    EXPECT_EQ(m.has_contact_model, !changed) << "frame " << f;
+    (m.has_contact_model ? with : without) += 1;
+    if (m.has_contact_model) {
+      EXPECT_GT(m.compliance_m_per_N.trace(), 0.0) << "frame " << f;
+    }
+  }
+  EXPECT_GE(moves, 2);
+  EXPECT_EQ(without, 1 + moves);
+  EXPECT_EQ(with, 60 - without);
+}
+
 // A clock that advances by a fixed step at every reading: each mark of a frame costs that much.
 class SteppingClock final : public BudgetClock {
  public:

@@ -85,7 +85,10 @@ void FrameStage::place_region() {
     at.setZero();
     for (int c = 0; c < 3; ++c) at += contact_.contact_bary[c] * vertices_m_[tri[c]];
   }
-  if (region_->place(at, {&vertices_m_, &normals_})) region_changed();
+  if (region_->place(at, {&vertices_m_, &normals_})) {
+    region_changed();
+    compliance_next_frame_ = true;
+  }
 }
 
 void FrameStage::follow_contact() {
@@ -94,7 +97,10 @@ void FrameStage::follow_contact() {
   const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
   Vec3 p = Vec3::Zero();
   for (int c = 0; c < 3; ++c) p += contact_.contact_bary[c] * model_.rest.vertices_m[tri[c]];
-  if (region_->follow(p, {&vertices_m_, &normals_})) region_changed();
+  if (region_->follow(p, {&vertices_m_, &normals_})) {
+    region_changed();
+    compliance_next_frame_ = true;
+  }
 }
 
 bool FrameStage::step_lattice_frame() {
@@ -229,6 +235,12 @@ int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
 
 void FrameStage::fill_contact_model(LocalModel* m) {
   m->has_contact_model = false;
+  // a region placed or moved this frame has already built its lattice and the solver's factor: its compliance
+  // factor waits a frame, and the servo keeps the surface's own force model until then
+  if (compliance_next_frame_) {
+    compliance_next_frame_ = false;
+    return;
+  }
   if (!region_->lattice() || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
   const Lattice& lat = *region_->lattice();
   const PointWeights w = force_weights(latest_);

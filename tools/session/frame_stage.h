@@ -133,6 +133,7 @@ class FrameStage {
   std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
+  bool compliance_next_frame_ = false;  // the region was placed or moved this frame: no contact model until the next
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
   double t_s_ = 0.0;                 // scene time of the current frame
   double step_dt_s_ = 1.0 / 60.0;    // lattice step per frame
