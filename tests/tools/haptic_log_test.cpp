@@ -9,6 +9,7 @@
 
 #include "support/file_size_limit.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 
 namespace palpate {
 namespace {
@@ -45,10 +46,7 @@ TEST(HapticLog, APlantedLinkAtThePartialNameIsNotFollowed) {
   ASSERT_TRUE(log.open(path));
   log.append(HapticSample{});
   ASSERT_TRUE(log.close());
-  std::ifstream f(dir + "/victim");
-  std::string text;
-  std::getline(f, text);
-  EXPECT_EQ(text, "keep");
+  EXPECT_EQ(test::read_file(dir + "/victim"), "keep");
 }
 
 TEST(HapticLog, WritesOneRowPerSampleAndRenamesWhenClosed) {
