@@ -178,6 +178,11 @@ TEST(FullDisk, RecordNamesTheFileThatFailedAndKeepsWhatItWroteWhole) {
     ASSERT_FALSE(j.is_discarded()) << "summary.json is not whole JSON";
     EXPECT_EQ(j.at("frames_written").get<int>(), index);
     EXPECT_EQ(j.at("png").at("write_errors").get<int>(), 60 - index);
+    // the log it names is the one on disk, and its rows are the lines there less the header
+    const std::string log_name = whole ? "haptic.csv" : "haptic.csv.partial";
+    EXPECT_EQ(j.at("outputs").at("haptic_csv"), (out / log_name).string());
+    EXPECT_EQ(j.at("haptic_rows").get<long long>(), csv.empty() ? 0 : std::count(csv.begin(), csv.end(), '\n') - 1);
+    EXPECT_EQ(j.at("outputs").contains("haptic_csv_error"), partial);
   }
 }
 
