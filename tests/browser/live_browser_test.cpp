@@ -18,7 +18,6 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -28,11 +27,13 @@
 #include "support/cli_run.h"
 #include "support/http_get.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 
 namespace palpate {
 namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using test::read_file;
 
 // Starts argv[0] (looked up on PATH) with stdout and stderr into log_path; fd_in / fd_out (when >= 0) become the
 // child's fds 3 and 4. Returns the pid, -1 on failure.
@@ -52,13 +53,6 @@ pid_t spawn(const std::vector<std::string>& argv, const std::string& log_path, i
   if (out >= 0) ::dup2(out, 4);
   ::execvp(args[0], args.data());
   std::_Exit(127);
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 nlohmann::json read_json(const std::string& path) {
@@ -209,17 +203,17 @@ TEST(LiveBrowser, PageShowsTheRecordingWhileItRunsAndEndsOnItsSummary) {
   // the URL is printed on stderr at start
   std::string url;
   for (auto end = Clock::now() + std::chrono::seconds(60); url.empty() && Clock::now() < end;) {
-    const std::string text = slurp(log);
+    const std::string text = read_file(log);
     const auto at = text.find("live view at http://127.0.0.1:");
     if (at != std::string::npos) url = text.substr(at + 13, text.find('\n', at) - at - 13);
     else std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  ASSERT_FALSE(url.empty()) << slurp(log);
+  ASSERT_FALSE(url.empty()) << read_file(log);
   const int port = std::stoi(url.substr(url.rfind(':') + 1));
 
   Browser browser;
   ASSERT_TRUE(browser.launch(url, dir));
-  ASSERT_TRUE(browser.attach(url)) << slurp(dir + "/chromium.log");
+  ASSERT_TRUE(browser.attach(url)) << read_file(dir + "/chromium.log");
 
   // watch the page until it says the recording finished
   std::set<uint32_t> hashes_while_running;
@@ -238,7 +232,7 @@ TEST(LiveBrowser, PageShowsTheRecordingWhileItRunsAndEndsOnItsSummary) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
   }
-  ASSERT_TRUE(state.is_object() && state["finished"].get<bool>()) << state.dump() << "\n" << slurp(log);
+  ASSERT_TRUE(state.is_object() && state["finished"].get<bool>()) << state.dump() << "\n" << read_file(log);
 
   // the picture changed while the run went on, from frames received one after another
   EXPECT_GE(hashes_while_running.size(), 2u) << "the canvas showed one picture only";
@@ -271,7 +265,7 @@ TEST(LiveBrowser, PageShowsTheRecordingWhileItRunsAndEndsOnItsSummary) {
   int status = 0;
   ASSERT_EQ(::waitpid(rec, &status, 0), rec);
   reap.pid = -1;
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << slurp(log);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(log);
 }
 
 }  // namespace

@@ -6,31 +6,25 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "support/file_size_limit.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 
 namespace palpate {
 namespace {
 namespace fs = std::filesystem;
-
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 TEST(AtomicFile, WritesAndRenames) {
   const std::string dir = test::fresh_dir("atomic_ok");
   fs::create_directories(dir);
   const std::string path = dir + "/a.json";
   ASSERT_TRUE(write_file_atomic(path, "{}\n", "summary"));
-  EXPECT_EQ(slurp(path), "{}\n");
+  EXPECT_EQ(read_file(path), "{}\n");
   EXPECT_FALSE(fs::exists(path + ".tmp"));
   ASSERT_TRUE(write_file_atomic(path, "[]\n", "summary"));  // an earlier regular file is replaced
-  EXPECT_EQ(slurp(path), "[]\n");
+  EXPECT_EQ(read_file(path), "[]\n");
 }
 
 TEST(AtomicFile, RefusesADeviceAndLeavesItADevice) {
@@ -56,7 +50,7 @@ TEST(AtomicFile, RefusesAFolderAndASymlinkAtTheFinalName) {
   const Status link = write_file_atomic(dir + "/link.json", "x", "summary");
   ASSERT_FALSE(link.ok());
   EXPECT_NE(link.error().message.find("is a symbolic link"), std::string::npos) << link.error().message;
-  EXPECT_EQ(slurp(dir + "/victim"), "keep");
+  EXPECT_EQ(read_file(dir + "/victim"), "keep");
   EXPECT_FALSE(fs::exists(dir + "/link.json.tmp"));
 }
 
@@ -71,8 +65,8 @@ TEST(AtomicFile, APlantedLinkAtTheTemporaryNameIsNotFollowed) {
   ASSERT_TRUE(f) << f.error().message;
   f.value().write("tick\n");
   ASSERT_TRUE(f.value().commit());
-  EXPECT_EQ(slurp(dir + "/victim"), "keep");
-  EXPECT_EQ(slurp(dir + "/haptic.csv"), "tick\n");
+  EXPECT_EQ(read_file(dir + "/victim"), "keep");
+  EXPECT_EQ(read_file(dir + "/haptic.csv"), "tick\n");
 }
 
 TEST(AtomicFile, AFailedWriteNamesTheFileAndLeavesNothing) {
@@ -115,7 +109,7 @@ TEST(AtomicFile, AKeptPartialEndsAfterItsLastWholeLine) {
   EXPECT_EQ(st.error().message, "log '" + path + "': File too large (partial data kept in " + path +
                                     ".partial, up to its last whole line)");
   EXPECT_FALSE(fs::exists(path));
-  EXPECT_EQ(slurp(path + ".partial"), lines.substr(0, 4000));  // 40 whole lines of the 4096 bytes written
+  EXPECT_EQ(read_file(path + ".partial"), lines.substr(0, 4000));  // 40 whole lines of the 4096 bytes written
 
   // no newline at all: nothing of the torn line is kept
   {

@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +14,7 @@
 
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 
 namespace palpate {
 namespace {
@@ -22,17 +22,11 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::palpate;
+using test::read_file;
 
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("palpate_cli_" + name)).string(); }
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // A scene using the given mesh file, written next to it.
 std::string scene_for_mesh(const std::string& mesh, const std::string& name) {
@@ -130,20 +124,20 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   const CliRun r = palpate("record scenes/cube_press.json -q --no-render --duration 0.3 --out " + out);
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
-  const auto j = nlohmann::json::parse(slurp(out + "/summary.json"));
+  const auto j = nlohmann::json::parse(read_file(out + "/summary.json"));
   ASSERT_TRUE(j.contains("material")) << j.dump();
   EXPECT_EQ(j["material"]["poisson_ratio_represented"].get<double>(), 0.25);
   EXPECT_NEAR(j["material"]["total_mass_kg"].get<double>(), 1070.0 * 0.06 * 0.06 * 0.06, 1e-9);
   EXPECT_TRUE(j.contains("state_hash"));
 
-  nlohmann::json scene = nlohmann::json::parse(slurp(test::source_path("scenes/cube_press.json")));
+  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
   scene["material"]["poisson_ratio"] = 0.45;
   const std::string s = tmp("nu045.json");
   write(s, scene.dump());
   const CliRun w = palpate("record " + s + " -q --no-render --duration 0.1 --out " + tmp("nu045_out"));
   ASSERT_EQ(w.code, 0) << w.out;
   EXPECT_NE(w.out.find("warning: material.poisson_ratio 0.45 is not representable"), std::string::npos) << w.out;
-  const auto k = nlohmann::json::parse(slurp(tmp("nu045_out") + "/summary.json"));
+  const auto k = nlohmann::json::parse(read_file(tmp("nu045_out") + "/summary.json"));
   EXPECT_EQ(k["material"]["poisson_ratio_asked"].get<double>(), 0.45);
   EXPECT_EQ(k["material"]["poisson_ratio_represented"].get<double>(), 0.25);
 }
@@ -247,7 +241,7 @@ TEST(Cli, RealtimeRefusalsIncludingMlockallReachTheSummary) {
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("palpate: servo: refused: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("mlockall"), std::string::npos) << r.out;
-  const auto summary = nlohmann::json::parse(slurp(out + "/summary.json"));
+  const auto summary = nlohmann::json::parse(read_file(out + "/summary.json"));
   const std::string refused = summary["servo"]["rt"]["refused"].get<std::string>();
   EXPECT_NE(refused.find("mlockall: "), std::string::npos) << refused;
   EXPECT_FALSE(summary["servo"]["rt"]["memory_locked"].get<bool>()) << summary["servo"]["rt"].dump();
@@ -294,7 +288,7 @@ TEST(Cli, NoRenderLeavesNoFramesFolder) {
   const CliRun bare = palpate("record scenes/cube_press.json --duration 0.05 -q --no-render --out " + out);
   ASSERT_EQ(bare.code, 0) << bare.out;
   EXPECT_FALSE(fs::exists(out + "/frames")) << "frames/ left by a run that drew nothing";
-  const auto summary = nlohmann::json::parse(slurp(out + "/summary.json"));
+  const auto summary = nlohmann::json::parse(read_file(out + "/summary.json"));
   EXPECT_TRUE(summary["outputs"]["frames"].is_null()) << summary["outputs"].dump();
   EXPECT_TRUE(fs::exists(out + "/haptic.csv"));
 }

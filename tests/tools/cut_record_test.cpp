@@ -2,6 +2,7 @@
 // lockstep pipeline (deterministic, valid mesh, springs cut).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -11,7 +12,10 @@
 #include "haptics/servo.h"
 #include "sim/mesh_split.h"
 #include "support/fixtures.h"
+#include "tools/session/device_factory.h"
+#include "tools/session/model.h"
 #include "tools/session/recorder.h"
+#include "tools/session/session.h"
 
 namespace palpate {
 namespace {
@@ -116,6 +120,38 @@ TEST(CutRecord, CuttingTheBlockThroughSeparatesItDeterministically) {
   EXPECT_GT(j["cut"]["free_nodes"].get<int>(), 0);  // the top comes free of the floor's nodes
   EXPECT_EQ(j["nan_events"].get<int>(), 0);
   EXPECT_GT(j["max_force_N"].get<double>(), 0.0);  // the blade's resistance
+}
+
+// The cut mesh's update (CutModel::deform) writes every one of its vertices, and the blade's splits add vertices:
+// a stepped frame counts the mesh's vertex count after that frame's splits, a resting frame counts none, and the
+// summary's sim.per_frame_mean.vertices and sim.vertices are the mean and the largest of those counts.
+TEST(CutRecord, VerticesCountedPerFrameAreTheCutMeshsAsItGrows) {
+  const Scene s = block_cut_scene(0.013);
+  const Model model = load_model(s).value();
+  auto device = make_device(s, "", s.servo_rate_hz).value();
+  Session session(s, model, Rates{s.servo_rate_hz, kDefaultFrameRate_hz}, device.get());
+  const FrameStats& st = session.stage().stats();
+  int64_t counted = 0, stepped = 0, sum = 0;
+  std::size_t largest = 0;
+  session.run_lockstep(s.duration_s, [&](int64_t f, double) {
+    const std::size_t n = session.stage().vertices_m().size();
+    const bool was_stepped = st.frames_stepped > stepped;
+    EXPECT_EQ(st.vertex_frames - counted, was_stepped ? static_cast<int64_t>(n) : 0) << "frame " << f;
+    if (was_stepped) sum += static_cast<int64_t>(n), largest = std::max(largest, n);
+    counted = st.vertex_frames;
+    stepped = st.frames_stepped;
+  });
+  ASSERT_GT(stepped, 0);
+  EXPECT_GT(session.stage().vertices_m().size(), model.rest.vertices_m.size()) << "the blade split no vertex";
+
+  // the same run through the recorder: its summary reports those figures
+  const RecordResult r = record(s, "cut_vertices");
+  EXPECT_EQ(r.state_hash, session.stage().state_hash());
+  const auto j = nlohmann::json::parse(r.summary_json);
+  EXPECT_DOUBLE_EQ(j["sim"]["per_frame_mean"]["vertices"].get<double>(),
+                   static_cast<double>(sum) / static_cast<double>(st.frames));
+  EXPECT_EQ(j["sim"]["vertices"].get<std::size_t>(), largest);
+  EXPECT_EQ(largest, model.rest.vertices_m.size() + j["cut"]["vertices_added"].get<std::size_t>());
 }
 
 TEST(CutRecord, BladeDrawnAboveTheBlockChangesNothing) {

@@ -38,7 +38,7 @@ std::string out_dir(const std::string& tag) {
 }
 
 std::string hash_of(const std::string& dir) {
-  return nlohmann::json::parse(test::slurp(dir + "/summary.json"))["state_hash"].get<std::string>();
+  return nlohmann::json::parse(test::read_file(dir + "/summary.json"))["state_hash"].get<std::string>();
 }
 
 std::string plugin_path() { return test::bin_dir() + "/../lib/libpalpate_emulated_plugin.so"; }
@@ -52,9 +52,9 @@ TEST(ReplayDriver, LockstepReplayOfARecordingReproducesItsStateHash) {
                    "r2");
   ASSERT_EQ(r2.code, 0) << r2.out;
   EXPECT_EQ(hash_of(a), hash_of(b));
-  EXPECT_EQ(nlohmann::json::parse(test::slurp(b + "/summary.json"))["device"]["driver"], "replay");
+  EXPECT_EQ(nlohmann::json::parse(test::read_file(b + "/summary.json"))["device"]["driver"], "replay");
   // and the replayed log equals the original, row for row
-  EXPECT_EQ(test::slurp(a + "/haptic.csv"), test::slurp(b + "/haptic.csv"));
+  EXPECT_EQ(test::read_file(a + "/haptic.csv"), test::read_file(b + "/haptic.csv"));
 }
 
 // A replay made from another scene is allowed (the same hand against another object) but said; from its own scene
@@ -98,7 +98,7 @@ TEST(PluginDriver, EmulatedPluginReproducesTheScriptedRecording) {
                    "p2");
   ASSERT_EQ(r2.code, 0) << r2.out;
   EXPECT_EQ(hash_of(a), hash_of(b));
-  const auto s = nlohmann::json::parse(test::slurp(b + "/summary.json"));
+  const auto s = nlohmann::json::parse(test::read_file(b + "/summary.json"));
   EXPECT_EQ(s["device"]["driver"], "plugin");
   EXPECT_EQ(s["device"]["name"], "emulated hand device");
   EXPECT_GT(s["max_force_N"].get<double>(), 0.1);

@@ -42,7 +42,7 @@ Child start_record(const std::string& link, const std::string& scene, const std:
 }
 
 nlohmann::json summary(const std::string& dir) {
-  return nlohmann::json::parse(test::slurp(dir + "/rec/summary.json"));
+  return nlohmann::json::parse(test::read_file(dir + "/rec/summary.json"));
 }
 
 // Every output of a finished recording is there and whole.
@@ -158,7 +158,7 @@ TEST(DeviceLink, SilentDeviceZeroesForceAtOnceAndRampsBackIn) {
   ASSERT_GE(up.size(), 1u) << s["device"].dump();
   EXPECT_GT(up.back(), down.front());
   EXPECT_NE(rec.output().find("disconnected at tick " + std::to_string(down.front())), std::string::npos) << rec.output();
-  EXPECT_NE(test::slurp(dir + "/rec/device_events.csv").find(std::to_string(down.front()) + ","), std::string::npos);
+  EXPECT_NE(test::read_file(dir + "/rec/device_events.csv").find(std::to_string(down.front()) + ","), std::string::npos);
 
   // force is zero from the disconnect tick until the reconnect, and the ticks are flagged
   const Csv h = test::read_csv(dir + "/rec/haptic.csv");

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/read_file.h"
 #include "support/temp_root.h"
 
 namespace palpate::test {
@@ -26,14 +27,6 @@ namespace palpate::test {
 inline std::string bin_dir() {
   const char* b = std::getenv("PALPATE_BIN_DIR");
   return b ? b : "build/bin";
-}
-
-/// Whole file as text ("" when absent).
-inline std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
 }
 
 /// A child process; killed (SIGKILL) and reaped on destruction if still running.
@@ -94,7 +87,7 @@ class Child {
     return false;
   }
   /// Output so far.
-  std::string output() const { return slurp(out_); }
+  std::string output() const { return read_file(out_); }
   /// Process id.
   pid_t pid() const { return pid_; }
 
@@ -122,7 +115,7 @@ struct Csv {
 /// Reads a CSV file written by palpate or palpate-device.
 inline Csv read_csv(const std::string& path) {
   Csv c;
-  std::istringstream in(slurp(path));
+  std::istringstream in(read_file(path));
   std::string line, cell;
   bool first = true;
   while (std::getline(in, line)) {
@@ -140,7 +133,7 @@ inline Csv read_csv(const std::string& path) {
 
 /// cube_press (pressed and held) with realtime run mode, the given duration and device keys, in a temporary file.
 inline std::string device_scene(const std::string& name, double duration_s, const nlohmann::json& device_keys) {
-  nlohmann::json j = nlohmann::json::parse(slurp(std::string(PALPATE_SOURCE_DIR) + "/scenes/cube_press.json"));
+  nlohmann::json j = nlohmann::json::parse(read_file(std::string(PALPATE_SOURCE_DIR) + "/scenes/cube_press.json"));
   j["name"] = name;
   j["duration_s"] = duration_s;
   j["run_mode"] = "realtime";

@@ -27,18 +27,13 @@
 #include <nlohmann/json.hpp>
 
 #include "render/png_io.h"
+#include "support/read_file.h"
 #include "support/temp_root.h"
 
 namespace palpate {
 namespace {
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 std::string shell_quoted(const std::string& s) {
   std::string out = "'";
@@ -111,12 +106,12 @@ TEST(FullDisk, RecordNamesTheFileThatFailedAndKeepsWhatItWroteWhole) {
   std::string shell_output;
   ASSERT_EQ(run(unshare + " sh -c " + shell_quoted(script), &shell_output), 0) << shell_output;
   const fs::path got = kept / "out";  // the output folder as the full disk held it
-  SCOPED_TRACE("stderr: " + slurp(err) + "\nfilesystem: " + shell_output);
+  SCOPED_TRACE("stderr: " + read_file(err) + "\nfilesystem: " + shell_output);
 
   // exit 1 and one error line naming a file of the output with errno's text
-  EXPECT_EQ(std::atoi(slurp(code_file).c_str()), 1);
+  EXPECT_EQ(std::atoi(read_file(code_file).c_str()), 1);
   std::vector<std::string> errors;
-  std::istringstream lines(slurp(err));
+  std::istringstream lines(read_file(err));
   for (std::string line; std::getline(lines, line);)
     if (line.rfind("palpate: warning: ", 0) != 0) errors.push_back(line);
   ASSERT_EQ(errors.size(), 1u);
@@ -159,7 +154,7 @@ TEST(FullDisk, RecordNamesTheFileThatFailedAndKeepsWhatItWroteWhole) {
   // the haptic log: renamed or kept as .partial, whole rows only, ticks counting from 0
   const bool whole = fs::exists(got / "haptic.csv"), partial = fs::exists(got / "haptic.csv.partial");
   ASSERT_NE(whole, partial) << "expected exactly one of haptic.csv and haptic.csv.partial";
-  const std::string csv = slurp(got / (whole ? "haptic.csv" : "haptic.csv.partial"));
+  const std::string csv = read_file(got / (whole ? "haptic.csv" : "haptic.csv.partial"));
   if (!csv.empty()) {
     EXPECT_EQ(csv.back(), '\n') << "the log ends inside a row";
     std::istringstream rows(csv);
@@ -179,10 +174,15 @@ TEST(FullDisk, RecordNamesTheFileThatFailedAndKeepsWhatItWroteWhole) {
         << name << " left in the output";
   }
   if (fs::exists(got / "summary.json")) {
-    const auto j = nlohmann::json::parse(slurp(got / "summary.json"), nullptr, false);
+    const auto j = nlohmann::json::parse(read_file(got / "summary.json"), nullptr, false);
     ASSERT_FALSE(j.is_discarded()) << "summary.json is not whole JSON";
     EXPECT_EQ(j.at("frames_written").get<int>(), index);
     EXPECT_EQ(j.at("png").at("write_errors").get<int>(), 60 - index);
+    // the log it names is the one on disk, and its rows are the lines there less the header
+    const std::string log_name = whole ? "haptic.csv" : "haptic.csv.partial";
+    EXPECT_EQ(j.at("outputs").at("haptic_csv"), (out / log_name).string());
+    EXPECT_EQ(j.at("haptic_rows").get<long long>(), csv.empty() ? 0 : std::count(csv.begin(), csv.end(), '\n') - 1);
+    EXPECT_EQ(j.at("outputs").contains("haptic_csv_error"), partial);
   }
 }
 

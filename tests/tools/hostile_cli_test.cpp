@@ -14,8 +14,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 #include "support/temp_root.h"
 
 namespace palpate {
@@ -24,6 +27,7 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::palpate;
+using test::read_file;
 
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("hostile_" + name)).string(); }
 
@@ -45,6 +49,13 @@ void expect_error(const CliRun& r, const std::string& needle) {
   EXPECT_TRUE(r.code == 1 || r.code == 2) << "exit " << r.code << ": " << r.out;
   EXPECT_NE(r.out.find(needle), std::string::npos) << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "one line expected: " << r.out;
+}
+
+// `palpate ARGS` with files capped at `blocks` of the shell's ulimit -f (512 bytes for sh): writes past it fail
+// with EFBIG as a full disk's fail with ENOSPC.
+CliRun palpate_with_file_limit(int blocks, const std::string& args) {
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  return test::shell("ulimit -f " + std::to_string(blocks) + "; " + std::string(bin ? bin : "build/bin") + "/palpate " + args);
 }
 
 bool is_char_device(const char* path) {
@@ -185,10 +196,30 @@ TEST(Hostile, FileSizeLimitIsReportedAgainstTheFirstFileLikeAFullDisk) {
   const std::string s = box_scene("fsize", "");
   const std::string out = tmp("out_fsize");
   fs::remove_all(out);
-  const char* bin = std::getenv("PALPATE_BIN_DIR");
-  const CliRun r = test::shell("ulimit -f 40; " + std::string(bin ? bin : "build/bin") + "/palpate record " + s +
-                               " -q --duration 0.5 --no-video --out " + out);
+  const CliRun r = palpate_with_file_limit(40, "record " + s + " -q --duration 0.5 --no-video --out " + out);
   expect_error(r, "palpate: 30 frame(s) could not be written: png '" + out + "/frames/frame_00000.png': File too large");
+}
+
+// The log cut short by a file-size limit (no frames; the 500 rows, about 90 KB, pass the 32 KiB cap, the summary
+// fits under it): summary.json names the file kept and counts the rows that file holds, not the rows the run
+// produced, and says why the log is not complete.
+TEST(Hostile, SummaryCountsTheHapticRowsTheKeptFileHolds) {
+  const std::string s = box_scene("fsize_log", "");
+  const std::string out = tmp("out_fsize_log");
+  fs::remove_all(out);
+  const CliRun r = palpate_with_file_limit(64, "record " + s + " -q --duration 0.5 --no-render --out " + out);
+  const std::string log = out + "/haptic.csv", partial = log + ".partial";
+  expect_error(r, "palpate: log '" + log + "': File too large (partial data kept in " + partial + ", up to its last whole line)");
+  EXPECT_FALSE(fs::exists(log));
+  const std::string kept = read_file(partial);
+  ASSERT_EQ(kept.rfind("tick,t_s,", 0), 0u) << "no header in " << partial;
+  const int64_t rows = std::count(kept.begin(), kept.end(), '\n') - 1;
+  ASSERT_TRUE(fs::exists(out + "/summary.json")) << r.out;
+  const auto j = nlohmann::json::parse(read_file(out + "/summary.json"));
+  EXPECT_EQ(j["haptic_rows"].get<int64_t>(), rows);
+  EXPECT_LT(rows, j["servo_ticks"].get<int64_t>()) << "every row fitted: the limit never bit";
+  EXPECT_EQ(j["outputs"]["haptic_csv"], partial);
+  EXPECT_EQ(j["outputs"]["haptic_csv_error"], r.out.substr(9, r.out.size() - 10));  // the message less "palpate: "
 }
 
 TEST(Hostile, DanglingOutputLinkIsNamedAsSuch) {

@@ -17,6 +17,7 @@
 
 #include "render/png_io.h"
 #include "support/cli_run.h"
+#include "support/read_file.h"
 #include "support/temp_root.h"
 #include "tools/plot.h"
 
@@ -26,6 +27,7 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::palpate;
+using test::read_file;
 using test::shell;
 
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("plot_" + name)).string(); }
@@ -163,10 +165,7 @@ TEST(Plot, TheScriptRedrawsThePngFromAnyFolder) {
   ASSERT_EQ(palpate("bench sim " + scene + " -q --integrators symplectic_euler,rk4 --plot " + png).code, 0);
   const std::string script = stem(png) + ".gp";
   // restyled: a larger figure, drawn by gnuplot alone from another folder
-  std::ifstream in(script);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
+  std::string s = read_file(script);
   const std::string size = "size 800,500";
   ASSERT_NE(s.find(size), std::string::npos) << s;
   s.replace(s.find(size), size.size(), "size 1000,600");
@@ -325,10 +324,8 @@ TEST(Plot, AnyTitleOrLabelIsDrawnVerbatimAtTheRequestedSize) {
   ASSERT_EQ(blocks.size(), 1u);
   EXPECT_EQ(blocks[0].label, "O'Brien_1");
   EXPECT_EQ(blocks[0].rows, (std::vector<std::vector<double>>{{1, 2}, {10, 20}, {100, 5}}));
-  std::ifstream in(stem(png) + ".gp");
-  std::stringstream script;
-  script << in.rdbuf();
-  EXPECT_NE(script.str().find("set title 'it''s a_b^c {x} \"q\" \\n' noenhanced"), std::string::npos) << script.str();
+  const std::string script = read_file(stem(png) + ".gp");
+  EXPECT_NE(script.find("set title 'it''s a_b^c {x} \"q\" \\n' noenhanced"), std::string::npos) << script;
   // nothing to draw is an error before any file is written
   spec.series[0].x = {-1};
   spec.series[0].y = {1};

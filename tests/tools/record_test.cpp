@@ -134,6 +134,11 @@ TEST(Record, HapticCsvHasOneRowPerServoTick) {
   EXPECT_EQ(rows, 1500);
   EXPECT_GT(grabbed, 300);  // the button is pressed from t = 1.0 s
   EXPECT_FALSE(fs::exists(fs::path(opt.out_dir) / "haptic.csv.partial"));
+  // the summary names the complete log and counts its rows
+  const auto summary = read_json(r.value().summary_path);
+  EXPECT_EQ(summary["haptic_rows"].get<int>(), rows);
+  EXPECT_EQ(summary["outputs"]["haptic_csv"], (fs::path(opt.out_dir) / "haptic.csv").string());
+  EXPECT_FALSE(summary["outputs"].contains("haptic_csv_error"));
 }
 
 }  // namespace

@@ -4,12 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "render/png_writer.h"
 #include "render/renderer.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 #include "tools/session/frame_stage.h"
 
 namespace palpate {
@@ -91,13 +90,6 @@ PressRun pressed_box(const std::string& dir, bool warm) {
   return r;
 }
 
-std::string bytes_of(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(FrameStage, WarmUpDrawsOnceWritesNothingAndLeavesEveryFrameUnchanged) {
   const std::string cold_dir = test::fresh_dir("warm_up_cold"), warm_dir = test::fresh_dir("warm_up_warm");
   const PressRun cold = pressed_box(cold_dir, false);
@@ -112,7 +104,7 @@ TEST(FrameStage, WarmUpDrawsOnceWritesNothingAndLeavesEveryFrameUnchanged) {
   for (const auto& entry : fs::directory_iterator(cold_dir)) {
     const fs::path other = fs::path(warm_dir) / entry.path().filename();
     ASSERT_TRUE(fs::exists(other)) << other;
-    differing += bytes_of(entry.path()) == bytes_of(other) ? 0 : 1;
+    differing += test::read_file(entry.path()) == test::read_file(other) ? 0 : 1;
   }
   EXPECT_EQ(differing, 0);
 }

@@ -39,6 +39,7 @@ bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   stats_->springs_cut += rep.springs_cut;
   stats_->triangles_added += rep.split.triangles_added;
   stats_->vertices_added += rep.split.vertices_added;
+  stats_->lattice_vertices = std::max(stats_->lattice_vertices, cut_.rest_vertices_m().size());
   if (rep.springs_cut > 0) stats_->free_nodes = free_nodes(*lattice_);
   if (!rep.changed()) return false;
   mesh.normals->clear();

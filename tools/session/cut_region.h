@@ -22,8 +22,9 @@ class CutRegion final : public RegionPolicy {
 
   const std::vector<std::array<int32_t, 3>>& triangles() const override { return cut_.triangles(); }
   const CutModel* cut_model() const override { return &cut_; }
-  // the side binding moves the vertices; no deformer is attached
-  std::size_t bound_vertices() const override { return 0; }
+  /// Every vertex of the cut mesh, as it stands after this frame's splits: the side binding binds them all and
+  /// deform() writes them all.
+  std::size_t bound_vertices() const override { return cut_.rest_vertices_m().size(); }
   bool prepared_ahead() const override { return true; }
   /// Records the blade of each sample: it cuts what it sweeps while the button is held and the reading was
   /// accepted.

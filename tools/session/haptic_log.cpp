@@ -1,10 +1,33 @@
 #include "tools/session/haptic_log.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 
 namespace palpate {
+namespace {
+
+// The rows of a kept log: its lines (each ends in a newline) less the header; -1 when it cannot be opened.
+int64_t count_rows(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return -1;
+  int64_t lines = 0;
+  char block[65536];
+  for (ssize_t n; (n = ::read(fd, block, sizeof block)) != 0;) {
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    for (ssize_t i = 0; i < n; ++i) lines += block[i] == '\n';
+  }
+  ::close(fd);
+  return lines > 0 ? lines - 1 : 0;
+}
+
+}  // namespace
 
 Status HapticLog::open(const std::string& path) {
   auto f = AtomicFile::open(path, "log", ".partial");
@@ -27,7 +50,18 @@ void HapticLog::append(const HapticSample& s) {
 Status HapticLog::close() {
   if (file_.path().empty()) return Ok{};  // never opened
   // partial rows stay in "<path>.partial" when a write failed (e.g. disk full)
-  return file_.commit(/*keep_partial=*/true);
+  Status st = file_.commit(/*keep_partial=*/true);
+  if (st) {
+    // every row reached the disk (flush, fsync and rename succeeded)
+    kept_path_ = file_.path();
+    kept_rows_ = rows_;
+    return st;
+  }
+  // the rows the stream accepted are not the rows on disk: count what the .partial holds, if it is there
+  const int64_t kept = count_rows(file_.temp_path());
+  kept_path_ = kept >= 0 ? file_.temp_path() : std::string();
+  kept_rows_ = kept >= 0 ? kept : 0;
+  return st;
 }
 
 }  // namespace palpate

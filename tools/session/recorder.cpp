@@ -270,10 +270,12 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   in.png = rec.png;
   in.video = &rec.video;
   in.render = opt.render;
-  in.haptic_rows = rec.log.rows();
+  // what the disk holds: after a failed write, the rows of haptic.csv.partial (or none), not the rows buffered
+  in.haptic_rows = rec.log.kept_rows();
+  in.haptic_csv = rec.log.kept_path();
+  if (!log_status) in.haptic_error = log_status.error().message;
   in.no_contact = no_contact;
   in.frames_dir = rec.frames_dir;
-  in.csv_path = rec.csv_path;
 
   const FrameStats& fst = session.stage().stats();
   RecordResult res;

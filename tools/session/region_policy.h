@@ -46,7 +46,8 @@ class RegionPolicy {
   virtual const std::vector<std::array<int32_t, 3>>& triangles() const = 0;
   /// The cut mesh and its side binding (CutRegion only), else null.
   virtual const CutModel* cut_model() const { return nullptr; }
-  /// Mesh vertices the region's deformer binds (summed into FrameStats::vertex_frames per stepped frame).
+  /// Mesh vertices deform() writes: those the region's deformer binds, in cut mode every vertex of the cut mesh
+  /// (summed into FrameStats::vertex_frames per stepped frame).
   virtual std::size_t bound_vertices() const = 0;
   /// True when the lattice exists from the start and its solver should be prepared before the first frame and
   /// again when the step length changes (a large lattice whose factorisation must not land on a frame deadline).

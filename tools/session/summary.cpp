@@ -134,7 +134,8 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   if (in.lockstep) j["state_hash"] = stage.state_hash();
   j["device"] = in.device->report();
   j["outputs"] = {{"frames", in.render ? nlohmann::json(in.frames_dir) : nlohmann::json(nullptr)},
-                  {"haptic_csv", in.csv_path}};
+                  {"haptic_csv", in.haptic_csv.empty() ? nlohmann::json(nullptr) : nlohmann::json(in.haptic_csv)}};
+  if (!in.haptic_error.empty()) j["outputs"]["haptic_csv_error"] = in.haptic_error;
   return j;
 }
 

@@ -45,9 +45,11 @@ struct SummaryInputs {
   PngWriterConfig png;
   const RecordingVideo* video = nullptr;
   bool render = true;                    ///< frames were drawn (--no-render: false)
-  int64_t haptic_rows = 0;
+  int64_t haptic_rows = 0;               ///< rows in haptic_csv (the file on disk), 0 when none is kept
+  std::string haptic_csv;                ///< the log kept: haptic.csv, haptic.csv.partial, or empty when none
+  std::string haptic_error;              ///< why haptic.csv was not completed, empty when it was
   std::string no_contact;                ///< why no force was ever sent, empty when one was
-  std::string frames_dir, csv_path;
+  std::string frames_dir;
 };
 
 /// The summary object (written as summary.json, pretty-printed).
