@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/state_hash.h"
+#include "haptics/cpu_steal.h"
 #include "sim/deformer.h"
 #include "sim/rest.h"
 
@@ -32,6 +33,7 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   latest_.proxy_pos_m = latest_.tool_pos_m;
   stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
+  stats_.profile.reserve(stats_.sim_ms.capacity());
   region_ = make_region_policy(scene, model, &stats_);
   if (region_->lattice()) region_changed();
   // a lattice built up front gets its solver's factorisation too, before the first frame's deadline (the same
@@ -112,11 +114,17 @@ bool FrameStage::step_lattice_frame() {
   Lattice& lat = *region_->mutable_lattice();
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_clock_.now_ms();
+  const StepOptions& opts = frame_opts_ ? *frame_opts_ : step_opts_;
   if (budget_) budget_->step_begin();
-  const StepReport rep = step_lattice(&lat, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, f_ext_N_, &ws_);
+  // the solver's matrix first (what the step would do first anyway), so the profile tells it from the iterations
+  prepare_step(lat, opts, step_dt_s_, &ws_);
+  lap(FramePart::kFactor);
+  const StepReport rep = step_lattice(&lat, opts, step_dt_s_, f_ext_N_, &ws_);
   if (budget_) budget_->step_end();
   stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
+  lap(FramePart::kStep);
+  profile_.iterations = rep.iterations;
   ++stats_.frames_stepped;
   stats_.node_frames += static_cast<int64_t>(lat.num_nodes());
   stats_.spring_frames += static_cast<int64_t>(lat.springs.size());
@@ -350,23 +358,43 @@ void FrameStage::render(int64_t index, bool block) {
   stats_.render_ms.push_back(ms_since(t0));
 }
 
+void FrameStage::lap(FramePart part) {
+  const auto now = std::chrono::steady_clock::now();
+  const double cpu = cpu_clock_.now_ms();
+  const auto i = static_cast<std::size_t>(part);
+  profile_.wall_ms[i] += std::chrono::duration<double, std::milli>(now - lap_wall_).count();
+  profile_.cpu_ms[i] += cpu - lap_cpu_ms_;
+  lap_wall_ = now;
+  lap_cpu_ms_ = cpu;
+}
+
 void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_clock_.now_ms();
+  const ThreadSwitches sw0 = this_thread_switches();
+  profile_ = FrameProfile{};
+  profile_.frame = index;
+  lap_wall_ = t0;
+  lap_cpu_ms_ = c0;
   frame_opts_ = budget_ ? &budget_->begin_frame() : nullptr;
   t_s_ = t_s;
   contact_this_frame_ = false;
   force_sum_N_.setZero();
   frame_samples_ = 0;
   drain();
+  lap(FramePart::kDrain);
+  const int64_t cut_before = stats_.springs_cut;
   if (region_->begin_frame({&vertices_m_, &normals_})) resting_ = false;
   if (!region_->lattice() && contact_this_frame_) place_region();
+  profile_.springs_cut = static_cast<int>(stats_.springs_cut - cut_before);
+  lap(FramePart::kCut);
   frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? object_force(-force_sum_N_ / static_cast<double>(frame_samples_))
                                                                   : Vec3::Zero();
   bool moved = false;
   if (region_->lattice()) {
     follow_contact();
     if (const int nodes = apply_contact_force(&f_ext_N_); nodes > 0) stats_.force_nodes = nodes;
+    lap(FramePart::kLoad);
     moved = step_lattice_frame();
     if (moved) region_->after_step();
   }
@@ -376,11 +404,19 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
       stats_.max_displacement_m = std::max(stats_.max_displacement_m, (lat.x_m[i] - lat.rest_m[i]).norm());
     region_->deform(&vertices_m_);
   }
+  lap(FramePart::kDeform);
   // normals for the servo's inside test and for shading: those the frame can have changed
   region_->update_normals(moved, {&vertices_m_, &normals_});
+  lap(FramePart::kNormals);
   publish_patch();
+  lap(FramePart::kPatch);
   stats_.sim_ms.push_back(ms_since(t0));
   stats_.sim_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
+  const ThreadSwitches sw1 = this_thread_switches();
+  profile_.frame_wall_ms = stats_.sim_ms.back();
+  profile_.frame_cpu_ms = stats_.sim_cpu_ms.back();
+  if (sw0.involuntary >= 0 && sw1.involuntary >= 0) profile_.involuntary_switches = sw1.involuntary - sw0.involuntary;
+  stats_.profile.push_back(profile_);
   if (budget_) budget_->end_frame();
   region_->end_frame(stats_.sim_ms.back());
   ++stats_.frames;

@@ -2,6 +2,7 @@
 /// FrameStage: the 60 Hz work — drain servo samples, load and step the lattice, deform the mesh,
 /// publish the surface patch for the servo, render and queue the PNG.
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -107,6 +108,8 @@ class FrameStage {
   void render(int64_t index, bool block);
   // what a frame drawn now shows
   FrameView current_view() const;
+  // files the time since the last part ended under `part` of the frame's profile
+  void lap(FramePart part);
 
   const Scene& scene_;
   const Model& model_;
@@ -142,6 +145,9 @@ class FrameStage {
   bool contact_this_frame_ = false;
   Vec3 force_sum_N_ = Vec3::Zero();  // sum of device forces over the frame's samples
   int64_t frame_samples_ = 0;
+  FrameProfile profile_;             // the current frame's parts
+  std::chrono::steady_clock::time_point lap_wall_;  // end of the last part timed
+  double lap_cpu_ms_ = 0.0;
 };
 
 }  // namespace palpate

@@ -7,6 +7,37 @@
 
 namespace palpate {
 
+/// The parts of a frame's sim work, in frame order.
+enum class FramePart : int {
+  kDrain,    ///< servo samples drained (and logged)
+  kCut,      ///< the blade's sweeps applied: springs cut, mesh split, side binding (topology)
+  kLoad,     ///< the contact force spread onto the lattice nodes
+  kFactor,   ///< the solver's matrix brought up to date (local/global: downdate or refactorisation)
+  kStep,     ///< the step's iterations
+  kDeform,   ///< floor, displacement figure, mesh moved with the lattice
+  kNormals,  ///< vertex normals
+  kPatch,    ///< the servo's surface patch and contact model published
+  kCount
+};
+inline constexpr int kFrameParts = static_cast<int>(FramePart::kCount);
+/// Names of the parts as the summary gives them.
+inline constexpr const char* kFramePartNames[kFrameParts] = {"drain", "cut",    "load",    "factor",
+                                                             "step",  "deform", "normals", "patch"};
+
+/// Where one frame's sim time went: wall and thread CPU ms of each part, the frame's wall and CPU time and the
+/// times the CPU was taken from the sim thread during it (wall well above CPU, with switches: preemption, not
+/// work). Plain data.
+struct FrameProfile {
+  int64_t frame = 0;                   ///< scene frame index
+  double wall_ms[kFrameParts] = {};    ///< per part, wall clock
+  double cpu_ms[kFrameParts] = {};     ///< per part, the sim thread's CPU time
+  double frame_wall_ms = 0.0;          ///< the whole sim part of the frame (as sim_ms)
+  double frame_cpu_ms = 0.0;           ///< the same in the sim thread's CPU time (as sim_cpu_ms)
+  int64_t involuntary_switches = -1;   ///< times the CPU was taken from the sim thread in the frame (-1: unknown)
+  int iterations = 0;                  ///< solver iterations the step took (0: not stepped or an explicit scheme)
+  int springs_cut = 0;                 ///< springs the frame's cut removed
+};
+
 /// Figures the frame stage collects (read after the run).
 struct FrameStats {
   std::vector<double> sim_ms;       ///< per frame: drain + step + deform + publish
@@ -40,6 +71,7 @@ struct FrameStats {
   int64_t free_nodes = 0;           ///< nodes in pieces cut free of every fixed node (after the last cut)
   std::vector<double> cutting_ms;   ///< sim_ms of frames that cut
   std::vector<double> after_cut_ms; ///< sim_ms of frames after the first cut that did not cut
+  std::vector<FrameProfile> profile;  ///< per frame: where its sim time went
 };
 
 }  // namespace palpate

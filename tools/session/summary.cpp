@@ -25,6 +25,42 @@ double per_frame(int64_t sum, int64_t frames) {
   return static_cast<double>(sum) / static_cast<double>(std::max<int64_t>(1, frames));
 }
 
+nlohmann::json profile_entry(const FrameProfile& f) {
+  nlohmann::json wall, cpu;
+  for (int p = 0; p < kFrameParts; ++p) {
+    wall[kFramePartNames[p]] = f.wall_ms[p];
+    cpu[kFramePartNames[p]] = f.cpu_ms[p];
+  }
+  return {{"frame", f.frame},         {"ms", f.frame_wall_ms},       {"cpu_ms", f.frame_cpu_ms},
+          {"involuntary_switches", f.involuntary_switches},          {"iterations", f.iterations},
+          {"springs_cut", f.springs_cut}, {"parts_ms", wall},        {"parts_cpu_ms", cpu}};
+}
+
+// Where the sim's frame time went: each part's percentiles over all frames (wall and CPU), and the slowest
+// frames part by part.
+nlohmann::json profile_json(const std::vector<FrameProfile>& frames) {
+  static constexpr std::size_t kSlowest = 10;
+  nlohmann::json wall, cpu;
+  std::vector<double> v;
+  v.reserve(frames.size());
+  for (int p = 0; p < kFrameParts; ++p) {
+    v.clear();
+    for (const FrameProfile& f : frames) v.push_back(f.wall_ms[p]);
+    wall[kFramePartNames[p]] = ms_json(v);
+    v.clear();
+    for (const FrameProfile& f : frames) v.push_back(f.cpu_ms[p]);
+    cpu[kFramePartNames[p]] = ms_json(v);
+  }
+  std::vector<const FrameProfile*> order;
+  for (const FrameProfile& f : frames) order.push_back(&f);
+  const std::size_t n = std::min(kSlowest, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n), order.end(),
+                    [](const FrameProfile* a, const FrameProfile* b) { return a->frame_wall_ms > b->frame_wall_ms; });
+  nlohmann::json slowest = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i) slowest.push_back(profile_entry(*order[i]));
+  return {{"parts_ms", wall}, {"parts_cpu_ms", cpu}, {"slowest_frames", slowest}};
+}
+
 }  // namespace
 
 nlohmann::json recording_summary(const SummaryInputs& in) {
@@ -104,7 +140,8 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
               {"region_moves", fst.region_moves},
               {"divergence_events", fst.divergence_events},
               {"frame_latency_us", hist_json(in.run->frame_latency)},
-              {"frames_late", in.run->frames_late}};
+              {"frames_late", in.run->frames_late},
+              {"profile", profile_json(fst.profile)}};
   if (scene.lattice.budget_ms > 0.0) j["budget"] = budget_summary(scene, stage, in.lockstep);
   if (scene.mode == InteractionMode::kCut) {
     const CutModel* cut = stage.cut_model();
