@@ -55,28 +55,57 @@ const StepOptions& FrameBudget::begin_frame() {
   t_frame_ = clock_->now_ms();
   stepped_ = false;
   step_ms_ = 0.0;
+  ran_ = current_;
   return ladder_[static_cast<std::size_t>(current_)].opts;
 }
 
-void FrameBudget::step_begin() { t_step_ = clock_->now_ms(); }
+double FrameBudget::predicted_from_step_ms(int i, double elapsed_ms) const {
+  return elapsed_ms + std::max(0.0, unit_ms_) * ladder_[static_cast<std::size_t>(i)].work_units + std::max(0.0, tail_ms_);
+}
+
+const StepOptions& FrameBudget::step_begin() {
+  t_step_ = clock_->now_ms();
+  const double elapsed = t_step_ - t_frame_;
+  ran_ = current_;
+  if (predicted_from_step_ms(current_, elapsed) > budget_ms_) {
+    const int n = static_cast<int>(ladder_.size());
+    ran_ = n - 1;
+    for (int i = current_ + 1; i < n; ++i)
+      if (predicted_from_step_ms(i, elapsed) <= budget_ms_) {
+        ran_ = i;
+        break;
+      }
+    if (ran_ != current_) ++cheaper_;
+  }
+  return ladder_[static_cast<std::size_t>(ran_)].opts;
+}
 
 void FrameBudget::step_end() {
-  step_ms_ += clock_->now_ms() - t_step_;
+  t_step_end_ = clock_->now_ms();
+  step_ms_ += t_step_end_ - t_step_;
   stepped_ = true;
 }
 
 double FrameBudget::predicted_ms(int i) const {
-  return std::max(0.0, other_ms_) + std::max(0.0, unit_ms_) * ladder_[static_cast<std::size_t>(i)].work_units;
+  return std::max(0.0, pre_ms_) + std::max(0.0, unit_ms_) * ladder_[static_cast<std::size_t>(i)].work_units +
+         std::max(0.0, tail_ms_);
 }
 
 void FrameBudget::end_frame() {
-  const double total_ms = clock_->now_ms() - t_frame_;
-  ++frames_at_[static_cast<std::size_t>(current_)];
+  const double t_end = clock_->now_ms();
+  const double total_ms = t_end - t_frame_;
+  ++frames_at_[static_cast<std::size_t>(ran_)];
   if (total_ms > budget_ms_) ++frames_over_;
   // running estimates: a dearer frame counts at once, a cheaper one gradually
   auto track = [](double* est, double m) { *est = *est < 0.0 || m > *est ? m : *est + kFallRate * (m - *est); };
-  track(&other_ms_, std::max(0.0, total_ms - step_ms_));
-  if (stepped_) track(&unit_ms_, step_ms_ / ladder_[static_cast<std::size_t>(current_)].work_units);
+  if (stepped_) {
+    track(&pre_ms_, std::max(0.0, t_step_ - t_frame_));
+    track(&tail_ms_, std::max(0.0, t_end - t_step_end_));
+    track(&unit_ms_, step_ms_ / ladder_[static_cast<std::size_t>(ran_)].work_units);
+  } else {
+    // a frame that did not step: all of it before a step that would have come, none after
+    track(&pre_ms_, std::max(0.0, total_ms - std::max(0.0, tail_ms_)));
+  }
   ++held_;
   const int n = static_cast<int>(ladder_.size());
   int next = current_;

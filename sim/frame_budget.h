@@ -1,9 +1,11 @@
 #pragma once
 /// A frame budget the sim keeps (opt-in `lattice.budget_ms`): a ladder of step settings from the scene's own
 /// (most accurate) down to the cheapest, and a controller that picks, before each frame, the most accurate setting
-/// whose predicted cost holds the budget. The prediction comes only from what was measured this run: the part of
-/// the frame the setting does not change (drain, cut, deform, normals, patch), and the step's cost per unit of work
-/// of the setting that ran, both as running estimates that rise at once with a dearer frame and fall back gradually.
+/// whose predicted cost holds the budget, and takes a cheaper one for a frame whose work before the step (a cut, its
+/// factor update) leaves too little of the budget. The prediction comes only from what was measured this run: the
+/// parts of the frame the setting does not change (before the step: drain, cut, factor update; after it: deform,
+/// normals, patch), and the step's cost per unit of work of the setting that ran, each a running estimate that
+/// rises at once with a dearer frame and falls back gradually.
 /// Costs are read from a clock the caller supplies, so the controller's decisions can be driven exactly in tests.
 
 #include <cstdint>
@@ -66,17 +68,28 @@ class FrameBudget {
   /// budget_ms > 0; ladder not empty (most accurate first); clock must outlive this.
   FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock);
 
-  /// Marks the start of a frame and returns the setting to step it with.
+  /// Marks the start of a frame and returns the setting planned for it (the rung current() names).
   const StepOptions& begin_frame();
-  /// Marks the start and end of the lattice step within the frame (a frame that does not step marks neither).
-  void step_begin();
+  /// Marks the start of the lattice step within the frame and returns the setting to step with: the planned one,
+  /// or a cheaper one when the time the frame has already spent (a cut and its factor update come before the
+  /// step), the step at this run's measured cost per unit and the rest of the frame as estimated would not hold
+  /// the budget at the planned rung (the most accurate cheaper rung that would, else the cheapest). Only this
+  /// frame steps cheaper; the plan for the next frames is made at end_frame().
+  const StepOptions& step_begin();
+  /// Marks the end of the lattice step (a frame that does not step marks neither).
   void step_end();
   /// Marks the end of the frame: its costs update the estimates and choose the next frame's setting.
   void end_frame();
 
-  /// Index of the rung the current (or next) frame runs at.
+  /// Index of the rung planned for the current (or next) frame.
   int current() const { return current_; }
+  /// Index of the rung the last step_begin() chose.
+  int stepped_at() const { return ran_; }
   const std::vector<BudgetSetting>& ladder() const { return ladder_; }
+  /// Predicted cost in ms of the frame's remainder at rung i once `elapsed_ms` are spent before its step.
+  double predicted_from_step_ms(int i, double elapsed_ms) const;
+  /// Frames stepped cheaper than planned because of what they spent before the step.
+  int64_t frames_stepped_cheaper() const { return cheaper_; }
   /// Frames run at each rung.
   const std::vector<int64_t>& frames_at() const { return frames_at_; }
   /// Frames whose measured cost exceeded the budget.
@@ -99,13 +112,15 @@ class FrameBudget {
   std::vector<BudgetSetting> ladder_;
   BudgetClock* clock_;
   int current_ = 0;
+  int ran_ = 0;                // the rung this frame stepped at (current_ when it did not step)
   int held_ = 0;
-  double t_frame_ = 0.0, t_step_ = 0.0, step_ms_ = 0.0;
+  double t_frame_ = 0.0, t_step_ = 0.0, t_step_end_ = 0.0, step_ms_ = 0.0;
   bool stepped_ = false;
-  double other_ms_ = -1.0;     // estimate of the frame without the step (< 0: none yet)
+  double pre_ms_ = -1.0;       // estimate of the frame before its step (< 0: none yet)
+  double tail_ms_ = -1.0;      // estimate of the frame after its step (< 0: none yet)
   double unit_ms_ = -1.0;      // estimate of the step per work unit (< 0: none yet)
   std::vector<int64_t> frames_at_;
-  int64_t frames_over_ = 0, changes_ = 0;
+  int64_t frames_over_ = 0, changes_ = 0, cheaper_ = 0;
 };
 
 }  // namespace palpate

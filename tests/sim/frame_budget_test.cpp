@@ -21,13 +21,14 @@ StepOptions local_global(int iterations) {
   return o;
 }
 
-// One frame whose step costs ms_per_unit per work unit of the rung it runs at, plus other_ms around it.
-// Returns the iterations it ran with.
-int run_frame(FrameBudget* b, FakeClock* c, double other_ms, double ms_per_unit) {
-  const StepOptions& o = b->begin_frame();
-  const double units = b->ladder()[static_cast<std::size_t>(b->current())].work_units;
-  c->t_ms += 0.5 * other_ms;
-  b->step_begin();
+// One frame whose step costs ms_per_unit per work unit of the rung it steps at, plus other_ms around it (half
+// before the step, or before_ms when given: a cut and its factor update come before the step). Returns the
+// iterations it stepped with.
+int run_frame(FrameBudget* b, FakeClock* c, double other_ms, double ms_per_unit, double before_ms = -1.0) {
+  b->begin_frame();
+  c->t_ms += before_ms >= 0.0 ? before_ms : 0.5 * other_ms;
+  const StepOptions& o = b->step_begin();
+  const double units = b->ladder()[static_cast<std::size_t>(b->stepped_at())].work_units;
   c->t_ms += ms_per_unit * units;
   b->step_end();
   c->t_ms += 0.5 * other_ms;
@@ -114,6 +115,27 @@ TEST(FrameBudget, FramesThatDoNotStepKeepTheStepEstimate) {
     b.end_frame();
   }
   EXPECT_DOUBLE_EQ(b.predicted_ms(0), before);
+}
+
+TEST(FrameBudget, AFrameThatSpendsItsBudgetBeforeTheStepStepsCheaper) {
+  FakeClock clock;
+  FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
+  // 0.5 ms before and after the step, 0.3 ms a unit: 10 iterations cost 4.15 ms
+  for (int f = 0; f < 20; ++f) ASSERT_EQ(run_frame(&b, &clock, 1.0, 0.3), 10);
+  // a cutting frame: 5 ms spent before the step. At the planned 10 iterations it would take 5 + 3.15 + 0.5 = 8.65
+  // ms; 6 iterations (6.5 units) make 7.45 ms, the most accurate rung that holds 8 ms
+  EXPECT_EQ(b.current(), 0);
+  EXPECT_NEAR(b.predicted_from_step_ms(0, 5.0), 8.65, 1e-9);
+  EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3, 5.0), 6);
+  EXPECT_EQ(b.frames_over(), 0);
+  EXPECT_EQ(b.frames_stepped_cheaper(), 1);
+  EXPECT_EQ(b.frames_at()[0], 20);
+  EXPECT_EQ(b.frames_at()[1], 1);
+  // the step's estimate per unit is that of the rung it stepped at: unchanged
+  EXPECT_NEAR(b.predicted_from_step_ms(0, 0.5), 4.15, 1e-9);
+  // 7.9 ms before the step leave no room for any rung: the cheapest (1 iteration) steps
+  EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3, 7.9), 1);
+  EXPECT_EQ(b.frames_stepped_cheaper(), 2);
 }
 
 }  // namespace

@@ -14,9 +14,10 @@ nlohmann::json budget_summary(const Scene& scene, const FrameStage& stage, bool 
     return j;
   }
   j["active"] = true;
-  j["clock"] = "wall (sim part of the frame: drain, cut, step, deform, normals, patch)";
+  j["clock"] = "wall (sim part of the frame: drain, cut, factor update, step, deform, normals, patch)";
   j["frames_over_budget"] = b->frames_over();
   j["changes"] = b->changes();
+  j["frames_stepped_cheaper"] = b->frames_stepped_cheaper();
   j["error_source"] = kBudgetErrorSource;
   nlohmann::json settings = nlohmann::json::array();
   for (std::size_t i = 0; i < b->ladder().size(); ++i) {

@@ -114,11 +114,11 @@ bool FrameStage::step_lattice_frame() {
   Lattice& lat = *region_->mutable_lattice();
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_clock_.now_ms();
-  const StepOptions& opts = frame_opts_ ? *frame_opts_ : step_opts_;
-  if (budget_) budget_->step_begin();
-  // the solver's matrix first (what the step would do first anyway), so the profile tells it from the iterations
-  prepare_step(lat, opts, step_dt_s_, &ws_);
+  // the solver's matrix first (what the step would do first anyway; the rungs differ only in iterations), so the
+  // budget knows what the frame has spent before choosing the iterations, and the profile tells the two apart
+  prepare_step(lat, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, &ws_);
   lap(FramePart::kFactor);
+  const StepOptions& opts = budget_ ? budget_->step_begin() : step_opts_;
   const StepReport rep = step_lattice(&lat, opts, step_dt_s_, f_ext_N_, &ws_);
   if (budget_) budget_->step_end();
   stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
