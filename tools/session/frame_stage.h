@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/scene.h"
@@ -125,6 +126,7 @@ class FrameStage {
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
+  std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
   double t_s_ = 0.0;                 // scene time of the current frame
