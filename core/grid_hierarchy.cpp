@@ -1,6 +1,7 @@
 #include "core/grid_hierarchy.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
@@ -283,7 +284,8 @@ int64_t GridHierarchy::surface_cells(int level) const { return surface_count_[le
 
 int64_t GridHierarchy::solid_cells(int level) const { return solid_count_[level - 1]; }
 
-void GridHierarchy::triangles_near(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* out) const {
+void GridHierarchy::triangles_near(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* out,
+                                   std::vector<int32_t>* scratch) const {
   out->clear();
   // NaN fails <= as well
   if (!(lo_m.array() <= hi_m.array()).all()) return;
@@ -298,7 +300,20 @@ void GridHierarchy::triangles_near(const Vec3& lo_m, const Vec3& hi_m, std::vect
       }
     }
   }
-  std::sort(out->begin(), out->end());
+  // least significant digit first, 11 bits a pass (ids are below num_triangles_): linear in the ids gathered
+  std::vector<int32_t> local;
+  std::vector<int32_t>& tmp = scratch != nullptr ? *scratch : local;
+  tmp.resize(out->size());
+  constexpr int kBits = 11;
+  constexpr uint32_t kMask = (1u << kBits) - 1;
+  std::array<int32_t, (1u << kBits) + 1> count{};
+  for (int shift = 0; shift < 31 && (static_cast<uint64_t>(num_triangles_) >> shift) > 0; shift += kBits) {
+    count.fill(0);
+    for (int32_t id : *out) ++count[((static_cast<uint32_t>(id) >> shift) & kMask) + 1];
+    for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
+    for (int32_t id : *out) tmp[static_cast<std::size_t>(count[(static_cast<uint32_t>(id) >> shift) & kMask]++)] = id;
+    out->swap(tmp);
+  }
   out->erase(std::unique(out->begin(), out->end()), out->end());
 }
 

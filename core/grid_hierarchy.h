@@ -90,8 +90,9 @@ class GridHierarchy {
 
   /// Writes into *out (cleared first, capacity reused) the ids, sorted and unique, of the triangles in the
   /// leaves that the box [lo_m, hi_m] touches: a superset of the triangles overlapping the box; empty when the
-  /// box misses the cube.
-  void triangles_near(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* out) const;
+  /// box misses the cube. O(overlaps gathered): sorted by radix; scratch (grow-only, may be null) is its buffer.
+  void triangles_near(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* out,
+                      std::vector<int32_t>* scratch = nullptr) const;
 
  private:
   void build_leaf_lists(const TriMesh& mesh);

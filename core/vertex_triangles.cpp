@@ -34,6 +34,41 @@ void update_vertex_normals(const std::vector<Vec3>& vertices_m, const std::vecto
   }
 }
 
+void VertexNormalPatch::attach(const VertexTriangles& adjacency, const std::vector<int32_t>& vertex_ids) {
+  vertex_ids_ = vertex_ids;
+  offsets_.assign(1, 0);
+  triangle_ids_.clear();
+  for (int32_t v : vertex_ids) {
+    triangle_ids_.insert(triangle_ids_.end(), adjacency.triangles.begin() + adjacency.offsets[v],
+                         adjacency.triangles.begin() + adjacency.offsets[v + 1]);
+    offsets_.push_back(static_cast<int32_t>(triangle_ids_.size()));
+  }
+  // the rows, as slots into the sorted distinct triangles
+  face_slots_ = triangle_ids_;
+  std::sort(triangle_ids_.begin(), triangle_ids_.end());
+  triangle_ids_.erase(std::unique(triangle_ids_.begin(), triangle_ids_.end()), triangle_ids_.end());
+  for (int32_t& t : face_slots_)
+    t = static_cast<int32_t>(std::lower_bound(triangle_ids_.begin(), triangle_ids_.end(), t) - triangle_ids_.begin());
+  faces_.resize(triangle_ids_.size());
+}
+
+void VertexNormalPatch::update(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
+                               std::vector<Vec3>* normals) {
+  // the same face normal expression as compute_vertex_normals, once per triangle
+  for (std::size_t f = 0; f < triangle_ids_.size(); ++f) {
+    const auto& t = triangles[static_cast<std::size_t>(triangle_ids_[f])];
+    faces_[f] = (vertices_m[t[1]] - vertices_m[t[0]]).cross(vertices_m[t[2]] - vertices_m[t[0]]);
+  }
+  // summed per vertex in its adjacency row's order (ascending triangles): compute_vertex_normals' order
+  for (std::size_t i = 0; i < vertex_ids_.size(); ++i) {
+    Vec3 sum = Vec3::Zero();
+    for (int32_t k = offsets_[i]; k < offsets_[i + 1]; ++k) sum += faces_[static_cast<std::size_t>(face_slots_[k])];
+    const double len = sum.norm();
+    if (len > 0.0) sum /= len;
+    (*normals)[vertex_ids_[i]] = sum;
+  }
+}
+
 void normal_dependents(const std::vector<std::array<int32_t, 3>>& triangles, const VertexTriangles& adjacency,
                        const std::vector<int32_t>& moving, std::vector<uint8_t>* mark, std::vector<int32_t>* out) {
   out->clear();

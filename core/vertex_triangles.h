@@ -28,6 +28,29 @@ void update_vertex_normals(const std::vector<Vec3>& vertices_m, const std::vecto
                            const VertexTriangles& adjacency, const std::vector<int32_t>& vertex_ids,
                            std::vector<Vec3>* normals);
 
+/// The normals of one fixed set of vertices, recomputed as update_vertex_normals does (bit for bit the same) but
+/// with each face normal computed once rather than once per corner. attach() when the set changes: O(k log k) in
+/// the set's adjacency entries; update() per frame: O(k). Grow-only buffers, copyable.
+class VertexNormalPatch {
+ public:
+  /// Takes the vertices (each once) and the triangles that meet them; indices must be valid for adjacency.
+  void attach(const VertexTriangles& adjacency, const std::vector<int32_t>& vertex_ids);
+  /// Writes the normals of the attached vertices into *normals (n_v); other normals are untouched.
+  void update(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
+              std::vector<Vec3>* normals);
+  /// The attached vertices.
+  const std::vector<int32_t>& vertex_ids() const { return vertex_ids_; }
+  /// Number of distinct triangles whose face normals a frame computes.
+  std::size_t num_triangles() const { return triangle_ids_.size(); }
+
+ private:
+  std::vector<int32_t> vertex_ids_;    // the attached vertices (k)
+  std::vector<int32_t> triangle_ids_;  // the distinct triangles at them, ascending (n_f)
+  std::vector<int32_t> offsets_;       // per attached vertex: start of its row in face_slots_ (k + 1)
+  std::vector<int32_t> face_slots_;    // adjacency rows of the attached vertices, as indices into triangle_ids_
+  std::vector<Vec3> faces_;            // face normals (unnormalised) of triangle_ids_ (n_f)
+};
+
 /// The vertices whose normal changes when any of `moving` moves: every vertex of a triangle with a moving vertex
 /// (each listed once, ascending). mark is scratch of n_v bytes, left all zero.
 void normal_dependents(const std::vector<std::array<int32_t, 3>>& triangles, const VertexTriangles& adjacency,

@@ -182,8 +182,8 @@ void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
   if (!prepare_mesh(view)) return;
   static_assert(sizeof(std::array<int32_t, 3>) == 3 * sizeof(uint32_t), "triangles are packed index triples");
   const auto& triangles = *view.triangles;
-  draw_fill(gl, triangles.data()->data(), 3 * triangles.size(), GL_LEQUAL);
-  draw_lines(gl, edge_indices_);
+  draw_fill(gl, positions_f_.data(), normals_f_.data(), triangles.data()->data(), 3 * triangles.size());
+  draw_lines(gl, positions_f_.data(), edge_indices_);
 }
 
 bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
@@ -198,11 +198,22 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
       if (v < 0 || static_cast<std::size_t>(v) >= vertices.size()) return false;
     if (!prepare_mesh(view)) return false;
     layers_.split(vertices.size(), triangles, edge_indices_, *view.moving_vertices);
+    // the dynamic part's own vertex array, taken from the whole mesh's once per layer
+    const auto& local = layers_.local_vertices();
+    local_positions_f_.resize(3 * local.size());
+    if (style_ != RenderStyle::kWireframe) local_normals_f_.resize(3 * local.size());
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      const auto from = static_cast<std::size_t>(3 * local[i]);
+      std::copy_n(positions_f_.begin() + static_cast<std::ptrdiff_t>(from), 3, local_positions_f_.begin() + static_cast<std::ptrdiff_t>(3 * i));
+      if (style_ != RenderStyle::kWireframe)
+        std::copy_n(normals_f_.begin() + static_cast<std::ptrdiff_t>(from), 3, local_normals_f_.begin() + static_cast<std::ptrdiff_t>(3 * i));
+    }
     // the static part, drawn as a full redraw would draw it: fill, then lines
     gl.BindFramebuffer(GL_FRAMEBUFFER, layer_.id());
     setup_frame(gl, /*clear=*/true);
-    draw_fill(gl, layers_.static_triangles().data(), layers_.static_triangles().size(), GL_LEQUAL);
-    draw_lines(gl, layers_.static_edges());
+    draw_fill(gl, positions_f_.data(), normals_f_.data(), layers_.static_triangles().data(),
+              layers_.static_triangles().size());
+    draw_lines(gl, positions_f_.data(), layers_.static_edges());
     gl.BindFramebuffer(GL_FRAMEBUFFER, frame_.id());
     layer_valid_ = true;
     layer_epoch_ = view.layer_epoch;
@@ -210,37 +221,59 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
     layer_triangles_ = triangles.size();
     ++layer_builds_;
   } else {
-    // only the affected vertices can differ from what the buffers hold
-    const std::vector<Vec3>* normals = view.normals;
-    if (style_ != RenderStyle::kWireframe && (normals == nullptr || normals->size() != vertices.size())) {
-      compute_vertex_normals(vertices, triangles, &computed_normals_);
-      normals = &computed_normals_;
-    }
-    for (int32_t v : layers_.affected_vertices()) {
-      const auto i = static_cast<std::size_t>(3 * v);
-      for (int c = 0; c < 3; ++c) positions_f_[i + c] = static_cast<float>(vertices[v][c]);
-      if (style_ != RenderStyle::kWireframe)
-        for (int c = 0; c < 3; ++c) normals_f_[i + c] = static_cast<float>((*normals)[v][c]);
-    }
+    update_local_vertices(view);
   }
   frame_.copy_from(layer_);
   setup_frame(gl, /*clear=*/false);
   // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills
   // after cached lines changes no pixel; a moving and a static fill at exactly equal depth (an edge seen
   // edge-on) go to the moving one here and to the later triangle in a full redraw
-  draw_fill(gl, layers_.dynamic_triangles().data(), layers_.dynamic_triangles().size(), GL_LEQUAL);
-  draw_lines(gl, layers_.dynamic_edges());
+  draw_fill(gl, local_positions_f_.data(), local_normals_f_.data(), layers_.dynamic_triangles().data(),
+            layers_.dynamic_triangles().size());
+  draw_lines(gl, local_positions_f_.data(), layers_.dynamic_edges());
   return true;
 }
 
-void Renderer::draw_fill(const GlApi& gl, const void* indices, std::size_t count, GLenum depth_func) const {
+void Renderer::update_local_vertices(const FrameView& view) {
+  // only the affected vertices (the first local ones) can differ from what the local arrays hold
+  const std::vector<Vec3>& vertices = *view.vertices_m;
+  const auto& affected = layers_.affected_vertices();
+  for (std::size_t i = 0; i < affected.size(); ++i)
+    for (int c = 0; c < 3; ++c) local_positions_f_[3 * i + c] = static_cast<float>(vertices[affected[i]][c]);
+  if (style_ == RenderStyle::kWireframe) return;
+  const std::vector<Vec3>* normals = view.normals;
+  if (normals != nullptr && normals->size() == vertices.size()) {
+    for (std::size_t i = 0; i < affected.size(); ++i)
+      for (int c = 0; c < 3; ++c) local_normals_f_[3 * i + c] = static_cast<float>((*normals)[affected[i]][c]);
+    return;
+  }
+  // no normals given: every triangle at an affected vertex is dynamic, and the dynamic triangles are in mesh
+  // order, so summing their face normals gives compute_vertex_normals' result bit for bit
+  const auto& local = layers_.local_vertices();
+  const auto& tris = layers_.dynamic_triangles();
+  local_normals_.assign(affected.size(), Vec3::Zero());
+  for (std::size_t k = 0; k + 2 < tris.size(); k += 3) {
+    const Vec3& a = vertices[local[tris[k]]];
+    const Vec3 n = (vertices[local[tris[k + 1]]] - a).cross(vertices[local[tris[k + 2]]] - a);
+    for (int c = 0; c < 3; ++c)
+      if (tris[k + c] < affected.size()) local_normals_[tris[k + c]] += n;
+  }
+  for (std::size_t i = 0; i < affected.size(); ++i) {
+    Vec3& n = local_normals_[i];
+    const double len = n.norm();
+    if (len > 0.0) n /= len;
+    for (int c = 0; c < 3; ++c) local_normals_f_[3 * i + c] = static_cast<float>(n[c]);
+  }
+}
+
+void Renderer::draw_fill(const GlApi& gl, const float* positions, const float* normals, const void* indices,
+                         std::size_t count) const {
   if (style_ == RenderStyle::kWireframe || count == 0) return;
-  gl.DepthFunc(depth_func);
   gl.EnableClientState(GL_VERTEX_ARRAY);
-  gl.VertexPointer(3, GL_FLOAT, 0, positions_f_.data());
+  gl.VertexPointer(3, GL_FLOAT, 0, positions);
   gl.Enable(GL_LIGHTING);
   gl.EnableClientState(GL_NORMAL_ARRAY);
-  gl.NormalPointer(GL_FLOAT, 0, normals_f_.data());
+  gl.NormalPointer(GL_FLOAT, 0, normals);
   // push the fill back so the wireframe sits on the surface
   if (style_ == RenderStyle::kBoth) {
     gl.Enable(GL_POLYGON_OFFSET_FILL);
@@ -251,14 +284,13 @@ void Renderer::draw_fill(const GlApi& gl, const void* indices, std::size_t count
   gl.Disable(GL_POLYGON_OFFSET_FILL);
   gl.DisableClientState(GL_NORMAL_ARRAY);
   gl.DisableClientState(GL_VERTEX_ARRAY);
-  gl.DepthFunc(GL_LEQUAL);
 }
 
-void Renderer::draw_lines(const GlApi& gl, const std::vector<uint32_t>& edges) const {
+void Renderer::draw_lines(const GlApi& gl, const float* positions, const std::vector<uint32_t>& edges) const {
   // each edge once as a line: llvmpipe's polygon-mode lines cost about three times as much
   if (style_ == RenderStyle::kSolid || edges.empty()) return;
   gl.EnableClientState(GL_VERTEX_ARRAY);
-  gl.VertexPointer(3, GL_FLOAT, 0, positions_f_.data());
+  gl.VertexPointer(3, GL_FLOAT, 0, positions);
   gl.Disable(GL_LIGHTING);
   gl.LineWidth(1.0f);
   set_color(gl, kWireColor);

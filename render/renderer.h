@@ -43,7 +43,9 @@ struct FrameView {
 ///
 /// Cost follows what moves: when a view names its moving vertices, the triangles and edges that cannot change
 /// are drawn once into a cached colour + depth layer; each frame copies the layer and draws only the rest, the
-/// tool and the overlays, with depth tests that give the pixels of a full redraw (see draw()).
+/// tool and the overlays, with depth tests that give the pixels of a full redraw (see draw()). The rest is drawn
+/// from a compact vertex array of its own (MeshLayers' local vertices), so a frame hands GL and converts only the
+/// vertices it draws, not the whole mesh's.
 class Renderer {
  public:
   /// Prepares the tool sphere and the camera matrices for ctx's size.
@@ -76,14 +78,18 @@ class Renderer {
   // index check and positions/normals for GL; false when an index is out of range
   bool prepare_mesh(const FrameView& view);
   void draw_mesh(const GlApi& gl, const FrameView& view);
-  // the fill of `count` triangle indices (depth test `depth_func`) and the lines of an edge list, from
-  // positions_f_ / normals_f_
-  void draw_fill(const GlApi& gl, const void* indices, std::size_t count, GLenum depth_func) const;
-  void draw_lines(const GlApi& gl, const std::vector<uint32_t>& edges) const;
+  // the fill of `count` triangle indices and the lines of an edge list, from the given vertex arrays (3 floats
+  // per vertex: the whole mesh's positions_f_ / normals_f_, or the dynamic part's local ones)
+  void draw_fill(const GlApi& gl, const float* positions, const float* normals, const void* indices,
+                 std::size_t count) const;
+  void draw_lines(const GlApi& gl, const float* positions, const std::vector<uint32_t>& edges) const;
   // creates the frame and layer framebuffers once; false when the context has none
   bool ensure_framebuffers(const GlApi& gl);
   // layered path: redraws the layer when the epoch changed, else updates the affected vertices; false: skip mesh
   bool draw_layered(const GlApi& gl, const FrameView& view);
+  // copies the affected vertices' positions and normals (computed from the dynamic triangles when the view has
+  // none) into the local arrays: O(dynamic part), whatever the mesh's size
+  void update_local_vertices(const FrameView& view);
   void draw_tool(const GlApi& gl, const FrameView& view) const;
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
   void draw_blade(const GlApi& gl, const FrameView& view) const;
@@ -111,6 +117,9 @@ class Renderer {
   Framebuffer frame_;                    // where frames are drawn and read (both paths, so they match)
   Framebuffer layer_;                    // static part: colour + depth
   MeshLayers layers_;                    // static / dynamic split for the layer's epoch
+  std::vector<float> local_positions_f_; // the dynamic part's vertex positions for GL (3 n_local)
+  std::vector<float> local_normals_f_;   // the dynamic part's vertex normals for GL (3 n_local)
+  std::vector<Vec3> local_normals_;      // affected vertices' normals when the view has none (n_affected)
   bool layer_valid_ = false;             // layer_ holds the static part of layer_epoch_
   uint64_t layer_epoch_ = 0;             // epoch the layer was drawn for
   std::size_t layer_vertices_ = 0, layer_triangles_ = 0;  // mesh size the layer was drawn for

@@ -53,7 +53,7 @@ for section in "${sections[@]}"; do
       run realtime "$bin/palpate" record scenes/bunny_pull.json --mode realtime -q --out "$out/bunny_pull_realtime"
       stages "$out/bunny_pull_realtime/summary.json" ;;
     scale)
-      run scale "$bin/palpate" bench scale scenes/bunny_pull.json --max-subdivisions 3 --json "$out/scale.json" \
+      run scale "$bin/palpate" bench scale scenes/bunny_pull.json --max-subdivisions 4 --json "$out/scale.json" \
         --plot "$out/bench_scale.png" ;;
     loop)
       run loop "$bin/palpate" bench loop --load record --json "$out/loop.json" --plot "$out/bench_loop_record.png"

@@ -294,6 +294,24 @@ TEST(GridHierarchy, TrianglesNearMatchesBruteForce) {
     far_away += ((thi.array() < lo.array() - leaf).any() || (tlo.array() > hi.array() + leaf).any()) ? 1 : 0;
   }
   EXPECT_EQ(far_away, 0);
+  // exactly the touched leaves' lists, merged by a comparison sort; the same with a scratch buffer reused
+  std::vector<int32_t> expect;
+  const CellCoord clo = grid.cell_of(lo, grid.levels()), chi = grid.cell_of(hi, grid.levels());
+  for (int k = clo.k; k <= chi.k; ++k)
+    for (int j = clo.j; j <= chi.j; ++j)
+      for (int i = clo.i; i <= chi.i; ++i) {
+        const auto ids = grid.leaf_triangles(grid.linear_index({i, j, k}, grid.levels()));
+        expect.insert(expect.end(), ids.begin(), ids.end());
+      }
+  ASSERT_GT(expect.size(), near.size());  // leaves share triangles: there was something to merge
+  std::sort(expect.begin(), expect.end());
+  expect.erase(std::unique(expect.begin(), expect.end()), expect.end());
+  EXPECT_EQ(near, expect);
+  std::vector<int32_t> scratch, again;
+  for (int round = 0; round < 2; ++round) {
+    grid.triangles_near(lo, hi, &again, &scratch);
+    EXPECT_EQ(again, expect) << "round " << round;
+  }
   grid.triangles_near(Vec3::Constant(2), Vec3::Constant(3), &near);
   EXPECT_TRUE(near.empty());
   grid.triangles_near(hi, lo, &near);

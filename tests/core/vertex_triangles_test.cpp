@@ -59,6 +59,48 @@ TEST(VertexTriangles, MovedVerticesGetTheWholeMeshNormalsBitForBit) {
   EXPECT_TRUE(std::all_of(mark.begin(), mark.end(), [](uint8_t b) { return b == 0; }));
 }
 
+// The patch computes each face normal once and sums per vertex: the whole mesh's normals bit for bit, frame after
+// frame, and nothing outside its vertices is written.
+TEST(VertexTriangles, NormalPatchGivesTheWholeMeshNormalsBitForBit) {
+  TriMesh m = subdivide_midpoint(bunny());
+  const std::vector<Vec3> rest = m.vertices_m;
+  const auto adj = VertexTriangles::build(m.vertices_m.size(), m.triangles);
+  std::vector<Vec3> normals;
+  compute_vertex_normals(m.vertices_m, m.triangles, &normals);
+  std::vector<int32_t> moving;
+  for (std::size_t v = 0; v < rest.size(); ++v)
+    if (rest[v].x() > rest[0].x()) moving.push_back(static_cast<int32_t>(v));
+  ASSERT_GT(moving.size(), 100u);
+  std::vector<uint8_t> mark;
+  std::vector<int32_t> deps;
+  normal_dependents(m.triangles, adj, moving, &mark, &deps);
+  VertexNormalPatch patch;
+  patch.attach(adj, deps);
+  EXPECT_EQ(patch.vertex_ids(), deps);
+  EXPECT_LT(patch.num_triangles(), m.triangles.size());
+  const Vec3 marker(7.0, 7.0, 7.0);  // on the normals no patch vertex owns: must survive
+  std::vector<uint8_t> in_patch(rest.size(), 0);
+  for (int32_t v : deps) in_patch[v] = 1;
+  for (std::size_t v = 0; v < rest.size(); ++v)
+    if (!in_patch[v]) normals[v] = marker;
+  for (int frame = 1; frame <= 3; ++frame) {
+    for (int32_t v : moving) {
+      const Vec3& r = rest[v];
+      m.vertices_m[v] = r + frame * Vec3(0.002 * std::sin(90 * r.y()), 0.001 * std::cos(70 * r.z()), 0.0015 * r.x());
+    }
+    patch.update(m.vertices_m, m.triangles, &normals);
+    std::vector<Vec3> full;
+    compute_vertex_normals(m.vertices_m, m.triangles, &full);
+    int64_t differ = 0, kept = 0;
+    for (std::size_t v = 0; v < full.size(); ++v) {
+      if (in_patch[v]) differ += (full[v].array() != normals[v].array()).any() ? 1 : 0;
+      else kept += normals[v] == marker ? 1 : 0;
+    }
+    EXPECT_EQ(differ, 0) << "frame " << frame;
+    EXPECT_EQ(kept, static_cast<int64_t>(rest.size() - deps.size())) << "frame " << frame;
+  }
+}
+
 TEST(VertexTriangles, DependentsAreTheVerticesOfTrianglesWithAMovingVertex) {
   const TriMesh m = bunny();
   const auto adj = VertexTriangles::build(m.vertices_m.size(), m.triangles);

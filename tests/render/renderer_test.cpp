@@ -267,6 +267,75 @@ TEST_P(RendererTest, CachedLayerGivesTheFullRedrawsPixels) {
   }
 }
 
+// Flips the diagonal of every quad (triangles 2q, 2q + 1 of a box mesh) whose four corners pass `in`: the same
+// vertices and triangle count, other triangles (a topology change only the epoch can tell).
+template <class In>
+void flip_quads(const std::vector<Vec3>& rest, std::vector<std::array<int32_t, 3>>* triangles, In in) {
+  for (std::size_t q = 0; q + 1 < triangles->size(); q += 2) {
+    auto& t0 = (*triangles)[q];
+    auto& t1 = (*triangles)[q + 1];
+    // t0 = (p, s1, s2) with p not in t1; then t1 = (r, s2, s1)
+    int k = 0;
+    while (k < 3 && std::find(t1.begin(), t1.end(), t0[k]) != t1.end()) ++k;
+    ASSERT_LT(k, 3);
+    const int32_t p = t0[k], s1 = t0[(k + 1) % 3], s2 = t0[(k + 2) % 3];
+    int32_t r = -1;
+    for (int32_t v : t1)
+      if (v != s1 && v != s2) r = v;
+    ASSERT_GE(r, 0);
+    if (!in(rest[p]) || !in(rest[s1]) || !in(rest[s2]) || !in(rest[r])) continue;
+    t0 = {p, s1, r};
+    t1 = {p, r, s2};
+  }
+}
+
+// The dynamic part is drawn from its own compact vertex array: after the moving set changes, after a topology
+// change with the same counts and after one with new counts, and with normals computed by the renderer (the
+// view gives none), every frame has the pixels of a full redraw.
+TEST_P(RendererTest, CompactDynamicArrayKeepsTheFullRedrawsPixels) {
+  TriMesh mesh = ::palpate::make_box_mesh(Vec3(0.1, 0.08, 0.06), 8);
+  const Aabb box = Aabb::of(mesh.vertices_m);
+  const Camera cam = Camera::framing(box.min_m, box.max_m, static_cast<double>(kW) / kH);
+  Renderer layered(ctx_.get(), RenderStyle::kBoth, cam), full(ctx_.get(), RenderStyle::kBoth, cam);
+  full.set_layered(false);
+  std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size()), first(a.size());
+  std::vector<int32_t> moving;
+  std::vector<Vec3> rest;
+  int64_t frames = 0, layered_frames = 0, changed = 0;
+  for (int epoch = 0; epoch < 4; ++epoch) {
+    // 0: a corner; 1: the opposite side; 2: its quads' diagonals flipped; 3: the mesh subdivided
+    auto in_region = [epoch](const Vec3& r) { return epoch == 0 ? r.x() > 0.02 && r.z() > 0.0 : r.x() < -0.02; };
+    if (epoch == 2) flip_quads(mesh.vertices_m, &mesh.triangles, in_region);
+    if (epoch == 3) mesh = subdivide_midpoint(mesh);
+    rest = mesh.vertices_m;
+    moving.clear();
+    for (std::size_t v = 0; v < rest.size(); ++v)
+      if (in_region(rest[v])) moving.push_back(static_cast<int32_t>(v));
+    ASSERT_GT(moving.size(), 10u);
+    for (int f = 0; f < 4; ++f) {
+      for (int32_t v : moving) {
+        const Vec3& r = rest[v];
+        mesh.vertices_m[v] = r + (f + 1) * Vec3(0.003 * std::sin(50 * r.y()), 0.002 * std::cos(40 * r.z()), -0.003);
+      }
+      FrameView view{};
+      view.vertices_m = &mesh.vertices_m;
+      view.triangles = &mesh.triangles;
+      view.moving_vertices = &moving;
+      view.layer_epoch = static_cast<uint64_t>(epoch);
+      layered.draw(view, a.data());
+      layered_frames += layered.last_draw_layered() ? 1 : 0;
+      full.draw(view, b.data());
+      EXPECT_EQ(count_different(a, b), 0) << "epoch " << epoch << " frame " << f;
+      if (frames == 0) first = a;
+      changed += count_different(first, a) > 100 ? 1 : 0;
+      ++frames;
+    }
+  }
+  EXPECT_EQ(layered_frames, frames);
+  EXPECT_EQ(layered.layer_builds(), 4);
+  EXPECT_GE(changed, frames / 2);  // the frames compared show a moving mesh
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RendererTest, ::testing::Values("osmesa", "egl"),
                          [](const auto& param_info) { return param_info.param; });
 

@@ -291,9 +291,14 @@ void FrameStage::publish_patch() {
   const int32_t held = latest_.contact != ContactState::kFree ? latest_.contact_tri : -1;
   m.truncated = near_tris_.size() > static_cast<std::size_t>(LocalModel::kMaxTriangles);
   if (m.truncated) {
-    std::nth_element(near_tris_.begin(), near_tris_.begin() + LocalModel::kMaxTriangles - 1, near_tris_.end(),
-                     [&](int32_t a, int32_t b) { return dist(a) < dist(b); });
+    // each distance once: nth_element moves the (distance, id) pairs exactly as it would move the ids compared by
+    // distance, so the patch is the same triangles in the same order
+    near_keys_.clear();
+    for (int32_t t : near_tris_) near_keys_.emplace_back(dist(t), t);
+    std::nth_element(near_keys_.begin(), near_keys_.begin() + LocalModel::kMaxTriangles - 1, near_keys_.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
     near_tris_.resize(LocalModel::kMaxTriangles - 1);
+    for (std::size_t i = 0; i < near_tris_.size(); ++i) near_tris_[i] = near_keys_[i].second;
   }
   int n = 0;
   auto put = [&](int32_t t) {

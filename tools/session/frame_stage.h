@@ -5,6 +5,7 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/scene.h"
@@ -135,6 +136,7 @@ class FrameStage {
   std::vector<Vec3> normals_;        // per vertex (n_v)
   std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
+  std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
   bool compliance_next_frame_ = false;  // the region was placed or moved this frame: no contact model until the next
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step

@@ -39,14 +39,14 @@ bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh) {
     // vertices of dropped cells go back to rest; the others are deformed again by the new lattice. Normals
     // that depended on the old region are final now unless they depend on the new one (redone after deform).
     for (int32_t v : deformer_.vertex_ids()) vertices_m[v] = model_.rest.vertices_m[v];
-    if (!mesh.normals->empty())
-      update_vertex_normals(vertices_m, triangles(), model_.adjacency, normal_ids_, mesh.normals);
+    if (!mesh.normals->empty()) normal_patch_.update(vertices_m, triangles(), mesh.normals);
     ++stats_->region_moves;
   }
   lattice_ = std::move(lat).value();
   center_ = center;
   deformer_.attach(*lattice_, model_.bindings);
   normal_dependents(triangles(), model_.adjacency, deformer_.vertex_ids(), &mark_scratch_, &normal_ids_);
+  normal_patch_.attach(model_.adjacency, normal_ids_);
   changed_ = true;
   ++layer_epoch_;
   stats_->lattice_nodes = std::max(stats_->lattice_nodes, lattice_->num_nodes());
@@ -62,7 +62,7 @@ void LocalRegion::deform(std::vector<Vec3>* vertices_m) const {
 void LocalRegion::update_normals(bool moved, const DeformedMesh& mesh) {
   // only the normals of the region's vertices and their neighbours can change
   if (mesh.normals->empty()) compute_vertex_normals(*mesh.vertices_m, triangles(), mesh.normals);
-  else if (moved || changed_) update_vertex_normals(*mesh.vertices_m, triangles(), model_.adjacency, normal_ids_, mesh.normals);
+  else if (moved || changed_) normal_patch_.update(*mesh.vertices_m, triangles(), mesh.normals);
   changed_ = false;
 }
 
@@ -71,7 +71,7 @@ void LocalRegion::patch_candidates(const HapticSample& latest, const std::vector
   (void)latest;
   (void)vertices_m;
   (void)margin_m;
-  model_.grid.triangles_near(lo_m, hi_m, out);
+  model_.grid.triangles_near(lo_m, hi_m, out, &near_scratch_);
 }
 
 void LocalRegion::fill_view(const HapticSample& latest, FrameView* view) const {

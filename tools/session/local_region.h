@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/grid_hierarchy.h"
+#include "core/vertex_triangles.h"
 #include "sim/deformer.h"
 #include "tools/session/region_policy.h"
 
@@ -43,6 +44,8 @@ class LocalRegion final : public RegionPolicy {
   MeshDeformer deformer_;
   CellCoord center_;                  // contact cell the region was built around
   std::vector<int32_t> normal_ids_;   // vertices whose normal the region can change
+  VertexNormalPatch normal_patch_;    // recomputes their normals, each face normal once
+  mutable std::vector<int32_t> near_scratch_;  // the patch query's sort buffer (grow-only; sim thread only)
   std::vector<uint8_t> mark_scratch_; // scratch for normal_dependents (n_v)
   bool changed_ = false;              // the region was (re)built this frame: its normals are due
   uint64_t layer_epoch_ = 0;          // bumped when the moving vertices change (the renderer's cached layer)
