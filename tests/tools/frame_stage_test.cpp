@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/tri_mesh.h"
+#include "support/pressed_box.h"
 
 namespace palpate {
 namespace {
@@ -21,20 +22,6 @@ constexpr const char* kBox = R"({
   "duration_s": 2.0
 })";
 
-// The top-face triangle whose centroid is nearest (x, y).
-int32_t top_triangle_near(const TriMesh& mesh, double x, double y, Vec3* centroid) {
-  int32_t best = -1;
-  double best_d = 1e9;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& tr = mesh.triangles[t];
-    const Vec3 c = (mesh.vertices_m[tr[0]] + mesh.vertices_m[tr[1]] + mesh.vertices_m[tr[2]]) / 3.0;
-    if (c.z() < 0.0299) continue;
-    const double d = std::hypot(c.x() - x, c.y() - y);
-    if (d < best_d) best_d = d, best = static_cast<int32_t>(t), *centroid = c;
-  }
-  return best;
-}
-
 TEST(FrameStage, NormalsKeptOnlyWhereTheRegionReachesEqualTheWholeMeshs) {
   const Scene scene = parse_scene(kBox, "box.json").value();
   const Model model = load_model(scene).value();
@@ -46,7 +33,7 @@ TEST(FrameStage, NormalsKeptOnlyWhereTheRegionReachesEqualTheWholeMeshs) {
     // pressed 0.6 N into the top, sliding from x = -2 cm to +2 cm over the first 60 frames, then released
     const double x = -0.02 + 0.04 * std::min(f, 60) / 60.0;
     Vec3 c = Vec3::Zero();
-    const int32_t tri = top_triangle_near(model.rest, x, 0.0, &c);
+    const int32_t tri = test::top_triangle_near(model.rest, x, 0.0, &c);
     ASSERT_GE(tri, 0);
     for (int k = 0; k < 16; ++k) {
       HapticSample s;
@@ -87,18 +74,10 @@ TEST(FrameStage, ContactModelWaitsOneFrameAfterTheRegionIsPlacedOrMoved) {
   for (int f = 0; f < 60; ++f) {
     const double x = -0.02 + 0.04 * f / 60.0;
     Vec3 c = Vec3::Zero();
-    const int32_t tri = top_triangle_near(model.rest, x, 0.0, &c);
+    const int32_t tri = test::top_triangle_near(model.rest, x, 0.0, &c);
     ASSERT_GE(tri, 0);
     for (int k = 0; k < 16; ++k) {
-      HapticSample s;
-      s.tick = tick++;
-      s.tool_pos_m = c - Vec3(0, 0, 0.002);
-      s.proxy_pos_m = c;
-      s.contact = ContactState::kTouch;
-      s.contact_tri = tri;
-      s.contact_bary = Vec3::Constant(1.0 / 3.0);
-      s.force_N = Vec3(0, 0, 0.6);
-      ASSERT_TRUE(samples.try_push(s));
+      ASSERT_TRUE(samples.try_push(test::pressed_sample(tick++, tri, c)));
     }
     const bool had_lattice = stage.lattice().has_value();
     stage.frame(f, f / 60.0, true);
@@ -136,19 +115,11 @@ std::string pressed_box(const Scene& scene, const Model& model, BudgetClock* clo
   FrameStage stage(scene, model, &samples, &local, nullptr, nullptr, nullptr);
   if (clock) stage.use_budget(clock);
   Vec3 c = Vec3::Zero();
-  const int32_t tri = top_triangle_near(model.rest, 0.0, 0.0, &c);
+  const int32_t tri = test::top_triangle_near(model.rest, 0.0, 0.0, &c);
   int64_t tick = 0;
   for (int f = 0; f < 40; ++f) {
     for (int k = 0; k < 16; ++k) {
-      HapticSample s;
-      s.tick = tick++;
-      s.tool_pos_m = c - Vec3(0, 0, 0.002);
-      s.proxy_pos_m = c;
-      s.contact = ContactState::kTouch;
-      s.contact_tri = tri;
-      s.contact_bary = Vec3::Constant(1.0 / 3.0);
-      s.force_N = Vec3(0, 0, 0.6);
-      EXPECT_TRUE(samples.try_push(s));
+      EXPECT_TRUE(samples.try_push(test::pressed_sample(tick++, tri, c)));
     }
     stage.frame(f, f / 60.0, true);
   }

@@ -8,6 +8,7 @@
 #include "render/png_writer.h"
 #include "render/renderer.h"
 #include "support/fixtures.h"
+#include "support/pressed_box.h"
 #include "support/read_file.h"
 #include "tools/session/frame_stage.h"
 
@@ -57,30 +58,13 @@ PressRun pressed_box(const std::string& dir, bool warm) {
   if (warm) stage.warm_up();
   r.draws_before_first_frame = renderer.draws();
   r.written_before_first_frame = writer.frames_written();
-  // the top-face triangle nearest the centre
-  int32_t tri = -1;
   Vec3 c = Vec3::Zero();
-  double best = 1e9;
-  for (std::size_t t = 0; t < box.triangles.size(); ++t) {
-    const auto& tr = box.triangles[t];
-    const Vec3 m = (box.vertices_m[tr[0]] + box.vertices_m[tr[1]] + box.vertices_m[tr[2]]) / 3.0;
-    if (m.z() < hi.z() - 1e-4 || m.head<2>().norm() >= best) continue;
-    best = m.head<2>().norm(), tri = static_cast<int32_t>(t), c = m;
-  }
+  const int32_t tri = test::top_triangle_near(box, 0.0, 0.0, &c);
   EXPECT_GE(tri, 0);
   int64_t tick = 0;
   for (int f = 0; f < kFrames; ++f) {
     for (int k = 0; k < 16; ++k) {
-      HapticSample s;
-      s.tick = tick++;
-      s.t_s = static_cast<double>(s.tick) * 1e-3;
-      s.tool_pos_m = c - Vec3(0, 0, 0.002);
-      s.proxy_pos_m = c;
-      s.contact = ContactState::kTouch;
-      s.contact_tri = tri;
-      s.contact_bary = Vec3::Constant(1.0 / 3.0);
-      s.force_N = Vec3(0, 0, 0.6);
-      EXPECT_TRUE(samples.try_push(s));
+      EXPECT_TRUE(samples.try_push(test::pressed_sample(tick++, tri, c)));
     }
     stage.frame(f, f / 60.0, true);
   }
