@@ -9,6 +9,19 @@
 
 namespace palpate::test {
 
+/// A 6 cm box of 12 x 12 subdivided faces on a fixed floor, a one-cell lattice region at level 4 with raw spring
+/// keys, touch mode: the frame-stage tests press its top face (z = 0.03 m) with pressed_sample().
+inline constexpr const char* kPressedBoxScene = R"({
+  "mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 12, "size_m": 0.06},
+  "grid": {"levels": 4},
+  "lattice": {"level": 4, "radius_cells": 1, "node_mass_kg": 0.003,
+              "stiffness_N_per_m": {"structural": 60, "shear": 30, "bend": 15},
+              "damping_Ns_per_m": 0.06, "fix_floor": true},
+  "interaction": {"mode": "touch"},
+  "trajectory": [{"t_s": 0.0, "pos_m": [0.0, 0.0, 0.05]}],
+  "duration_s": 2.0
+})";
+
 /// The top-face triangle (centroid z at the mesh's top, within 0.1 mm of z = 0.03 m) whose centroid is nearest
 /// (x, y); its centroid in *centroid. -1 when there is none.
 inline int32_t top_triangle_near(const TriMesh& mesh, double x, double y, Vec3* centroid) {

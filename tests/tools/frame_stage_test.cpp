@@ -11,16 +11,7 @@
 namespace palpate {
 namespace {
 
-constexpr const char* kBox = R"({
-  "mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 12, "size_m": 0.06},
-  "grid": {"levels": 4},
-  "lattice": {"level": 4, "radius_cells": 1, "node_mass_kg": 0.003,
-              "stiffness_N_per_m": {"structural": 60, "shear": 30, "bend": 15},
-              "damping_Ns_per_m": 0.06, "fix_floor": true},
-  "interaction": {"mode": "touch"},
-  "trajectory": [{"t_s": 0.0, "pos_m": [0.0, 0.0, 0.05]}],
-  "duration_s": 2.0
-})";
+constexpr const char* kBox = test::kPressedBoxScene;
 
 TEST(FrameStage, NormalsKeptOnlyWhereTheRegionReachesEqualTheWholeMeshs) {
   const Scene scene = parse_scene(kBox, "box.json").value();

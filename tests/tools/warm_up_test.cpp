@@ -17,18 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kBox = R"({
-  "mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 12, "size_m": 0.06},
-  "grid": {"levels": 4},
-  "lattice": {"level": 4, "radius_cells": 1, "node_mass_kg": 0.003,
-              "stiffness_N_per_m": {"structural": 60, "shear": 30, "bend": 15},
-              "damping_Ns_per_m": 0.06, "fix_floor": true},
-  "interaction": {"mode": "touch"},
-  "trajectory": [{"t_s": 0.0, "pos_m": [0.0, 0.0, 0.05]}],
-  "render": {"width": 96, "height": 72, "style": "both", "backend": "osmesa"},
-  "duration_s": 1.0
-})";
-
 constexpr int kFrames = 20;
 
 struct PressRun {
@@ -40,7 +28,11 @@ struct PressRun {
 
 // The box pressed at the centre of its top face for kFrames frames, drawn into dir; warm: warm_up() first.
 PressRun pressed_box(const std::string& dir, bool warm) {
-  const Scene scene = parse_scene(kBox, "box.json").value();
+  Scene scene = parse_scene(test::kPressedBoxScene, "box.json").value();
+  scene.render.width = 96;
+  scene.render.height = 72;
+  scene.render.style = RenderStyle::kBoth;
+  scene.render.backend = RenderBackend::kOsmesa;
   const Model model = load_model(scene).value();
   auto ctx = create_gl_context(scene.render.width, scene.render.height, RenderBackend::kOsmesa);
   EXPECT_TRUE(ctx) << ctx.error().message;
