@@ -103,6 +103,7 @@ struct RenderSpec {
   int height = 480;
   RenderStyle style = RenderStyle::kSolid;
   RenderBackend backend = RenderBackend::kAuto;
+  double wire_min_edge_px = kWireMinEdgePxDefault;  ///< `both`: no wireframe when the median edge is shorter (0: always)
 };
 
 /// A whole scene.

@@ -18,6 +18,9 @@ enum class InteractionMode { kTouch, kPull, kCut };
 enum class RunMode { kLockstep, kRealtime };
 /// How the mesh is drawn.
 enum class RenderStyle { kSolid, kWireframe, kBoth };
+/// `both` style: the wireframe is left out when the mesh's median edge is shorter than this on screen, in pixels
+/// (scene key render.wire_min_edge_px; see Renderer::set_wire_min_edge_px).
+inline constexpr double kWireMinEdgePxDefault = 2.0;
 /// Which off-screen GL the renderer asks for (auto: OSMesa, else EGL surfaceless).
 enum class RenderBackend { kAuto, kOsmesa, kEgl };
 /// Where the device's poses come from.

@@ -78,6 +78,8 @@ void Renderer::set_camera(const Camera& camera) {
   camera_ = camera;
   view_ = camera_.view_matrix();
   projection_ = camera_.projection_matrix(static_cast<double>(ctx_->width()) / ctx_->height());
+  cover_.set(projection_ * view_, ctx_->width(), ctx_->height());
+  layer_valid_ = false;  // the layer was drawn from the old camera
 }
 
 Eigen::Vector2d Renderer::project(const Vec3& p_m) const {
@@ -174,7 +176,26 @@ bool Renderer::prepare_mesh(const FrameView& view) {
     to_floats(*normals, &normals_f_);
   }
   if (style_ != RenderStyle::kSolid) update_edges(triangles);
+  if (style_ == RenderStyle::kBoth && !wire_decided_) decide_wire(vertices.size());
   return true;
+}
+
+void Renderer::decide_wire(std::size_t n_vertices) {
+  mesh_xy_.resize(2 * n_vertices);
+  cover_.project(positions_f_.data(), n_vertices, mesh_xy_.data());
+  edge_px_.clear();
+  for (std::size_t i = 0; i + 1 < edge_indices_.size(); i += 2) {
+    const float* a = &mesh_xy_[2 * edge_indices_[i]];
+    const float* b = &mesh_xy_[2 * edge_indices_[i + 1]];
+    const float len = std::hypot(a[0] - b[0], a[1] - b[1]);
+    if (std::isfinite(len)) edge_px_.push_back(len);
+  }
+  if (edge_px_.empty()) return;  // nothing in front of the eye yet: decided on a later frame
+  auto mid = edge_px_.begin() + static_cast<std::ptrdiff_t>(edge_px_.size() / 2);
+  std::nth_element(edge_px_.begin(), mid, edge_px_.end());
+  median_edge_px_ = *mid;
+  wire_on_ = !(wire_min_edge_px_ > 0.0) || median_edge_px_ >= wire_min_edge_px_;
+  wire_decided_ = true;
 }
 
 void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
@@ -208,30 +229,102 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
       if (style_ != RenderStyle::kWireframe)
         std::copy_n(normals_f_.begin() + static_cast<std::ptrdiff_t>(from), 3, local_normals_f_.begin() + static_cast<std::ptrdiff_t>(3 * i));
     }
-    // the static part, drawn as a full redraw would draw it: fill, then lines
+    // the static part, drawn as a full redraw would draw it: fill, then lines (less what reaches no centre)
+    const bool cull = culling_;
+    if (cull) {
+      mesh_xy_.resize(2 * vertices.size());
+      place(positions_f_.data(), vertices.size(), &mesh_xy_, &mesh_fill_cells_, &mesh_line_cells_);
+    }
+    std::size_t n_fill = 0;
+    const auto& static_tris = layers_.static_triangles();
+    const uint32_t* fill =
+        covering_triangles(cull ? mesh_fill_cells_.data() : nullptr, static_tris.data(), static_tris.size(), &n_fill);
+    const std::vector<uint32_t>& static_lines =
+        covering_lines(cull ? mesh_line_cells_.data() : nullptr, layers_.static_edges());
     gl.BindFramebuffer(GL_FRAMEBUFFER, layer_.id());
     setup_frame(gl, /*clear=*/true);
-    draw_fill(gl, positions_f_.data(), normals_f_.data(), layers_.static_triangles().data(),
-              layers_.static_triangles().size());
-    draw_lines(gl, positions_f_.data(), layers_.static_edges());
+    draw_fill(gl, positions_f_.data(), normals_f_.data(), fill, n_fill);
+    draw_lines(gl, positions_f_.data(), static_lines);
     gl.BindFramebuffer(GL_FRAMEBUFFER, frame_.id());
+    if (cull) {
+      local_xy_.resize(2 * local.size());
+      place(local_positions_f_.data(), local.size(), &local_xy_, &local_fill_cells_, &local_line_cells_);
+    }
     layer_valid_ = true;
+    layer_culled_ = cull;
     layer_epoch_ = view.layer_epoch;
     layer_vertices_ = vertices.size();
     layer_triangles_ = triangles.size();
     ++layer_builds_;
   } else {
     update_local_vertices(view);
+    // only the affected vertices (the first local ones) move
+    if (culling_ && layer_culled_)
+      place(local_positions_f_.data(), layers_.affected_vertices().size(), &local_xy_, &local_fill_cells_,
+            &local_line_cells_);
   }
+  // a layer built without culling has no cells for its local vertices
+  const bool cull = culling_ && layer_culled_;
+  std::size_t n_fill = 0;
+  const auto& dynamic_tris = layers_.dynamic_triangles();
+  const uint32_t* fill =
+      covering_triangles(cull ? local_fill_cells_.data() : nullptr, dynamic_tris.data(), dynamic_tris.size(), &n_fill);
+  const std::vector<uint32_t>& lines =
+      covering_lines(cull ? local_line_cells_.data() : nullptr, layers_.dynamic_edges());
   frame_.copy_from(layer_);
   setup_frame(gl, /*clear=*/false);
   // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills
   // after cached lines changes no pixel; a moving and a static fill at exactly equal depth (an edge seen
   // edge-on) go to the moving one here and to the later triangle in a full redraw
-  draw_fill(gl, local_positions_f_.data(), local_normals_f_.data(), layers_.dynamic_triangles().data(),
-            layers_.dynamic_triangles().size());
-  draw_lines(gl, local_positions_f_.data(), layers_.dynamic_edges());
+  draw_fill(gl, local_positions_f_.data(), local_normals_f_.data(), fill, n_fill);
+  draw_lines(gl, local_positions_f_.data(), lines);
   return true;
+}
+
+void Renderer::place(const float* positions, std::size_t n, std::vector<float>* xy,
+                     std::vector<PixelCover::Cell>* fill_cells, std::vector<PixelCover::Cell>* line_cells) const {
+  cover_.project(positions, n, xy->data());
+  if (fill_drawn()) {
+    if (fill_cells->size() < xy->size() / 2) fill_cells->resize(xy->size() / 2);
+    cover_.cells(xy->data(), n, 0.0f, fill_cells->data());
+  }
+  if (lines_drawn()) {
+    if (line_cells->size() < xy->size() / 2) line_cells->resize(xy->size() / 2);
+    cover_.cells(xy->data(), n, PixelCover::kLineReachPx, line_cells->data());
+  }
+}
+
+const uint32_t* Renderer::covering_triangles(const PixelCover::Cell* cells, const uint32_t* tris,
+                                             std::size_t count, std::size_t* kept) {
+  last_drawn_.triangles = count / 3;
+  if (!fill_drawn()) {
+    *kept = 0;
+  } else if (cells == nullptr) {
+    *kept = count;
+  } else {
+    kept_triangles_.clear();
+    PixelCover::keep_triangles(cells, tris, count, &kept_triangles_);
+    *kept = kept_triangles_.size();
+    tris = kept_triangles_.data();
+  }
+  last_drawn_.triangles_drawn = *kept / 3;
+  return tris;
+}
+
+const std::vector<uint32_t>& Renderer::covering_lines(const PixelCover::Cell* cells,
+                                                      const std::vector<uint32_t>& lines) {
+  last_drawn_.lines = lines.size() / 2;
+  const std::vector<uint32_t>* out = &lines;
+  if (!lines_drawn()) {
+    kept_lines_.clear();
+    out = &kept_lines_;
+  } else if (cells != nullptr) {
+    kept_lines_.clear();
+    PixelCover::keep_lines(cells, lines.data(), lines.size(), &kept_lines_);
+    out = &kept_lines_;
+  }
+  last_drawn_.lines_drawn = out->size() / 2;
+  return *out;
 }
 
 void Renderer::update_local_vertices(const FrameView& view) {
@@ -268,14 +361,14 @@ void Renderer::update_local_vertices(const FrameView& view) {
 
 void Renderer::draw_fill(const GlApi& gl, const float* positions, const float* normals, const void* indices,
                          std::size_t count) const {
-  if (style_ == RenderStyle::kWireframe || count == 0) return;
+  if (!fill_drawn() || count == 0) return;
   gl.EnableClientState(GL_VERTEX_ARRAY);
   gl.VertexPointer(3, GL_FLOAT, 0, positions);
   gl.Enable(GL_LIGHTING);
   gl.EnableClientState(GL_NORMAL_ARRAY);
   gl.NormalPointer(GL_FLOAT, 0, normals);
-  // push the fill back so the wireframe sits on the surface
-  if (style_ == RenderStyle::kBoth) {
+  // push the fill back so the wireframe sits on the surface (without lines, `both` draws as `solid` does)
+  if (style_ == RenderStyle::kBoth && lines_drawn()) {
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1.0f, 1.0f);
   }
@@ -288,7 +381,7 @@ void Renderer::draw_fill(const GlApi& gl, const float* positions, const float* n
 
 void Renderer::draw_lines(const GlApi& gl, const float* positions, const std::vector<uint32_t>& edges) const {
   // each edge once as a line: llvmpipe's polygon-mode lines cost about three times as much
-  if (style_ == RenderStyle::kSolid || edges.empty()) return;
+  if (!lines_drawn() || edges.empty()) return;
   gl.EnableClientState(GL_VERTEX_ARRAY);
   gl.VertexPointer(3, GL_FLOAT, 0, positions);
   gl.Disable(GL_LIGHTING);

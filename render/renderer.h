@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,6 +14,7 @@
 #include "render/framebuffer.h"
 #include "render/gl_context.h"
 #include "render/mesh_layers.h"
+#include "render/pixel_cover.h"
 
 namespace palpate {
 
@@ -45,7 +47,9 @@ struct FrameView {
 /// are drawn once into a cached colour + depth layer; each frame copies the layer and draws only the rest, the
 /// tool and the overlays, with depth tests that give the pixels of a full redraw (see draw()). The rest is drawn
 /// from a compact vertex array of its own (MeshLayers' local vertices), so a frame hands GL and converts only the
-/// vertices it draws, not the whole mesh's.
+/// vertices it draws, not the whole mesh's. Of what the layered path draws, triangles and lines that reach no
+/// pixel centre are left out (PixelCover): on a mesh denser than the image that is most of them, and no pixel
+/// changes.
 class Renderer {
  public:
   /// Prepares the tool sphere and the camera matrices for ctx's size.
@@ -57,6 +61,22 @@ class Renderer {
   void draw(const FrameView& view, uint8_t* rgba);
   /// false: always redraw the whole mesh, ignoring FrameView::moving_vertices (a reference for the cached path).
   void set_layered(bool on) { layered_ = on; }
+  /// `both` style: the wireframe is drawn only when the mesh's median edge is at least this long on screen, in
+  /// pixels (0: always). Shorter, its lines cover every pixel of the surface and show no edge: a 940k-triangle
+  /// bunny at 640 x 480 (edges 0.2-0.6 px) comes out as a dark silhouette. Decided once, on the first frame
+  /// that shows a mesh, so every frame of a run looks alike; set it before that frame.
+  void set_wire_min_edge_px(double px) { wire_min_edge_px_ = px; }
+  /// Median on-screen edge length of the mesh the wireframe was decided on, in pixels (NaN before, and for
+  /// styles other than `both`), and whether the wireframe is drawn.
+  double median_edge_px() const { return median_edge_px_; }
+  bool wire_drawn() const { return lines_drawn(); }
+  /// false: the layered path draws every triangle and line, even those that reach no pixel centre.
+  void set_culling(bool on) { culling_ = on; }
+  /// Primitives the last layered draw had in its dynamic part, and those it drew.
+  struct Drawn {
+    std::size_t triangles = 0, triangles_drawn = 0, lines = 0, lines_drawn = 0;
+  };
+  const Drawn& last_drawn() const { return last_drawn_; }
   /// Whether the last draw() used the cached layer.
   bool last_draw_layered() const { return last_layered_; }
   /// Frames drawn so far (calls of draw()).
@@ -93,6 +113,22 @@ class Renderer {
   void draw_tool(const GlApi& gl, const FrameView& view) const;
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
   void draw_blade(const GlApi& gl, const FrameView& view) const;
+  bool fill_drawn() const { return style_ != RenderStyle::kWireframe; }
+  bool lines_drawn() const {
+    return style_ == RenderStyle::kWireframe || (style_ == RenderStyle::kBoth && (!wire_decided_ || wire_on_));
+  }
+  // decides the `both` wireframe from the mesh in positions_f_ and edge_indices_ (see set_wire_min_edge_px)
+  void decide_wire(std::size_t n_vertices);
+  // window positions of the first n vertices of a 3-float array into xy (sized for them), and their cells for
+  // fills and lines (grown to xy's size when smaller)
+  void place(const float* positions, std::size_t n, std::vector<float>* xy,
+             std::vector<PixelCover::Cell>* fill_cells, std::vector<PixelCover::Cell>* line_cells) const;
+  // the triangles (count indices) and lines of the layered path that reach a pixel centre, given their
+  // vertices' cells; everything when cells is null, nothing when the style leaves them out. Points at kept_* or
+  // at the input.
+  const uint32_t* covering_triangles(const PixelCover::Cell* cells, const uint32_t* tris, std::size_t count,
+                                     std::size_t* kept);
+  const std::vector<uint32_t>& covering_lines(const PixelCover::Cell* cells, const std::vector<uint32_t>& lines);
   // Rebuilds the unique edge list when the triangles changed since the last frame.
   void update_edges(const std::vector<std::array<int32_t, 3>>& triangles);
 
@@ -123,6 +159,19 @@ class Renderer {
   bool layer_valid_ = false;             // layer_ holds the static part of layer_epoch_
   uint64_t layer_epoch_ = 0;             // epoch the layer was drawn for
   std::size_t layer_vertices_ = 0, layer_triangles_ = 0;  // mesh size the layer was drawn for
+  bool culling_ = true;                  // leave out what reaches no pixel centre (layered path)
+  PixelCover cover_;                     // the camera and viewport for that
+  std::vector<float> mesh_xy_;           // window positions of the whole mesh, for a layer build (2 n_v)
+  std::vector<float> local_xy_;          // window positions of the local vertices (2 n_local)
+  std::vector<PixelCover::Cell> mesh_fill_cells_, mesh_line_cells_;    // (n_v)
+  std::vector<PixelCover::Cell> local_fill_cells_, local_line_cells_;  // (n_local)
+  double wire_min_edge_px_ = kWireMinEdgePxDefault;  // see set_wire_min_edge_px
+  bool wire_decided_ = false, wire_on_ = true;
+  bool layer_culled_ = false;            // the layer was built with culling on (local cells are valid)
+  double median_edge_px_ = std::numeric_limits<double>::quiet_NaN();
+  std::vector<float> edge_px_;           // scratch: on-screen edge lengths for the decision
+  std::vector<uint32_t> kept_triangles_, kept_lines_;  // what a layered draw hands GL after culling
+  Drawn last_drawn_;
   bool last_layered_ = false;
   int64_t layer_builds_ = 0;
   int64_t draws_ = 0;

@@ -336,6 +336,93 @@ TEST_P(RendererTest, CompactDynamicArrayKeepsTheFullRedrawsPixels) {
   EXPECT_GE(changed, frames / 2);  // the frames compared show a moving mesh
 }
 
+// A box finer than the image (about 1 px edges at 160 x 120): most of its triangles fall between pixel centres.
+TriMesh dense_box() { return subdivide_midpoint(subdivide_midpoint(::palpate::make_box_mesh(Vec3(0.1, 0.08, 0.06), 24))); }
+
+// On a mesh finer than the image the layered path leaves out most of what moves (it covers no pixel centre),
+// and every frame still has the pixels of a full redraw, filled and with the wireframe drawn; with culling off
+// the layered path draws everything and gives the same pixels.
+TEST_P(RendererTest, DenseMeshLeavesOutWhatCoversNoPixelAndKeepsTheFullRedrawsPixels) {
+  TriMesh mesh = dense_box();
+  const std::vector<Vec3> rest = mesh.vertices_m;
+  const Aabb box = Aabb::of(rest);
+  const Camera cam = Camera::framing(box.min_m, box.max_m, static_cast<double>(kW) / kH);
+  std::vector<int32_t> moving;
+  for (std::size_t v = 0; v < rest.size(); ++v)
+    if (rest[v].x() > 0.0 && rest[v].z() > 0.0) moving.push_back(static_cast<int32_t>(v));
+  for (RenderStyle style : {RenderStyle::kSolid, RenderStyle::kBoth}) {
+    Renderer layered(ctx_.get(), style, cam), unculled(ctx_.get(), style, cam), full(ctx_.get(), style, cam);
+    for (Renderer* r : {&layered, &unculled, &full}) r->set_wire_min_edge_px(0.0);  // lines drawn, however fine
+    unculled.set_culling(false);
+    full.set_layered(false);
+    std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size()), c(a.size()), first(a.size());
+    int changed = 0;
+    for (int f = 0; f < 4; ++f) {
+      for (int32_t v : moving) {
+        const Vec3& r = rest[v];
+        mesh.vertices_m[v] = r + (f + 1) * Vec3(0.002 * std::sin(60 * r.y()), 0.0015 * std::cos(50 * r.z()), -0.002);
+      }
+      FrameView view{};
+      view.vertices_m = &mesh.vertices_m;
+      view.triangles = &mesh.triangles;
+      view.moving_vertices = &moving;
+      layered.draw(view, a.data());
+      unculled.draw(view, c.data());
+      full.draw(view, b.data());
+      ASSERT_TRUE(layered.last_draw_layered());
+      EXPECT_EQ(count_different(a, b), 0) << "style " << static_cast<int>(style) << " frame " << f;
+      EXPECT_EQ(count_different(c, b), 0) << "style " << static_cast<int>(style) << " frame " << f;
+      // most moving triangles cover no centre and are left out; lines on screen are all kept
+      const Renderer::Drawn& d = layered.last_drawn();
+      EXPECT_GT(d.triangles, 10000u);
+      EXPECT_LT(d.triangles_drawn, d.triangles * 7 / 10) << "frame " << f;
+      EXPECT_EQ(unculled.last_drawn().triangles_drawn, d.triangles);
+      if (style == RenderStyle::kBoth) {
+        EXPECT_GT(d.lines_drawn, d.lines / 2);
+      }
+      if (f == 0) first = a;
+      changed += count_different(first, a) > 50 ? 1 : 0;
+    }
+    EXPECT_EQ(changed, 3);  // the frames moved: the comparison is not of one still image
+  }
+}
+
+// `both` leaves out a wireframe whose median edge is shorter than render.wire_min_edge_px (2 px by default):
+// on the dense box the frame is the solid style's, pixel for pixel; with the threshold at 0 the lines are
+// drawn; on a coarse box they are drawn by default.
+TEST_P(RendererTest, BothLeavesOutAWireframeFinerThanTheImage) {
+  const TriMesh mesh = dense_box();
+  const Aabb box = Aabb::of(mesh.vertices_m);
+  const Camera cam = Camera::framing(box.min_m, box.max_m, static_cast<double>(kW) / kH);
+  FrameView view{};
+  view.vertices_m = &mesh.vertices_m;
+  view.triangles = &mesh.triangles;
+  Renderer both(ctx_.get(), RenderStyle::kBoth, cam), solid(ctx_.get(), RenderStyle::kSolid, cam),
+      always(ctx_.get(), RenderStyle::kBoth, cam);
+  always.set_wire_min_edge_px(0.0);
+  EXPECT_TRUE(std::isnan(both.median_edge_px()));  // not decided before a mesh is drawn
+  std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size()), c(a.size());
+  both.draw(view, a.data());
+  solid.draw(view, b.data());
+  always.draw(view, c.data());
+  EXPECT_FALSE(both.wire_drawn());
+  EXPECT_GT(both.median_edge_px(), 0.3);
+  EXPECT_LT(both.median_edge_px(), kWireMinEdgePxDefault);
+  EXPECT_EQ(count_different(a, b), 0);
+  EXPECT_TRUE(always.wire_drawn());
+  EXPECT_GT(count_different(c, b), 1000);
+
+  const TriMesh coarse = ::palpate::make_box_mesh(Vec3(0.1, 0.08, 0.06), 6);
+  view.vertices_m = &coarse.vertices_m;
+  view.triangles = &coarse.triangles;
+  Renderer coarse_both(ctx_.get(), RenderStyle::kBoth, cam), coarse_solid(ctx_.get(), RenderStyle::kSolid, cam);
+  coarse_both.draw(view, a.data());
+  coarse_solid.draw(view, b.data());
+  EXPECT_TRUE(coarse_both.wire_drawn());
+  EXPECT_GT(coarse_both.median_edge_px(), kWireMinEdgePxDefault);
+  EXPECT_GT(count_different(a, b), 500);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RendererTest, ::testing::Values("osmesa", "egl"),
                          [](const auto& param_info) { return param_info.param; });
 

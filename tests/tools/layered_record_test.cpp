@@ -56,6 +56,11 @@ TEST_P(LayeredRecord, EveryFrameEqualsTheFullRedraw) {
     EXPECT_EQ(layered.summary["render"]["frames_layered"].get<int64_t>(), frames);
     EXPECT_GE(layered.summary["render"]["layer_builds"].get<int64_t>(), 2);  // at rest, then around the contact
   }
+  if (scene.render.style == RenderStyle::kBoth) {
+    // the shipped bunny's edges are several pixels long on screen: its wireframe is drawn
+    EXPECT_TRUE(layered.summary["render"]["wire"]["drawn"].get<bool>());
+    EXPECT_GT(layered.summary["render"]["wire"]["median_edge_px"].get<double>(), kWireMinEdgePxDefault);
+  }
   int64_t differing = 0, changed_since_first = 0;
   std::vector<uint8_t> first;
   for (int64_t i = 0; i < frames; ++i) {
@@ -70,6 +75,19 @@ TEST_P(LayeredRecord, EveryFrameEqualsTheFullRedraw) {
   }
   EXPECT_EQ(differing, 0) << "of " << frames << " frames";
   EXPECT_GT(changed_since_first, frames / 2);  // the frames compared show a moving scene
+}
+
+// The summary says when `both` left its wireframe out, with the median edge it decided on.
+TEST(LayeredRecordWire, SummaryNamesAWireframeLeftOut) {
+  Scene scene = load_scene(test::source_path("scenes/bunny_pull.json")).value();
+  ASSERT_EQ(scene.render.style, RenderStyle::kBoth);
+  scene.duration_s = 0.1;
+  scene.render.wire_min_edge_px = 1000.0;
+  const Recording run = record(scene, "wire_off", false);
+  const nlohmann::json& wire = run.summary["render"]["wire"];
+  EXPECT_FALSE(wire["drawn"].get<bool>());
+  EXPECT_EQ(wire["min_edge_px"].get<double>(), 1000.0);
+  EXPECT_GT(wire["median_edge_px"].get<double>(), kWireMinEdgePxDefault);
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, LayeredRecord, ::testing::Values("bunny_touch", "bunny_pull", "bunny_cut"));

@@ -160,6 +160,7 @@ Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording
         rec->gl.get(), style,
         Camera::framing(box.min_m, box.max_m, static_cast<double>(scene.render.width) / scene.render.height));
     rec->renderer->set_layered(!opt.full_redraw);
+    rec->renderer->set_wire_min_edge_px(scene.render.wire_min_edge_px);
     // lockstep: two encoder threads use the core the single sim/render thread leaves idle; realtime: one, so
     // the servo's core is not contended by a second encoder
     rec->writer = std::make_unique<PngWriter>(rec->frames_dir, scene.render.width, scene.render.height, 6, rec->png);

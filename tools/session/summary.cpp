@@ -1,6 +1,7 @@
 #include "tools/session/summary.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "core/stats.h"
@@ -158,6 +159,13 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   j["render"] = {{"ms", ms_json(fst.render_ms)}, {"backend", in.gl ? in.gl->backend_name() : "none"},
                  {"width", scene.render.width}, {"height", scene.render.height},
                  {"frames_layered", fst.frames_layered}, {"layer_builds", in.renderer ? in.renderer->layer_builds() : 0}};
+  if (in.renderer && scene.render.style == RenderStyle::kBoth) {
+    // the wireframe is left out of `both` on a mesh finer than the image (render.wire_min_edge_px)
+    const double median = in.renderer->median_edge_px();
+    j["render"]["wire"] = {{"drawn", in.renderer->wire_drawn()},
+                           {"median_edge_px", std::isfinite(median) ? nlohmann::json(median) : nlohmann::json(nullptr)},
+                           {"min_edge_px", scene.render.wire_min_edge_px}};
+  }
   j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
               {"write_errors", writer ? writer->write_errors() : 0},
               {"threads", in.png.threads},
