@@ -238,9 +238,9 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
     std::size_t n_fill = 0;
     const auto& static_tris = layers_.static_triangles();
     const uint32_t* fill =
-        covering_triangles(cull ? mesh_fill_cells_.data() : nullptr, static_tris.data(), static_tris.size(), &n_fill);
+        covering_triangles(cull, mesh_fill_cells_.data(), static_tris.data(), static_tris.size(), &n_fill);
     const std::vector<uint32_t>& static_lines =
-        covering_lines(cull ? mesh_line_cells_.data() : nullptr, layers_.static_edges());
+        covering_lines(cull, mesh_line_cells_.data(), layers_.static_edges());
     gl.BindFramebuffer(GL_FRAMEBUFFER, layer_.id());
     setup_frame(gl, /*clear=*/true);
     draw_fill(gl, positions_f_.data(), normals_f_.data(), fill, n_fill);
@@ -268,9 +268,9 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   std::size_t n_fill = 0;
   const auto& dynamic_tris = layers_.dynamic_triangles();
   const uint32_t* fill =
-      covering_triangles(cull ? local_fill_cells_.data() : nullptr, dynamic_tris.data(), dynamic_tris.size(), &n_fill);
+      covering_triangles(cull, local_fill_cells_.data(), dynamic_tris.data(), dynamic_tris.size(), &n_fill);
   const std::vector<uint32_t>& lines =
-      covering_lines(cull ? local_line_cells_.data() : nullptr, layers_.dynamic_edges());
+      covering_lines(cull, local_line_cells_.data(), layers_.dynamic_edges());
   frame_.copy_from(layer_);
   setup_frame(gl, /*clear=*/false);
   // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills
@@ -294,12 +294,12 @@ void Renderer::place(const float* positions, std::size_t n, std::vector<float>* 
   }
 }
 
-const uint32_t* Renderer::covering_triangles(const PixelCover::Cell* cells, const uint32_t* tris,
+const uint32_t* Renderer::covering_triangles(bool cull, const PixelCover::Cell* cells, const uint32_t* tris,
                                              std::size_t count, std::size_t* kept) {
   last_drawn_.triangles = count / 3;
   if (!fill_drawn()) {
     *kept = 0;
-  } else if (cells == nullptr) {
+  } else if (!cull) {
     *kept = count;
   } else {
     kept_triangles_.clear();
@@ -311,14 +311,14 @@ const uint32_t* Renderer::covering_triangles(const PixelCover::Cell* cells, cons
   return tris;
 }
 
-const std::vector<uint32_t>& Renderer::covering_lines(const PixelCover::Cell* cells,
+const std::vector<uint32_t>& Renderer::covering_lines(bool cull, const PixelCover::Cell* cells,
                                                       const std::vector<uint32_t>& lines) {
   last_drawn_.lines = lines.size() / 2;
   const std::vector<uint32_t>* out = &lines;
   if (!lines_drawn()) {
     kept_lines_.clear();
     out = &kept_lines_;
-  } else if (cells != nullptr) {
+  } else if (cull) {
     kept_lines_.clear();
     PixelCover::keep_lines(cells, lines.data(), lines.size(), &kept_lines_);
     out = &kept_lines_;

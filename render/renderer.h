@@ -124,11 +124,12 @@ class Renderer {
   void place(const float* positions, std::size_t n, std::vector<float>* xy,
              std::vector<PixelCover::Cell>* fill_cells, std::vector<PixelCover::Cell>* line_cells) const;
   // the triangles (count indices) and lines of the layered path that reach a pixel centre, given their
-  // vertices' cells; everything when cells is null, nothing when the style leaves them out. Points at kept_* or
-  // at the input.
-  const uint32_t* covering_triangles(const PixelCover::Cell* cells, const uint32_t* tris, std::size_t count,
-                                     std::size_t* kept);
-  const std::vector<uint32_t>& covering_lines(const PixelCover::Cell* cells, const std::vector<uint32_t>& lines);
+  // vertices' cells (read only when cull); everything when not cull, nothing when the style leaves them out.
+  // Points at kept_* or at the input.
+  const uint32_t* covering_triangles(bool cull, const PixelCover::Cell* cells, const uint32_t* tris,
+                                     std::size_t count, std::size_t* kept);
+  const std::vector<uint32_t>& covering_lines(bool cull, const PixelCover::Cell* cells,
+                                              const std::vector<uint32_t>& lines);
   // Rebuilds the unique edge list when the triangles changed since the last frame.
   void update_edges(const std::vector<std::array<int32_t, 3>>& triangles);
 
