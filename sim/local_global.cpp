@@ -52,6 +52,60 @@ void nested_dissection(const Eigen::SparseMatrix<double>& a, Eigen::PermutationM
   Eigen::AMDOrdering<int>()(a, *perm);
 }
 
+void DowndatableLLT::solve_rows3(const double* b, double* x, std::vector<double>* scratch) const {
+  if (m_info != Eigen::Success) return;
+  const int n = static_cast<int>(m_matrix.cols());
+  if (scratch->size() < 3 * static_cast<std::size_t>(n)) scratch->resize(3 * static_cast<std::size_t>(n));
+  double* y = scratch->data();
+  // y = P b (row i of b goes to row P(i)), as solve() starts
+  const bool permuted = m_P.size() > 0;
+  for (int i = 0; i < n; ++i) {
+    const int r = permuted ? m_P.indices()[i] : i;
+    for (int c = 0; c < 3; ++c) y[3 * r + c] = b[3 * i + c];
+  }
+  const int* lp = m_matrix.outerIndexPtr();
+  const int* li = m_matrix.innerIndexPtr();
+  const double* lx = m_matrix.valuePtr();
+  // L y = y, column by column (the diagonal first in each): Eigen's lower column-major solve, which leaves a
+  // column whose entry is zero alone (so the sign of a zero comes out as it does there)
+  for (int j = 0; j < n; ++j) {
+    double* yj = y + 3 * j;
+    const bool nz[3] = {yj[0] != 0.0, yj[1] != 0.0, yj[2] != 0.0};
+    if (!(nz[0] || nz[1] || nz[2])) continue;
+    const double ljj = lx[lp[j]];
+    for (int c = 0; c < 3; ++c)
+      if (nz[c]) yj[c] /= ljj;
+    const double t0 = yj[0], t1 = yj[1], t2 = yj[2];
+    for (int p = lp[j] + 1; p < lp[j + 1]; ++p) {
+      double* yi = y + 3 * li[p];
+      const double v = lx[p];
+      if (nz[0]) yi[0] -= t0 * v;
+      if (nz[1]) yi[1] -= t1 * v;
+      if (nz[2]) yi[2] -= t2 * v;
+    }
+  }
+  // L^T y = y, from the last row up: Eigen's upper row-major solve of L's adjoint
+  for (int i = n - 1; i >= 0; --i) {
+    double t0 = y[3 * i], t1 = y[3 * i + 1], t2 = y[3 * i + 2];
+    for (int p = lp[i] + 1; p < lp[i + 1]; ++p) {
+      const double* yj = y + 3 * li[p];
+      const double v = lx[p];
+      t0 -= v * yj[0];
+      t1 -= v * yj[1];
+      t2 -= v * yj[2];
+    }
+    const double lii = lx[lp[i]];
+    y[3 * i] = t0 / lii;
+    y[3 * i + 1] = t1 / lii;
+    y[3 * i + 2] = t2 / lii;
+  }
+  // x = P^-1 y
+  for (int i = 0; i < n; ++i) {
+    const int r = permuted ? m_P.indices()[i] : i;
+    for (int c = 0; c < 3; ++c) x[3 * i + c] = y[3 * r + c];
+  }
+}
+
 bool DowndatableLLT::downdate(const DowndateColumn* cols, int count) {
   const auto n = static_cast<std::size_t>(m_matrix.cols());
   if (on_path_.size() != n) {
@@ -349,7 +403,7 @@ int LocalGlobalSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>& f
       if (a >= 0) b_.row(a) -= s.k_N_per_m * target.transpose();
       if (b >= 0) b_.row(b) += s.k_N_per_m * target.transpose();
     }
-    x_ = llt_.solve(b_);
+    llt_.solve_rows3(b_.data(), x_.data(), &solve_scratch_);
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (idx_[i] < 0) continue;

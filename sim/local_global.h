@@ -58,6 +58,11 @@ class DowndatableLLT
   /// columns of V instead of once per column. False when A - V V^T is not positive definite: the factor is then
   /// partly updated and must be refactored.
   bool downdate(const DowndateColumn* cols, int count);
+  /// x = A^-1 b for n x 3 row-major b and x (the three coordinates of a node side by side): solve() column by
+  /// column, with the same arithmetic in the same order (so bit for bit the same x), in one pass over the factor
+  /// for the three columns instead of one each: every factor entry and index is read once per triangular solve,
+  /// not three times. scratch is grown to 3 n. Leaves x alone when the factorisation failed.
+  void solve_rows3(const double* b, double* x, std::vector<double>* scratch) const;
   /// Entries a numeric factorisation in the analysed pattern updates (sum of squared column counts).
   double factor_work() const;
   /// Entries a downdate touches whose nonzero rows (A's numbering; -1 = none) are a and b: the column counts on
@@ -114,7 +119,11 @@ class LocalGlobalSolver {
   double damping_ = 0.0;
   std::vector<int32_t> removed_;    // indices into springs_ of the springs a cut removed
   std::vector<DowndateColumn> cols_;  // their columns of the downdate
-  Eigen::MatrixX3d b0_, b_, x_;     // constant rhs part, rhs, solution (nf x 3)
+  // constant rhs part, rhs, solution (nf x 3), a node's coordinates side by side: the local step reads and
+  // writes whole rows, the solve takes the three columns in one pass
+  using Rows3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  Rows3 b0_, b_, x_;
+  std::vector<double> solve_scratch_;  // (3 nf)
 };
 
 }  // namespace palpate

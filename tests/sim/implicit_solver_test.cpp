@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 
 #include <Eigen/Dense>
 
@@ -193,6 +194,46 @@ TEST(LocalGlobal, DowndateGivesTheFactorOfTheMatrixWithoutTheSprings) {
   llt.compute(full);
   ASSERT_TRUE(llt.downdate(cols.data(), static_cast<int>(cols.size())));
   EXPECT_LT((llt.solve(b) - x_fresh).norm(), 1e-12 * x_fresh.norm());
+}
+
+TEST(LocalGlobal, ThreeColumnSolveIsEigensSolveBitForBit) {
+  // the fused three-column solve the step uses does solve()'s arithmetic in solve()'s order: equal to the last bit,
+  // with zero entries and rows in the right-hand side, after a downdate; and it leaves x alone when the
+  // factorisation failed
+  Lattice lat = make_block(4, 4, pull_spec());
+  const int n = static_cast<int>(lat.num_nodes());
+  std::vector<uint8_t> none(lat.springs.size(), 0);
+  DowndatableLLT llt;
+  llt.compute(spring_matrix(lat, none));
+  ASSERT_EQ(llt.info(), Eigen::Success);
+  Eigen::MatrixX3d b = Eigen::MatrixX3d::Random(n, 3);
+  for (int i = 0; i < n; i += 5) b(i, i % 3) = (i % 2) ? 0.0 : -0.0;
+  for (int i = 0; i < n; i += 17) b.row(i).setZero();
+  std::vector<double> scratch;
+  auto check = [&](const char* what) {
+    const Eigen::MatrixX3d expected = llt.solve(b);
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> rows = b, x(n, 3);
+    x.setConstant(7.0);
+    llt.solve_rows3(rows.data(), x.data(), &scratch);
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(std::memcmp(&x(i, c), &expected(i, c), sizeof(double)), 0)
+            << what << " row " << i << " column " << c << ": " << x(i, c) << " vs " << expected(i, c);
+      }
+  };
+  check("fresh factor");
+  std::vector<DowndateColumn> cols;
+  for (std::size_t k = 3; k < lat.springs.size(); k += 11) cols.push_back(spring_column(lat, k));
+  ASSERT_TRUE(llt.downdate(cols.data(), static_cast<int>(cols.size())));
+  check("downdated factor");
+  Eigen::SparseMatrix<double> indefinite(2, 2);
+  indefinite.insert(0, 0) = -1.0;
+  indefinite.insert(1, 1) = 1.0;
+  llt.compute(indefinite);
+  ASSERT_NE(llt.info(), Eigen::Success);
+  std::vector<double> in = {1, 2, 3, 4, 5, 6}, out(6, 7.0);
+  llt.solve_rows3(in.data(), out.data(), &scratch);
+  EXPECT_EQ(out, std::vector<double>(6, 7.0));
 }
 
 TEST(LocalGlobal, ADowndateOfManyColumnsIsTheirRankOneDowndatesInOrder) {
