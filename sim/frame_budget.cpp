@@ -51,6 +51,11 @@ std::vector<BudgetSetting> budget_ladder(const StepOptions& scene_opts) {
 FrameBudget::FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock)
     : budget_ms_(budget_ms), ladder_(std::move(ladder)), clock_(clock), frames_at_(ladder_.size(), 0) {}
 
+void FrameBudget::seed_step(int i, double step_ms) {
+  if (unit_ms_ >= 0.0 || i < 0 || i >= static_cast<int>(ladder_.size()) || !(step_ms >= 0.0)) return;
+  unit_ms_ = step_ms / ladder_[static_cast<std::size_t>(i)].work_units;
+}
+
 const StepOptions& FrameBudget::begin_frame() {
   t_frame_ = clock_->now_ms();
   stepped_ = false;

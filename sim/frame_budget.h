@@ -44,8 +44,10 @@ struct BudgetSetting {
 };
 
 /// The fixed part of a local/global step in units of one iteration (the constant right-hand side and the state
-/// update): bench sim --box 8 on bunny_cut's material measured 0.57 ms CPU at 1 iteration and 3.97 ms at 10.
-inline constexpr double kLocalGlobalFixedUnits = 0.5;
+/// update): `palpate bench sim scenes/bunny_cut.json --box 8 --integrators local_global --iterations 10 6 4 3 2 1`
+/// measured 1.875 ms CPU at 10 iterations, 0.780 at 4 and 0.414 at 2 (a line through them: 0.18 ms an iteration
+/// plus 0.05 ms, about a quarter of one).
+inline constexpr double kLocalGlobalFixedUnits = 0.25;
 
 /// Node error rms / cell of local_global at `iterations` (one substep a frame) against an RK4 reference on a box of
 /// bunny_cut's material, as measured once by the command in kBudgetErrorSource (the table the code carries; other
@@ -68,6 +70,11 @@ class FrameBudget {
   /// budget_ms > 0; ladder not empty (most accurate first); clock must outlive this.
   FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock);
 
+  /// A step of `step_ms` at rung i measured outside the run (a dry step of a copy before the clock starts): seeds
+  /// the per-unit step estimate when there is none, so the first frame chooses from a measurement instead of
+  /// stepping at the scene's setting unmeasured (10 local/global iterations on bunny_cut: 10-13 ms of an 8 ms
+  /// budget).
+  void seed_step(int i, double step_ms);
   /// Marks the start of a frame and returns the setting planned for it (the rung current() names).
   const StepOptions& begin_frame();
   /// Marks the start of the lattice step within the frame and returns the setting to step with: the planned one,
@@ -99,6 +106,8 @@ class FrameBudget {
   /// Predicted cost in ms of a frame at rung i under the current estimates (for tests and reports).
   double predicted_ms(int i) const;
   double budget_ms() const { return budget_ms_; }
+  /// The clock costs are read from.
+  BudgetClock* clock() const { return clock_; }
 
   /// A better rung is taken only when predicted within this fraction of the budget, and only after this many
   /// frames at the current one (no flapping between two rungs).

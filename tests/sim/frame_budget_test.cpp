@@ -62,27 +62,27 @@ TEST(FrameBudget, LadderGoesFromTheScenesIterationsDown) {
 TEST(FrameBudget, KeepsTheScenesSettingWhileItHoldsTheBudget) {
   FakeClock clock;
   FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
-  for (int f = 0; f < 50; ++f) EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3), 10) << "frame " << f;  // 4.15 ms
+  for (int f = 0; f < 50; ++f) EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3), 10) << "frame " << f;  // 4.075 ms
   EXPECT_EQ(b.changes(), 0);
   EXPECT_EQ(b.frames_over(), 0);
   EXPECT_EQ(b.frames_at()[0], 50);
-  EXPECT_NEAR(b.predicted_ms(0), 1.0 + 0.3 * 10.5, 1e-9);
+  EXPECT_NEAR(b.predicted_ms(0), 1.0 + 0.3 * 10.25, 1e-9);
 }
 
 TEST(FrameBudget, DegradesWhenTheCostExceedsTheBudgetAndComesBackWhenTheLoadDrops) {
   FakeClock clock;
   FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
-  // heavy load: 1 ms a unit makes 10 iterations cost 11.5 ms; 6 iterations (6.5 units) 7.5 ms hold 8 ms
+  // heavy load: 1 ms a unit makes 10 iterations (10.25 units) cost 11.25 ms; 6 iterations 7.25 ms hold 8 ms
   EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.0), 10);
   EXPECT_EQ(b.frames_over(), 1);
   for (int f = 0; f < 30; ++f) EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.0), 6) << "frame " << f;
   EXPECT_EQ(b.frames_over(), 1);
-  // heavier: 1.8 ms a unit; 6 iterations cost 12.7 ms, 4 iterations would cost 9.1, 3 iterations (3.5 units)
-  // 7.3 ms are the best that hold
+  // heavier: 1.8 ms a unit; 6 iterations cost 12.25 ms, 4 iterations would cost 8.65, 3 iterations (3.25 units)
+  // 6.85 ms are the best that hold
   EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.8), 6);
   EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.8), 3);
-  // the load drops to 0.3 ms a unit: the estimate falls gradually; back to 10 iterations once 1 + 10.5 u <= 6.4
-  // (u <= 0.514, which the estimate 0.3 + (1.8 - 0.3) 0.8^k first reaches at k = 9) and not before the hold
+  // the load drops to 0.3 ms a unit: the estimate falls gradually; back to 10 iterations once 1 + 10.25 u <= 6.4
+  // (u <= 0.527, which the estimate 0.3 + (1.8 - 0.3) 0.8^k first reaches at k = 9) and not before the hold
   std::vector<int> ran;
   for (int f = 0; f < 40; ++f) ran.push_back(run_frame(&b, &clock, 1.0, 0.3));
   for (int f = 0; f < FrameBudget::kHoldFrames - 1; ++f) EXPECT_EQ(ran[f], 3) << "frame " << f;
@@ -120,19 +120,19 @@ TEST(FrameBudget, FramesThatDoNotStepKeepTheStepEstimate) {
 TEST(FrameBudget, AFrameThatSpendsItsBudgetBeforeTheStepStepsCheaper) {
   FakeClock clock;
   FrameBudget b(8.0, budget_ladder(local_global(0)), &clock);
-  // 0.5 ms before and after the step, 0.3 ms a unit: 10 iterations cost 4.15 ms
+  // 0.5 ms before and after the step, 0.3 ms a unit: 10 iterations cost 4.075 ms
   for (int f = 0; f < 20; ++f) ASSERT_EQ(run_frame(&b, &clock, 1.0, 0.3), 10);
-  // a cutting frame: 5 ms spent before the step. At the planned 10 iterations it would take 5 + 3.15 + 0.5 = 8.65
-  // ms; 6 iterations (6.5 units) make 7.45 ms, the most accurate rung that holds 8 ms
+  // a cutting frame: 5 ms spent before the step. At the planned 10 iterations it would take 5 + 3.075 + 0.5 = 8.575
+  // ms; 6 iterations (6.25 units) make 7.375 ms, the most accurate rung that holds 8 ms
   EXPECT_EQ(b.current(), 0);
-  EXPECT_NEAR(b.predicted_from_step_ms(0, 5.0), 8.65, 1e-9);
+  EXPECT_NEAR(b.predicted_from_step_ms(0, 5.0), 8.575, 1e-9);
   EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3, 5.0), 6);
   EXPECT_EQ(b.frames_over(), 0);
   EXPECT_EQ(b.frames_stepped_cheaper(), 1);
   EXPECT_EQ(b.frames_at()[0], 20);
   EXPECT_EQ(b.frames_at()[1], 1);
   // the step's estimate per unit is that of the rung it stepped at: unchanged
-  EXPECT_NEAR(b.predicted_from_step_ms(0, 0.5), 4.15, 1e-9);
+  EXPECT_NEAR(b.predicted_from_step_ms(0, 0.5), 4.075, 1e-9);
   // 7.9 ms before the step leave no room for any rung: the cheapest (1 iteration) steps
   EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3, 7.9), 1);
   EXPECT_EQ(b.frames_stepped_cheaper(), 2);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/tri_mesh.h"
+#include "support/fixtures.h"
 #include "support/pressed_box.h"
 
 namespace palpate {
@@ -142,6 +143,43 @@ TEST(FrameStage, BudgetStepsWithTheSettingItsClockAllows) {
   EXPECT_EQ(at_loaded[0], 1);
   EXPECT_EQ(at_loaded[5], 39);
   EXPECT_EQ(loaded.frames_stepped, plain.frames_stepped);
+}
+
+// bunny_cut's whole-object lattice exists before the first frame. Without a warm-up the budget's first step runs
+// at the scene's 10 iterations unmeasured; warm_up() times a step of a copy first, so frame 0 chooses from that
+// (a clock at 5 ms a reading: a 5 ms dry step, 0.49 ms a unit; frame 0 has spent 5 ms before its step, so 4
+// iterations, 4.25 units, are the most that hold 8 ms). The dry step leaves the run as it was: with a clock too
+// cheap to trade anything, the warmed-up run's state is the plain run's.
+TEST(FrameStage, WarmUpSeedsTheBudgetWithADryStepAndLeavesTheRunAlone) {
+  const Scene scene = load_scene(test::source_path("scenes/bunny_cut.json")).value();
+  ASSERT_GT(scene.lattice.budget_ms, 0.0);
+  const Model model = load_model(scene).value();
+  auto run = [&](BudgetClock* clock, bool warm, int frames, int* first_iterations) {
+    SpscQueue<HapticSample> samples(16);
+    TripleBuffer<LocalModel> local;
+    FrameStage stage(scene, model, &samples, &local, nullptr, nullptr, nullptr);
+    if (clock) stage.use_budget(clock);
+    if (warm) stage.warm_up();
+    for (int f = 0; f < frames; ++f) {
+      stage.frame(f, f / 60.0, true);
+      const FrameBudget* b = stage.budget();
+      if (f == 0 && first_iterations != nullptr && b != nullptr)
+        *first_iterations = b->ladder()[static_cast<std::size_t>(b->stepped_at())].opts.iterations;
+    }
+    EXPECT_EQ(stage.stats().frames_stepped, frames);
+    return stage.state_hash();
+  };
+  SteppingClock dear_cold(5.0), dear_warm(5.0);
+  int cold = 0, warm = 0;
+  run(&dear_cold, false, 1, &cold);
+  run(&dear_warm, true, 1, &warm);
+  EXPECT_EQ(cold, 10);
+  EXPECT_EQ(warm, 4);
+  const std::string plain = run(nullptr, false, 3, nullptr);
+  SteppingClock cheap(0.01);
+  int cheap_first = 0;
+  EXPECT_EQ(run(&cheap, true, 3, &cheap_first), plain);
+  EXPECT_EQ(cheap_first, 10);
 }
 
 }  // namespace

@@ -336,6 +336,19 @@ FrameView FrameStage::current_view() const {
 }
 
 void FrameStage::warm_up() {
+  // the budget's first frame chooses from a measured step: one step of a copy of the lattice at the scene's
+  // setting, on the budget's clock. The copy has the lattice's revision, so the solver uses the factor it holds
+  // and refactors nothing; the lattice itself is not touched (the run is the one it would have been).
+  if (budget_ && region_->lattice() && !dry_stepped_) {
+    dry_stepped_ = true;
+    Lattice copy = *region_->lattice();
+    const std::vector<Vec3> none;
+    const StepOptions& opts = budget_->ladder().front().opts;
+    prepare_step(copy, opts, step_dt_s_, &ws_);
+    const double t0 = budget_->clock()->now_ms();
+    step_lattice(&copy, opts, step_dt_s_, none, &ws_);
+    budget_->seed_step(0, budget_->clock()->now_ms() - t0);
+  }
   if (!renderer_) return;
   warm_rgba_.resize(static_cast<std::size_t>(renderer_->width()) * static_cast<std::size_t>(renderer_->height()) * 4);
   renderer_->draw(current_view(), warm_rgba_.data());

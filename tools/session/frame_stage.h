@@ -57,9 +57,11 @@ class FrameStage {
   void use_budget(BudgetClock* clock);
   /// The budget controller, when one runs.
   const FrameBudget* budget() const { return budget_ ? &*budget_ : nullptr; }
-  /// Draws the current state once without writing it anywhere: a realtime run calls it before its clock starts,
-  /// so the first frame's deadline does not pay for the renderer's one-time set-up (the GL driver compiles its
-  /// shaders on the first draw: tens of ms). Frames drawn afterwards are the same pixels. No-op without a renderer.
+  /// What a realtime run does before its clock starts, so the first frame's deadline does not pay for one-time
+  /// costs: draws the current state once without writing it anywhere (the GL driver compiles its shaders on the
+  /// first draw: tens of ms; frames drawn afterwards are the same pixels), and with a budget and a lattice,
+  /// times one step of a copy of the lattice to seed the budget (FrameBudget::seed_step; the run's own state is
+  /// untouched). Call use_budget() first.
   void warm_up();
   /// Drains and logs samples left after the last frame.
   void drain_remaining();
@@ -135,6 +137,7 @@ class FrameStage {
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)
   std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
+  bool dry_stepped_ = false;         // warm_up() seeded the budget
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
