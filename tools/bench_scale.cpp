@@ -89,6 +89,8 @@ nlohmann::json row_json(const ScaleRun& r) {
           {"render_ms", s["render"]["ms"]},
           {"png_ms", s["png"]["ms"]},
           {"frames_layered", s["render"]["frames_layered"]},
+          // `both` leaves its wireframe out on a mesh finer than the image: rows then draw different things
+          {"wire", s["render"].contains("wire") ? s["render"]["wire"] : nlohmann::json(nullptr)},
           {"wall_s_per_scene_s", s["wall_s_per_scene_s"]},
           {"state_hash", s.value("state_hash", "")}};
 }
@@ -96,8 +98,8 @@ nlohmann::json row_json(const ScaleRun& r) {
 std::string table(const std::vector<ScaleRun>& runs) {
   std::ostringstream t;
   char line[256];
-  std::snprintf(line, sizeof line, "%-9s %8s %9s %8s %15s %17s %15s %12s\n", "draw", "tris", "start s", "RSS MB",
-                "sim p50/p99 ms", "render p50/p99 ms", "png p50/p99 ms", "wall s / s");
+  std::snprintf(line, sizeof line, "%-9s %8s %9s %8s %15s %17s %15s %12s %6s\n", "draw", "tris", "start s", "RSS MB",
+                "sim p50/p99 ms", "render p50/p99 ms", "png p50/p99 ms", "wall s / s", "lines");
   t << line;
   for (const ScaleRun& r : runs) {
     const auto& s = r.summary;
@@ -106,10 +108,14 @@ std::string table(const std::vector<ScaleRun>& runs) {
       std::snprintf(b, sizeof b, "%.1f / %.1f", m["p50"].get<double>(), m["p99"].get<double>());
       return std::string(b);
     };
-    std::snprintf(line, sizeof line, "%-9s %8lld %9.2f %8.0f %15s %17s %15s %12.2f\n",
+    // whether the wireframe was drawn (`both` only; "-" for other styles)
+    const char* lines = "-";
+    if (s["render"].contains("wire")) lines = s["render"]["wire"].value("drawn", false) ? "yes" : "no";
+    std::snprintf(line, sizeof line, "%-9s %8lld %9.2f %8.0f %15s %17s %15s %12.2f %6s\n",
                   r.full_redraw ? "full" : "layered", s["model"]["triangles"].get<long long>(),
                   s["model"]["startup_s"].get<double>(), r.peak_rss_MB, ms(s["sim"]["ms"]).c_str(),
-                  ms(s["render"]["ms"]).c_str(), ms(s["png"]["ms"]).c_str(), s["wall_s_per_scene_s"].get<double>());
+                  ms(s["render"]["ms"]).c_str(), ms(s["png"]["ms"]).c_str(), s["wall_s_per_scene_s"].get<double>(),
+                  lines);
     t << line;
   }
   return t.str();

@@ -172,11 +172,15 @@ TEST(Cli, BenchScaleRecordsEachSizeBothWaysAndWritesItsRows) {
     EXPECT_EQ(row["render_ms"]["count"].get<int64_t>(), 60);
     // the cached layer is used in the layered runs only, and both draw the same recording
     EXPECT_EQ(row["frames_layered"].get<int64_t>(), full ? 0 : 60);
+    // bunny_touch is drawn `both`: each row says whether its wireframe was drawn (both sizes' edges are long)
+    EXPECT_TRUE(row["wire"]["drawn"].get<bool>()) << tris;
+    EXPECT_GT(row["wire"]["median_edge_px"].get<double>(), 2.0) << tris;
   }
   EXPECT_EQ(j["rows"][0]["state_hash"], j["rows"][1]["state_hash"]);
   EXPECT_NE(j["rows"][0]["state_hash"], j["rows"][2]["state_hash"]);  // a finer mesh deforms other vertices
-  // the table names every size
+  // the table names every size, and whether its lines were drawn
   EXPECT_NE(r.out.find("14696"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("lines"), std::string::npos) << r.out;
 }
 
 TEST(Cli, BenchScaleRefusesAnOutputThatIsNotAFile) {
