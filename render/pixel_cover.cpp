@@ -65,46 +65,44 @@ void PixelCover::cells(const float* xy, std::size_t n, float reach, Cell* out) c
   }
 }
 
-// The union of the vertices' ranges is [min x0, max x1] x [min y0, max y1]: each vertex's range is clipped to
-// the viewport already, and clipping commutes with min and max. The verdict is a coin flip per primitive on a
-// dense mesh, so it is combined with & and the index written always, kept by advancing: no branch on it.
-void PixelCover::keep_triangles(const Cell* cells, const uint32_t* triangles, std::size_t n_indices,
-                                std::vector<uint32_t>* out) {
+namespace {
+
+// The primitives of `indices` (N per primitive) whose vertices' ranges, taken as a box, hold a pixel centre, appended
+// to out. The union of the ranges is [min x0, max x1] x [min y0, max y1]: each vertex's range is clipped to the
+// viewport already, and clipping commutes with min and max. The verdict is a coin flip per primitive on a dense
+// mesh, so it is combined with & and the indices written always, kept by advancing: no branch on it.
+template <int N>
+void keep_reaching(const PixelCover::Cell* cells, const uint32_t* indices, std::size_t n_indices,
+                   std::vector<uint32_t>* out) {
   const std::size_t start = out->size();
-  out->resize(start + n_indices - n_indices % 3);
+  out->resize(start + n_indices - n_indices % N);
   uint32_t* dst = out->data() + start;
   std::size_t n = 0;
-  for (std::size_t k = 0; k + 2 < n_indices; k += 3) {
-    const uint32_t a = triangles[k], b = triangles[k + 1], c = triangles[k + 2];
-    const Cell& p = cells[a];
-    const Cell& q = cells[b];
-    const Cell& r = cells[c];
-    const bool keep = (std::min({p.x0, q.x0, r.x0}) <= std::max({p.x1, q.x1, r.x1})) &
-                      (std::min({p.y0, q.y0, r.y0}) <= std::max({p.y1, q.y1, r.y1}));
-    dst[n] = a;
-    dst[n + 1] = b;
-    dst[n + 2] = c;
-    n += keep ? 3 : 0;
+  for (std::size_t k = 0; k + N <= n_indices; k += N) {
+    int16_t x0 = INT16_MAX, x1 = INT16_MIN, y0 = INT16_MAX, y1 = INT16_MIN;
+    for (int v = 0; v < N; ++v) {
+      const PixelCover::Cell& c = cells[indices[k + v]];
+      x0 = std::min(x0, c.x0);
+      x1 = std::max(x1, c.x1);
+      y0 = std::min(y0, c.y0);
+      y1 = std::max(y1, c.y1);
+      dst[n + v] = indices[k + v];
+    }
+    n += ((x0 <= x1) & (y0 <= y1)) ? N : 0;
   }
   out->resize(start + n);
 }
 
+}  // namespace
+
+void PixelCover::keep_triangles(const Cell* cells, const uint32_t* triangles, std::size_t n_indices,
+                                std::vector<uint32_t>* out) {
+  keep_reaching<3>(cells, triangles, n_indices, out);
+}
+
 void PixelCover::keep_lines(const Cell* cells, const uint32_t* lines, std::size_t n_indices,
                             std::vector<uint32_t>* out) {
-  const std::size_t start = out->size();
-  out->resize(start + n_indices - n_indices % 2);
-  uint32_t* dst = out->data() + start;
-  std::size_t n = 0;
-  for (std::size_t k = 0; k + 1 < n_indices; k += 2) {
-    const uint32_t a = lines[k], b = lines[k + 1];
-    const Cell& p = cells[a];
-    const Cell& q = cells[b];
-    const bool keep = (std::min(p.x0, q.x0) <= std::max(p.x1, q.x1)) & (std::min(p.y0, q.y0) <= std::max(p.y1, q.y1));
-    dst[n] = a;
-    dst[n + 1] = b;
-    n += keep ? 2 : 0;
-  }
-  out->resize(start + n);
+  keep_reaching<2>(cells, lines, n_indices, out);
 }
 
 }  // namespace palpate
