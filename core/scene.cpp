@@ -295,6 +295,7 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   r.name("style", &s->render.style);
   r.name("backend", &s->render.backend);
   r.number("wire_min_edge_px", &s->render.wire_min_edge_px, 0.0, 1000.0);
+  r.number("lod_min_edge_px", &s->render.lod_min_edge_px, 0.0, 100.0);
   r.finish();
   const int64_t pixels = int64_t{s->render.width} * s->render.height;
   if (err->empty() && pixels > kMaxImagePixels)

@@ -104,6 +104,7 @@ struct RenderSpec {
   RenderStyle style = RenderStyle::kSolid;
   RenderBackend backend = RenderBackend::kAuto;
   double wire_min_edge_px = kWireMinEdgePxDefault;  ///< `both`: no wireframe when the median edge is shorter (0: always)
+  double lod_min_edge_px = kLodMinEdgePxDefault;    ///< drawn clustered when the median edge is shorter (0: never)
 };
 
 /// A whole scene.

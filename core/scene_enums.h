@@ -21,6 +21,10 @@ enum class RenderStyle { kSolid, kWireframe, kBoth };
 /// `both` style: the wireframe is left out when the mesh's median edge is shorter than this on screen, in pixels
 /// (scene key render.wire_min_edge_px; see Renderer::set_wire_min_edge_px).
 inline constexpr double kWireMinEdgePxDefault = 2.0;
+/// A mesh whose median edge is shorter than this on screen, in pixels, is drawn clustered to about this edge: 1.5
+/// px is the edge of an equilateral triangle one pixel in area
+/// (scene key render.lod_min_edge_px; 0: always the mesh itself; see render/mesh_lod.h).
+inline constexpr double kLodMinEdgePxDefault = 1.5;
 /// Which off-screen GL the renderer asks for (auto: OSMesa, else EGL surfaceless).
 enum class RenderBackend { kAuto, kOsmesa, kEgl };
 /// Where the device's poses come from.

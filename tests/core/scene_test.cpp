@@ -60,6 +60,7 @@ TEST(SceneEnums, SceneKeysBecomeEnumsOrNameTheChoices) {
   EXPECT_EQ(r.value().render.style, RenderStyle::kBoth);
   EXPECT_EQ(r.value().render.backend, RenderBackend::kEgl);
   EXPECT_EQ(r.value().render.wire_min_edge_px, kWireMinEdgePxDefault);
+  EXPECT_EQ(r.value().render.lod_min_edge_px, kLodMinEdgePxDefault);
   EXPECT_EQ(r.value().device.driver, DeviceDriver::kReplay);
   EXPECT_EQ(r.value().mode, InteractionMode::kCut);
   EXPECT_EQ(r.value().run_mode, RunMode::kRealtime);
@@ -121,6 +122,10 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   auto wire = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"wire_min_edge_px": 0}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
   ASSERT_TRUE(wire) << wire.error().message;
   EXPECT_EQ(wire.value().render.wire_min_edge_px, 0.0);
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"lod_min_edge_px": 101}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.lod_min_edge_px: 101 out of range");
+  auto lod = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"lod_min_edge_px": 0}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(lod) << lod.error().message;
+  EXPECT_EQ(lod.value().render.lod_min_edge_px, 0.0);
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 1, "pos_m": [0,0,0]}, {"t_s": 0.5, "pos_m": [0,0,0]}]})", "trajectory[1].t_s: 0.5 must be later");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "grid": {"levels": 3}, "lattice": {"level": 4}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "deeper than grid.levels");
 }

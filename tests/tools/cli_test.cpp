@@ -175,12 +175,16 @@ TEST(Cli, BenchScaleRecordsEachSizeBothWaysAndWritesItsRows) {
     // bunny_touch is drawn `both`: each row says whether its wireframe was drawn (both sizes' edges are long)
     EXPECT_TRUE(row["wire"]["drawn"].get<bool>()) << tris;
     EXPECT_GT(row["wire"]["median_edge_px"].get<double>(), 2.0) << tris;
+    // edges this long are drawn as they are, not clustered
+    EXPECT_FALSE(row["lod"]["used"].get<bool>()) << tris;
+    EXPECT_EQ(row["lod"]["min_edge_px"].get<double>(), kLodMinEdgePxDefault);
   }
   EXPECT_EQ(j["rows"][0]["state_hash"], j["rows"][1]["state_hash"]);
   EXPECT_NE(j["rows"][0]["state_hash"], j["rows"][2]["state_hash"]);  // a finer mesh deforms other vertices
   // the table names every size, and whether its lines were drawn
   EXPECT_NE(r.out.find("14696"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("lines"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("drawn"), std::string::npos) << r.out;
 }
 
 TEST(Cli, BenchScaleRefusesAnOutputThatIsNotAFile) {

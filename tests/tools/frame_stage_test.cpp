@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include "core/aabb.h"
 #include "core/tri_mesh.h"
+#include "render/gl_context.h"
+#include "render/renderer.h"
 #include "support/fixtures.h"
 #include "support/pressed_box.h"
 
@@ -51,6 +54,62 @@ TEST(FrameStage, NormalsKeptOnlyWhereTheRegionReachesEqualTheWholeMeshs) {
   }
   EXPECT_EQ(mismatched_frames, 0);
   EXPECT_GE(stage.stats().region_moves, 2);
+  EXPECT_GT(stage.stats().max_displacement_m, 1e-4);
+}
+
+// A box finer than a 64 x 48 image is drawn clustered (a MeshLod: its own triangles over some of the mesh's
+// vertices, shaded with the whole mesh's normals). The renderer redraws only the vertices a view names as
+// moving and those on a triangle with one; every other vertex it draws must keep its position and normal until
+// the view's layer epoch changes. Vertices that change shade without moving (their neighbours in the whole
+// mesh move) are among those redrawn.
+TEST(FrameStage, AClusteredViewRedrawsEveryVertexWhoseShadeCanChange) {
+  Scene scene = parse_scene(kBox, "box.json").value();
+  scene.mesh.box_subdivisions = 48;
+  scene.render.width = 64;
+  scene.render.height = 48;
+  const Model model = load_model(scene).value();
+  auto ctx = create_gl_context(64, 48, RenderBackend::kAuto);
+  ASSERT_TRUE(ctx.ok()) << ctx.error().message;
+  const Aabb box = Aabb::of(model.rest.vertices_m);
+  Renderer renderer(ctx.value().get(), RenderStyle::kSolid, Camera::framing(box.min_m, box.max_m, 64.0 / 48.0));
+  SpscQueue<HapticSample> samples(4096);
+  TripleBuffer<LocalModel> local;
+  FrameStage stage(scene, model, &samples, &local, &renderer, nullptr, nullptr);
+  ASSERT_NE(stage.lod(), nullptr);
+  std::vector<Vec3> last_v = stage.vertices_m(), last_n = stage.normals();
+  uint64_t last_epoch = stage.current_view().layer_epoch;
+  int64_t tick = 0, not_redrawn = 0, shade_only = 0;
+  std::vector<uint8_t> redrawn(model.rest.vertices_m.size());
+  for (int f = 0; f < 40; ++f) {
+    Vec3 c = Vec3::Zero();
+    const int32_t tri = test::top_triangle_near(model.rest, 0.004, 0.002, &c);
+    ASSERT_GE(tri, 0);
+    for (int k = 0; k < 16; ++k) ASSERT_TRUE(samples.try_push(test::pressed_sample(tick++, tri, c)));
+    stage.frame(f, f / 60.0, true);
+    const FrameView view = stage.current_view();
+    ASSERT_EQ(view.triangles, &stage.lod()->triangles);
+    ASSERT_NE(view.moving_vertices, nullptr);
+    // what the renderer redraws: the named vertices and the others of their clustered triangles
+    std::fill(redrawn.begin(), redrawn.end(), 0);
+    std::vector<uint8_t> named(redrawn.size(), 0);
+    for (int32_t v : *view.moving_vertices) named[v] = 1;
+    for (const auto& t : *view.triangles)
+      if (named[t[0]] || named[t[1]] || named[t[2]]) redrawn[t[0]] = redrawn[t[1]] = redrawn[t[2]] = 1;
+    if (view.layer_epoch == last_epoch) {
+      for (const auto& t : *view.triangles)
+        for (int32_t v : t) {
+          const bool moved = (stage.vertices_m()[v].array() != last_v[v].array()).any();
+          const bool shaded = (stage.normals()[v].array() != last_n[v].array()).any();
+          not_redrawn += (moved || shaded) && !redrawn[v] ? 1 : 0;
+          shade_only += shaded && !moved ? 1 : 0;
+        }
+    }
+    last_v = stage.vertices_m();
+    last_n = stage.normals();
+    last_epoch = view.layer_epoch;
+  }
+  EXPECT_EQ(not_redrawn, 0);
+  EXPECT_GT(shade_only, 0);  // the case the test is about happened
   EXPECT_GT(stage.stats().max_displacement_m, 1e-4);
 }
 

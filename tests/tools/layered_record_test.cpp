@@ -90,6 +90,69 @@ TEST(LayeredRecordWire, SummaryNamesAWireframeLeftOut) {
   EXPECT_GT(wire["median_edge_px"].get<double>(), kWireMinEdgePxDefault);
 }
 
+// Frames of a sequence that differ, and the mean absolute channel difference over all of them.
+struct FramesDiff {
+  int64_t frames_differing = 0;
+  double mean_levels = 0.0;
+};
+FramesDiff compare_frames(const Recording& a, const Recording& b, int64_t frames) {
+  FramesDiff d;
+  double sum = 0.0, n = 0.0;
+  for (int64_t i = 0; i < frames; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05lld.png", static_cast<long long>(i));
+    auto x = read_png((fs::path(a.frames) / name).string());
+    auto y = read_png((fs::path(b.frames) / name).string());
+    EXPECT_TRUE(x && y) << name;
+    if (!x || !y) return d;
+    d.frames_differing += x.value().rgba != y.value().rgba ? 1 : 0;
+    for (std::size_t k = 0; k < x.value().rgba.size(); ++k) {
+      if (k % 4 == 3) continue;
+      sum += std::abs(int{x.value().rgba[k]} - int{y.value().rgba[k]});
+      n += 1.0;
+    }
+  }
+  d.mean_levels = n > 0.0 ? sum / n : 0.0;
+  return d;
+}
+
+// bunny_pull on the bunny subdivided twice (58 784 triangles) at 320 x 240: its median edge is about a pixel,
+// so its frames are drawn clustered (render.lod_min_edge_px, 1.5 px). The layered frames still equal a full
+// redraw's (of the same clustered triangles). Drawn unclustered the frames differ, by a fraction of a level.
+TEST(LayeredRecordLod, AMeshFinerThanTheImageIsDrawnClusteredAndTheLayerStillEqualsAFullRedraw) {
+  Scene scene = load_scene(test::source_path("scenes/bunny_pull.json")).value();
+  scene.mesh.subdivisions = 2;
+  scene.render.width = 320;
+  scene.render.height = 240;
+  scene.duration_s = 1.5;  // the grab at 1 s and half a second of pull
+  const Recording layered = record(scene, "lod_layered", false);
+  const Recording full = record(scene, "lod_full", true);
+  Scene exact_scene = scene;
+  exact_scene.render.lod_min_edge_px = 0.0;
+  const Recording exact = record(exact_scene, "lod_exact", false);
+  const int64_t frames = layered.summary["frames_written"].get<int64_t>();
+  ASSERT_EQ(frames, 90);
+  ASSERT_EQ(full.summary["frames_written"].get<int64_t>(), frames);
+  ASSERT_EQ(exact.summary["frames_written"].get<int64_t>(), frames);
+
+  const nlohmann::json& lod = layered.summary["render"]["lod"];
+  ASSERT_TRUE(lod["used"].get<bool>()) << lod;
+  EXPECT_EQ(lod["min_edge_px"].get<double>(), kLodMinEdgePxDefault);
+  EXPECT_LT(lod["median_edge_px"].get<double>(), kLodMinEdgePxDefault);
+  EXPECT_GE(lod["lod_median_edge_px"].get<double>(), 0.95 * kLodMinEdgePxDefault);
+  EXPECT_LT(lod["triangles"].get<int64_t>(), layered.summary["model"]["triangles"].get<int64_t>() * 6 / 10);
+  EXPECT_FALSE(exact.summary["render"]["lod"]["used"].get<bool>());
+  // clustering changes the picture, never the simulation
+  EXPECT_EQ(layered.result.state_hash, exact.result.state_hash);
+  EXPECT_EQ(layered.summary["render"]["frames_layered"].get<int64_t>(), frames);
+
+  EXPECT_EQ(compare_frames(layered, full, frames).frames_differing, 0);
+  const FramesDiff vs_exact = compare_frames(layered, exact, frames);
+  EXPECT_EQ(vs_exact.frames_differing, frames);
+  EXPECT_LT(vs_exact.mean_levels, 1.0);
+  std::printf("clustered vs unclustered: mean %.3f levels a channel\n", vs_exact.mean_levels);
+}
+
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, LayeredRecord, ::testing::Values("bunny_touch", "bunny_pull", "bunny_cut"));
 
 }  // namespace

@@ -39,6 +39,11 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   // a lattice built up front gets its solver's factorisation too, before the first frame's deadline (the same
   // one the first step would make)
   if (region_->prepared_ahead() && region_->lattice()) prepare_step(*region_->mutable_lattice(), step_opts_, step_dt_s_, &ws_);
+  // a mesh finer than the image is drawn clustered to about a pixel's edge (render.lod_min_edge_px); not in cut
+  // mode, whose blade changes the triangles on every frame it cuts
+  if (renderer_ && scene.mode != InteractionMode::kCut)
+    lod_ = screen_lod(model.rest.vertices_m, region_->triangles(),
+                      [r = renderer_](const Vec3& p) { return r->project(p); }, scene.render.lod_min_edge_px);
 }
 
 void FrameStage::set_step_dt(double dt_s) {
@@ -321,7 +326,7 @@ void FrameStage::publish_patch() {
 FrameView FrameStage::current_view() const {
   FrameView view{};
   view.vertices_m = &vertices_m_;
-  view.triangles = &triangles();
+  view.triangles = lod_ ? &lod_->triangles : &triangles();
   view.normals = &normals_;
   view.tool_pos_m = latest_.tool_pos_m;
   view.tool_radius_m = scene_.device.tool_radius_m;

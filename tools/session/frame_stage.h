@@ -16,6 +16,7 @@
 #include "haptics/haptic_sample.h"
 #include "haptics/local_model.h"
 #include "render/gl_context.h"
+#include "render/mesh_lod.h"
 #include "render/png_writer.h"
 #include "render/renderer.h"
 #include "render/video_writer.h"
@@ -79,6 +80,11 @@ class FrameStage {
   const std::vector<std::array<int32_t, 3>>& triangles() const { return region_->triangles(); }
   /// The cut mesh and its side binding (cut mode only, else null).
   const CutModel* cut_model() const { return region_->cut_model(); }
+  /// The clustered triangles frames are drawn with when the mesh is finer than the image
+  /// (render.lod_min_edge_px), else null.
+  const MeshLod* lod() const { return lod_ ? &*lod_ : nullptr; }
+  /// What a frame drawn now shows (pointers into the stage, valid until its next frame).
+  FrameView current_view() const;
 
  private:
   void drain();
@@ -109,8 +115,6 @@ class FrameStage {
   void fill_contact_model(LocalModel* m);
   void publish_patch();
   void render(int64_t index, bool block);
-  // what a frame drawn now shows
-  FrameView current_view() const;
   // files the time since the last part ended under `part` of the frame's profile
   void lap(FramePart part);
 
@@ -137,6 +141,7 @@ class FrameStage {
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::vector<Vec3> normals_;        // per vertex (n_v)
   std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
+  std::optional<MeshLod> lod_;       // what frames are drawn with when the mesh is finer than the image
   bool dry_stepped_ = false;         // warm_up() seeded the budget
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch

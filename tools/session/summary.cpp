@@ -166,6 +166,15 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                            {"median_edge_px", std::isfinite(median) ? nlohmann::json(median) : nlohmann::json(nullptr)},
                            {"min_edge_px", scene.render.wire_min_edge_px}};
   }
+  // a mesh finer than the image is drawn clustered (render.lod_min_edge_px)
+  j["render"]["lod"] = {{"used", stage.lod() != nullptr}, {"min_edge_px", scene.render.lod_min_edge_px}};
+  if (const MeshLod* lod = stage.lod()) {
+    j["render"]["lod"].update({{"triangles", lod->triangles.size()},
+                               {"vertices", lod->representatives},
+                               {"median_edge_px", lod->median_edge_px},
+                               {"lod_median_edge_px", lod->lod_median_edge_px},
+                               {"max_shift_px", lod->max_shift_px}});
+  }
   j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
               {"write_errors", writer ? writer->write_errors() : 0},
               {"threads", in.png.threads},
