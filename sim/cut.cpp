@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+
+#include "core/pair_key.h"
 
 namespace palpate {
 namespace {
@@ -86,12 +89,14 @@ bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads
   return hit;
 }
 
-int cut_springs(Lattice* lat, const std::vector<BladeQuad>& quads) {
-  if (quads.empty()) return 0;
-  const CutQuads set(quads);
+namespace {
+
+// Erases the springs `gone` picks (in order, once each, keeping the others' order), recounts the families and
+// touches the lattice when any went. Returns how many went.
+template <typename Pred>
+int erase_springs(Lattice* lat, Pred gone) {
   const std::size_t before = lat->springs.size();
-  auto crossed = [&](const Spring& s) { return segment_crosses_any(lat->rest_m[s.a], lat->rest_m[s.b], set); };
-  lat->springs.erase(std::remove_if(lat->springs.begin(), lat->springs.end(), crossed), lat->springs.end());
+  lat->springs.erase(std::remove_if(lat->springs.begin(), lat->springs.end(), gone), lat->springs.end());
   const int removed = static_cast<int>(before - lat->springs.size());
   if (removed > 0) {
     lat->springs_per_family = {};
@@ -99,6 +104,39 @@ int cut_springs(Lattice* lat, const std::vector<BladeQuad>& quads) {
     lat->touch();
   }
   return removed;
+}
+
+}  // namespace
+
+int cut_springs(Lattice* lat, const std::vector<BladeQuad>& quads) {
+  if (quads.empty()) return 0;
+  const CutQuads set(quads);
+  return erase_springs(lat, [&](const Spring& s) { return segment_crosses_any(lat->rest_m[s.a], lat->rest_m[s.b], set); });
+}
+
+int cut_springs_capped(Lattice* lat, const std::vector<BladeQuad>& quads, int max_removed,
+                       std::vector<uint64_t>* deferred) {
+  const std::size_t n_now = std::min(deferred->size(), static_cast<std::size_t>(std::max(max_removed, 0)));
+  // the oldest deferred go now, the rest stay deferred; both sorted for lookups
+  std::vector<uint64_t> now(deferred->begin(), deferred->begin() + static_cast<std::ptrdiff_t>(n_now));
+  std::vector<uint64_t> still(deferred->begin() + static_cast<std::ptrdiff_t>(n_now), deferred->end());
+  deferred->erase(deferred->begin(), deferred->begin() + static_cast<std::ptrdiff_t>(n_now));
+  std::sort(now.begin(), now.end());
+  std::sort(still.begin(), still.end());
+  int room = max_removed - static_cast<int>(n_now);
+  const std::optional<CutQuads> set = quads.empty() ? std::nullopt : std::optional<CutQuads>(CutQuads(quads));
+  return erase_springs(lat, [&](const Spring& s) {
+    const uint64_t k = unordered_pair_key(s.a, s.b);
+    if (std::binary_search(now.begin(), now.end(), k)) return true;
+    if (!set || std::binary_search(still.begin(), still.end(), k)) return false;
+    if (!segment_crosses_any(lat->rest_m[s.a], lat->rest_m[s.b], *set)) return false;
+    if (room > 0) {
+      --room;
+      return true;
+    }
+    deferred->push_back(k);
+    return false;
+  });
 }
 
 int spring_components(const Lattice& lat, std::vector<int32_t>* label) {

@@ -53,6 +53,13 @@ bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads
 /// the lattice (solver caches are rebuilt) when any was removed. Returns the number removed.
 int cut_springs(Lattice* lat, const std::vector<BladeQuad>& quads);
 
+/// cut_springs() that removes at most max_removed springs (> 0) this call and defers the rest: *deferred holds
+/// the node pairs (unordered_pair_key of a and b) of crossed springs still in the lattice, oldest first. The deferred ones
+/// go first, then new crossings in spring order; a spring crossed again while deferred keeps its place. The
+/// springs removed keep the others' order, as cut_springs() does. Returns the number removed.
+int cut_springs_capped(Lattice* lat, const std::vector<BladeQuad>& quads, int max_removed,
+                       std::vector<uint64_t>* deferred);
+
 /// Connected components of the spring graph: *label gets one id per node (0..count-1, numbered in node order);
 /// a node with no spring is a component of its own. Returns the count.
 int spring_components(const Lattice& lat, std::vector<int32_t>* label);

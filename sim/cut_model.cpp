@@ -31,6 +31,11 @@ void CutModel::add_sample(const Vec3& tip_m, const Vec3& axis, bool cutting) {
   have_prev_ = true;
 }
 
+int CutModel::springs_this_apply() const {
+  // a quarter of those waiting when more than the limit's four times wait: none waits much more than four frames
+  return std::max(max_springs_, static_cast<int>((deferred_.size() + 3) / 4));
+}
+
 CutReport CutModel::apply(Lattice* lat, std::vector<Vec3>* vertices_m) {
   CutReport rep = apply_quads(pending_, lat, vertices_m);
   pending_.clear();
@@ -74,13 +79,17 @@ int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const 
 
 CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* lat, std::vector<Vec3>* vertices_m) {
   CutReport rep;
-  if (quads_W.empty()) return rep;
+  if (quads_W.empty()) {
+    if (!deferred_.empty()) rep.springs_cut = cut_springs_capped(lat, {}, springs_this_apply(), &deferred_);
+    return rep;
+  }
   // every test in rest coordinates, so a node's side of the cut does not drift while the object moves
   std::vector<BladeQuad> quads;
   quads_to_rest(*lat, *grid_, quads_W, &last_edge_, &quads);
   const CutQuads set(quads);
   const CutBox& box = set.box;
-  rep.springs_cut = cut_springs(lat, quads);
+  rep.springs_cut = max_springs_ > 0 ? cut_springs_capped(lat, quads, springs_this_apply(), &deferred_)
+                                     : cut_springs(lat, quads);
 
   const std::size_t old_count = rest_m_.size();
   std::vector<SplitVertex> created;

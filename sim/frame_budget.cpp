@@ -48,8 +48,12 @@ std::vector<BudgetSetting> budget_ladder(const StepOptions& scene_opts) {
   return ladder;
 }
 
-FrameBudget::FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock)
-    : budget_ms_(budget_ms), ladder_(std::move(ladder)), clock_(clock), frames_at_(ladder_.size(), 0) {}
+FrameBudget::FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock, double plan_fraction)
+    : budget_ms_(budget_ms),
+      plan_ms_(budget_ms * std::clamp(plan_fraction, 1e-3, 1.0)),
+      ladder_(std::move(ladder)),
+      clock_(clock),
+      frames_at_(ladder_.size(), 0) {}
 
 void FrameBudget::seed_step(int i, double step_ms) {
   if (unit_ms_ >= 0.0 || i < 0 || i >= static_cast<int>(ladder_.size()) || !(step_ms >= 0.0)) return;
@@ -72,11 +76,11 @@ const StepOptions& FrameBudget::step_begin() {
   t_step_ = clock_->now_ms();
   const double elapsed = t_step_ - t_frame_;
   ran_ = current_;
-  if (predicted_from_step_ms(current_, elapsed) > budget_ms_) {
+  if (predicted_from_step_ms(current_, elapsed) > plan_ms_) {
     const int n = static_cast<int>(ladder_.size());
     ran_ = n - 1;
     for (int i = current_ + 1; i < n; ++i)
-      if (predicted_from_step_ms(i, elapsed) <= budget_ms_) {
+      if (predicted_from_step_ms(i, elapsed) <= plan_ms_) {
         ran_ = i;
         break;
       }
@@ -114,18 +118,18 @@ void FrameBudget::end_frame() {
   ++held_;
   const int n = static_cast<int>(ladder_.size());
   int next = current_;
-  if (predicted_ms(current_) > budget_ms_) {
+  if (predicted_ms(current_) > plan_ms_) {
     // over: the most accurate cheaper rung predicted to hold the budget, else the cheapest
     next = n - 1;
     for (int i = current_ + 1; i < n; ++i)
-      if (predicted_ms(i) <= budget_ms_) {
+      if (predicted_ms(i) <= plan_ms_) {
         next = i;
         break;
       }
   } else if (current_ > 0 && held_ >= kHoldFrames) {
     // room: the most accurate rung predicted well within the budget
     for (int i = 0; i < current_; ++i)
-      if (predicted_ms(i) <= kUpFraction * budget_ms_) {
+      if (predicted_ms(i) <= kUpFraction * plan_ms_) {
         next = i;
         break;
       }

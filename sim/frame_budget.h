@@ -64,11 +64,25 @@ inline constexpr const char* kBudgetErrorSource =
 /// (6, 4, 3, 2, 1 below the scene's). Empty when the integrator has nothing to trade (only local_global has).
 std::vector<BudgetSetting> budget_ladder(const StepOptions& scene_opts);
 
+/// The share of the budget a recording's frames are planned to hold (FrameStage::use_budget). A frame costs more
+/// than predicted when the servo's ticks or other threads preempt it or its caches went cold: bunny_cut in
+/// `--mode realtime`, planned to all of its 8 ms, had a sim p99 of 8.1-8.3 ms in three runs (7.8-11.0 in five
+/// earlier), its slowest frames showing 8-10 involuntary context switches; planned to 7 ms, 7.2-8.0 ms.
+inline constexpr double kFramePlanFraction = 0.875;
+
+/// Under a budget, the springs a frame's cut takes out of the lattice at most (CutModel::set_max_springs_per_apply):
+/// one downdate batch (DowndatableLLT::kBatch columns, one sweep up the factor). The others crossed wait for the
+/// next frames. On bunny_cut in `--mode realtime` a stroke crosses about 60 springs every fourth frame, whose
+/// downdates took 5-7 ms of one frame and set the sim p99 (8.3-9.2 ms in two of five runs); limited to 16, nine
+/// runs at 16, 24 and 32 had p99 6.97-7.53 ms.
+inline constexpr int kBudgetSpringsPerFrame = 16;
+
 /// The controller. Deterministic given the clock's readings. Thread: the sim thread.
 class FrameBudget {
  public:
-  /// budget_ms > 0; ladder not empty (most accurate first); clock must outlive this.
-  FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock);
+  /// budget_ms > 0; ladder not empty (most accurate first); clock must outlive this. Settings are planned to
+  /// hold plan_fraction of the budget (in (0, 1]): the room left is for frames that cost more than predicted.
+  FrameBudget(double budget_ms, std::vector<BudgetSetting> ladder, BudgetClock* clock, double plan_fraction = 1.0);
 
   /// A step of `step_ms` at rung i measured outside the run (a dry step of a copy before the clock starts): seeds
   /// the per-unit step estimate when there is none, so the first frame chooses from a measurement instead of
@@ -106,10 +120,12 @@ class FrameBudget {
   /// Predicted cost in ms of a frame at rung i under the current estimates (for tests and reports).
   double predicted_ms(int i) const;
   double budget_ms() const { return budget_ms_; }
+  /// What settings are planned to hold: plan_fraction of the budget.
+  double plan_ms() const { return plan_ms_; }
   /// The clock costs are read from.
   BudgetClock* clock() const { return clock_; }
 
-  /// A better rung is taken only when predicted within this fraction of the budget, and only after this many
+  /// A better rung is taken only when predicted within this fraction of plan_ms(), and only after this many
   /// frames at the current one (no flapping between two rungs).
   static constexpr double kUpFraction = 0.8;
   static constexpr int kHoldFrames = 10;
@@ -118,6 +134,7 @@ class FrameBudget {
 
  private:
   double budget_ms_;
+  double plan_ms_;
   std::vector<BudgetSetting> ladder_;
   BudgetClock* clock_;
   int current_ = 0;

@@ -1,6 +1,7 @@
 // Cutting a block: springs and mesh split by the blade's swept surface, side binding, validity.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -128,6 +129,71 @@ TEST(Cut, CuttingABlockInTwoLeavesTwoConsistentPieces) {
   EXPECT_EQ(sides[0].size(), 1u);
   EXPECT_EQ(sides[1].size(), 1u);
   EXPECT_NE(*sides[0].begin(), *sides[1].begin());
+}
+
+// Capped, a cut takes out at most the cap a call and leaves the rest crossed in the lattice, oldest first; later
+// calls (with no quad) take them out in that order, and in the end the same springs are gone, in the same
+// order, as one uncapped cut leaves.
+TEST(Cut, ACappedCutRemovesTheSameSpringsOverSeveralCallsOldestFirst) {
+  Block whole, capped;
+  const std::vector<BladeQuad> quads{plane_x(0.003)};
+  const int all = cut_springs(&whole.lat, quads);
+  ASSERT_GT(all, 20);
+  std::vector<uint64_t> deferred;
+  const uint64_t rev0 = capped.lat.revision;
+  EXPECT_EQ(cut_springs_capped(&capped.lat, quads, 8, &deferred), 8);
+  EXPECT_NE(capped.lat.revision, rev0);  // touched: the solver sees a change
+  EXPECT_EQ(deferred.size(), static_cast<std::size_t>(all - 8));
+  // the springs left are still crossed ones in spring order: the first 8 crossed went
+  const std::vector<uint64_t> first_wait = deferred;
+  // crossing the same springs again does not queue them twice, and the oldest go first
+  EXPECT_EQ(cut_springs_capped(&capped.lat, quads, 8, &deferred), 8);
+  EXPECT_EQ(deferred.size(), static_cast<std::size_t>(all - 16));
+  EXPECT_TRUE(std::equal(deferred.begin(), deferred.end(), first_wait.begin() + 8));
+  int calls = 2;
+  while (!deferred.empty()) {
+    const uint64_t rev = capped.lat.revision;
+    EXPECT_EQ(cut_springs_capped(&capped.lat, {}, 8, &deferred), std::min(8, all - 8 * calls));
+    EXPECT_NE(capped.lat.revision, rev);
+    ++calls;
+  }
+  EXPECT_EQ(calls, (all + 7) / 8);
+  ASSERT_EQ(capped.lat.springs.size(), whole.lat.springs.size());
+  for (std::size_t i = 0; i < whole.lat.springs.size(); ++i) {
+    EXPECT_EQ(capped.lat.springs[i].a, whole.lat.springs[i].a);
+    EXPECT_EQ(capped.lat.springs[i].b, whole.lat.springs[i].b);
+  }
+  EXPECT_EQ(capped.lat.springs_per_family, whole.lat.springs_per_family);
+  // nothing crossed and nothing waiting: no change
+  const uint64_t rev = capped.lat.revision;
+  EXPECT_EQ(cut_springs_capped(&capped.lat, quads, 8, &deferred), 0);
+  EXPECT_EQ(capped.lat.revision, rev);
+}
+
+// The cut model under a limit: the mesh is cut at once, the springs over the following applies (which run with
+// no quad pending), at most the limit each or a quarter of those waiting when more wait.
+TEST(Cut, ALimitedCutModelCutsTheMeshAtOnceAndTheSpringsOverTheNextApplies) {
+  Block whole, limited;
+  const std::vector<BladeQuad> quads{plane_x(0.003)};
+  const CutReport w = whole.cut.apply_quads(quads, &whole.lat, &whole.vertices);
+  limited.cut.set_max_springs_per_apply(4);
+  const CutReport first = limited.cut.apply_quads(quads, &limited.lat, &limited.vertices);
+  EXPECT_EQ(first.split.edges_cut, w.split.edges_cut);
+  EXPECT_EQ(limited.cut.triangles().size(), whole.cut.triangles().size());
+  EXPECT_EQ(first.springs_cut, 4);
+  std::size_t waiting = limited.cut.deferred_springs();
+  ASSERT_EQ(waiting, static_cast<std::size_t>(w.springs_cut - 4));
+  ASSERT_GT(waiting, 16u);  // more than four times the limit: a quarter of them go
+  int total = first.springs_cut;
+  while (limited.cut.deferred_springs() > 0) {
+    const CutReport r = limited.cut.apply(&limited.lat, &limited.vertices);
+    EXPECT_EQ(r.springs_cut, std::min(static_cast<int>(waiting), std::max(4, static_cast<int>((waiting + 3) / 4))));
+    total += r.springs_cut;
+    waiting = limited.cut.deferred_springs();
+  }
+  EXPECT_EQ(total, w.springs_cut);
+  EXPECT_EQ(limited.lat.springs.size(), whole.lat.springs.size());
+  EXPECT_EQ(limited.cut.apply(&limited.lat, &limited.vertices).springs_cut, 0);
 }
 
 TEST(Cut, EachSideFollowsItsOwnNodes) {

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "sim/frame_budget.h"
 
 namespace palpate {
@@ -136,6 +139,33 @@ TEST(FrameBudget, AFrameThatSpendsItsBudgetBeforeTheStepStepsCheaper) {
   // 7.9 ms before the step leave no room for any rung: the cheapest (1 iteration) steps
   EXPECT_EQ(run_frame(&b, &clock, 1.0, 0.3, 7.9), 1);
   EXPECT_EQ(b.frames_stepped_cheaper(), 2);
+}
+
+// Planned to a fraction of the budget, the settings leave that much room: 1 ms a unit and 1 ms around the step,
+// 6 iterations (7.25 ms) hold an 8 ms budget but not the 7 ms planned of it at 0.875, so 4 iterations (5.25 ms)
+// run; a frame counts as over only past the budget itself. Climbing back needs kUpFraction of the plan.
+TEST(FrameBudget, PlansToAFractionOfTheBudgetAndCountsOverOnlyPastTheBudget) {
+  FakeClock clock;
+  FrameBudget b(8.0, budget_ladder(local_global(0)), &clock, 0.875);
+  EXPECT_DOUBLE_EQ(b.plan_ms(), 7.0);
+  EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.0), 10);  // unmeasured: the scene's setting, 11.25 ms
+  EXPECT_EQ(b.frames_over(), 1);
+  for (int f = 0; f < 20; ++f) EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.0), 4) << "frame " << f;
+  // a frame of 7.5 ms before its step would leave no rung within the plan: the cheapest steps, and the frame
+  // (7.5 + 1.25 + 0.5 = 9.25 ms) is over the budget
+  EXPECT_EQ(run_frame(&b, &clock, 1.0, 1.0, 7.5), 1);
+  EXPECT_EQ(b.frames_over(), 2);
+  // 0.6 ms a unit: 4 iterations cost 3.55 ms; 6 iterations 4.75 ms are within 0.8 of the 7 ms plan (5.6), 10
+  // iterations 7.15 ms are not: after the hold, the ladder climbs to 6 and stays
+  std::vector<int> ran;
+  for (int f = 0; f < 60; ++f) ran.push_back(run_frame(&b, &clock, 1.0, 0.6));
+  EXPECT_EQ(ran.back(), 6);
+  EXPECT_EQ(std::count(ran.begin(), ran.end(), 10), 0);
+  // with the whole budget planned (the default), 6 iterations at 1 ms a unit (7.25 ms) hold it
+  FrameBudget whole(8.0, budget_ladder(local_global(0)), &clock);
+  EXPECT_DOUBLE_EQ(whole.plan_ms(), 8.0);
+  EXPECT_EQ(run_frame(&whole, &clock, 1.0, 1.0), 10);
+  EXPECT_EQ(run_frame(&whole, &clock, 1.0, 1.0), 6);  // 7.25 ms hold 8 ms
 }
 
 }  // namespace

@@ -204,10 +204,29 @@ TEST(FrameStage, BudgetStepsWithTheSettingItsClockAllows) {
   EXPECT_EQ(loaded.frames_stepped, plain.frames_stepped);
 }
 
+// Under a frame budget a cut takes at most kBudgetSpringsPerFrame springs out of the lattice a frame (each costs
+// the factor a downdate before the step); without one (lockstep: reproducible) a cut takes all it crosses.
+TEST(FrameStage, ABudgetLimitsTheSpringsACutTakesOutAFrame) {
+  const Scene scene = load_scene(test::source_path("scenes/bunny_cut.json")).value();
+  const Model model = load_model(scene).value();
+  SpscQueue<HapticSample> samples(16);
+  TripleBuffer<LocalModel> local;
+  FrameStage plain(scene, model, &samples, &local, nullptr, nullptr, nullptr);
+  ASSERT_NE(plain.cut_model(), nullptr);
+  EXPECT_EQ(plain.cut_model()->max_springs_per_apply(), 0);
+  FrameStage budgeted(scene, model, &samples, &local, nullptr, nullptr, nullptr);
+  SteppingClock clock(0.01);
+  budgeted.use_budget(&clock);
+  ASSERT_NE(budgeted.budget(), nullptr);
+  EXPECT_EQ(budgeted.cut_model()->max_springs_per_apply(), kBudgetSpringsPerFrame);
+  EXPECT_DOUBLE_EQ(budgeted.budget()->plan_ms(), kFramePlanFraction * scene.lattice.budget_ms);
+}
+
 // bunny_cut's whole-object lattice exists before the first frame. Without a warm-up the budget's first step runs
 // at the scene's 10 iterations unmeasured; warm_up() times a step of a copy first, so frame 0 chooses from that
-// (a clock at 5 ms a reading: a 5 ms dry step, 0.49 ms a unit; frame 0 has spent 5 ms before its step, so 4
-// iterations, 4.25 units, are the most that hold 8 ms). The dry step leaves the run as it was: with a clock too
+// (a clock at 5 ms a reading: a 5 ms dry step, 0.49 ms a unit; frame 0 has spent 5 ms before its step, so 3
+// iterations, 3.25 units, are the most that hold the 7 ms planned of the 8 ms budget, kFramePlanFraction; 4
+// iterations would hold 8 ms). The dry step leaves the run as it was: with a clock too
 // cheap to trade anything, the warmed-up run's state is the plain run's.
 TEST(FrameStage, WarmUpSeedsTheBudgetWithADryStepAndLeavesTheRunAlone) {
   const Scene scene = load_scene(test::source_path("scenes/bunny_cut.json")).value();
@@ -233,7 +252,7 @@ TEST(FrameStage, WarmUpSeedsTheBudgetWithADryStepAndLeavesTheRunAlone) {
   run(&dear_cold, false, 1, &cold);
   run(&dear_warm, true, 1, &warm);
   EXPECT_EQ(cold, 10);
-  EXPECT_EQ(warm, 4);
+  EXPECT_EQ(warm, 3);
   const std::string plain = run(nullptr, false, 3, nullptr);
   SteppingClock cheap(0.01);
   int cheap_first = 0;

@@ -14,6 +14,7 @@ nlohmann::json budget_summary(const Scene& scene, const FrameStage& stage, bool 
     return j;
   }
   j["active"] = true;
+  j["plan_ms"] = b->plan_ms();  // what the settings are planned to hold, leaving room for dearer frames
   j["clock"] = "wall (sim part of the frame: drain, cut, factor update, step, deform, normals, patch)";
   j["frames_over_budget"] = b->frames_over();
   j["changes"] = b->changes();

@@ -32,11 +32,14 @@ void CutRegion::add_sample(const HapticSample& s) {
 
 bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   cutting_ = false;
-  if (!lattice_ || cut_.pending().empty()) return false;
+  if (!lattice_ || (cut_.pending().empty() && cut_.deferred_springs() == 0)) return false;
   const CutReport rep = cut_.apply(&*lattice_, mesh.vertices_m);
   cutting_ = true;
   ++stats_->frames_cutting;
   stats_->springs_cut += rep.springs_cut;
+  const auto deferred = static_cast<int64_t>(cut_.deferred_springs());
+  stats_->springs_deferred_max = std::max(stats_->springs_deferred_max, deferred);
+  stats_->frames_deferring += deferred > 0 ? 1 : 0;
   stats_->triangles_added += rep.split.triangles_added;
   stats_->vertices_added += rep.split.vertices_added;
   stats_->lattice_vertices = std::max(stats_->lattice_vertices, cut_.rest_vertices_m().size());

@@ -22,6 +22,7 @@ class CutRegion final : public RegionPolicy {
 
   const std::vector<std::array<int32_t, 3>>& triangles() const override { return cut_.triangles(); }
   const CutModel* cut_model() const override { return &cut_; }
+  void limit_springs_cut_per_frame(int n) override { cut_.set_max_springs_per_apply(n); }
   /// Every vertex of the cut mesh, as it stands after this frame's splits: the side binding binds them all and
   /// deform() writes them all.
   std::size_t bound_vertices() const override { return cut_.rest_vertices_m().size(); }

@@ -57,7 +57,8 @@ void FrameStage::use_budget(BudgetClock* clock) {
   if (scene_.lattice.budget_ms <= 0.0) return;
   auto ladder = budget_ladder(step_options(scene_.lattice));
   if (ladder.empty()) return;
-  budget_.emplace(scene_.lattice.budget_ms, std::move(ladder), clock);
+  budget_.emplace(scene_.lattice.budget_ms, std::move(ladder), clock, kFramePlanFraction);
+  region_->limit_springs_cut_per_frame(kBudgetSpringsPerFrame);
 }
 
 void FrameStage::drain() {

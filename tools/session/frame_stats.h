@@ -66,6 +66,8 @@ struct FrameStats {
   // cut mode
   int64_t frames_cutting = 0;       ///< frames that applied blade sweeps
   int64_t springs_cut = 0;          ///< springs removed by the blade
+  int64_t springs_deferred_max = 0; ///< most crossed springs left in the lattice for later frames at once
+  int64_t frames_deferring = 0;     ///< frames that ended with crossed springs left for later frames
   int64_t triangles_added = 0;      ///< growth of the triangle count by mesh splits
   int64_t vertices_added = 0;       ///< growth of the vertex count by mesh splits
   int64_t free_nodes = 0;           ///< nodes in pieces cut free of every fixed node (after the last cut)

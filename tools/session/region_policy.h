@@ -83,6 +83,9 @@ class RegionPolicy {
   }
   /// Fills what the view shows of the region: which vertices may move (the renderer's cached layer), the blade.
   virtual void fill_view(const HapticSample& latest, FrameView* view) const = 0;
+  /// A frame budget runs: a cut takes at most n springs out of the lattice a frame, the rest on the frames after
+  /// (each costs the solver a factor downdate before the step). No effect where nothing is cut.
+  virtual void limit_springs_cut_per_frame(int n) { (void)n; }
   /// The frame ended; sim_ms is its cost.
   virtual void end_frame(double sim_ms) { (void)sim_ms; }
 

@@ -148,6 +148,9 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
     const CutModel* cut = stage.cut_model();
     j["cut"] = {{"frames_cutting", fst.frames_cutting},
                 {"springs_cut", fst.springs_cut},
+                // under a budget a frame removes at most kBudgetSpringsPerFrame; the rest wait
+                {"springs_deferred_max", fst.springs_deferred_max},
+                {"frames_deferring", fst.frames_deferring},
                 {"springs_left", stage.lattice() ? stage.lattice()->springs.size() : 0},
                 {"triangles", cut ? cut->triangles().size() : 0},
                 {"triangles_added", fst.triangles_added},
