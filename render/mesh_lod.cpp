@@ -149,8 +149,13 @@ std::optional<MeshLod> screen_lod(const std::vector<Vec3>& vertices_m, const Tri
     const double px = (xy[i] - xy[rep[i]]).norm();
     if (std::isfinite(px)) lod.max_shift_px = std::max(lod.max_shift_px, px);
   }
+  // count each vertex the triangles use once (2: counted)
   for (const auto& t : lod.triangles)
-    for (int32_t i : t) lod.representatives += is_rep[i] == 1 ? 1 : 0, is_rep[i] = 2;
+    for (int32_t i : t)
+      if (is_rep[i] == 1) {
+        ++lod.representatives;
+        is_rep[i] = 2;
+      }
   return lod;
 }
 
