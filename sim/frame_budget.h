@@ -1,8 +1,8 @@
 #pragma once
 /// A frame budget the sim keeps (opt-in `lattice.budget_ms`): a ladder of step settings from the scene's own
 /// (most accurate) down to the cheapest, and a controller that picks, before each frame, the most accurate setting
-/// whose predicted cost holds the budget, and takes a cheaper one for a frame whose work before the step (a cut, its
-/// factor update) leaves too little of the budget. The prediction comes only from what was measured this run: the
+/// whose predicted cost holds the planned part of the budget (plan_ms()), and takes a cheaper one for a frame whose
+/// work before the step (a cut, its factor update) leaves too little of it. The prediction comes only from what was measured this run: the
 /// parts of the frame the setting does not change (before the step: drain, cut, factor update; after it: deform,
 /// normals, patch), and the step's cost per unit of work of the setting that ran, each a running estimate that
 /// rises at once with a dearer frame and falls back gradually.
@@ -94,7 +94,7 @@ class FrameBudget {
   /// Marks the start of the lattice step within the frame and returns the setting to step with: the planned one,
   /// or a cheaper one when the time the frame has already spent (a cut and its factor update come before the
   /// step), the step at this run's measured cost per unit and the rest of the frame as estimated would not hold
-  /// the budget at the planned rung (the most accurate cheaper rung that would, else the cheapest). Only this
+  /// plan_ms() at the planned rung (the most accurate cheaper rung that would, else the cheapest). Only this
   /// frame steps cheaper; the plan for the next frames is made at end_frame().
   const StepOptions& step_begin();
   /// Marks the end of the lattice step (a frame that does not step marks neither).
