@@ -379,6 +379,10 @@ int main(int argc, char** argv) {
     if (video_given && no_render) std::fprintf(stderr, "palpate: warning: --video needs frames; --no-render records none\n");
     const bool want_video = !no_video && !no_render;
     const bool realtime_flags = rec->get_option("--spin-us")->count() > 0 || rec->get_option("--priority")->count() > 0;
+    if (rec->get_option("--serve")->count() > 0 && serve.empty()) {
+      std::fprintf(stderr, "palpate: --serve '': give [ADDR:]PORT (e.g. 8080, or 0 for any free port)\n");
+      return 2;
+    }
     if (serve_linger_s > 0.0 && serve.empty()) {
       std::fprintf(stderr, "palpate: --serve-linger needs --serve\n");
       return 2;

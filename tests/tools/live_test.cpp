@@ -115,6 +115,11 @@ TEST(LiveServe, BadAddressFailsBeforeAnythingIsRecorded) {
     EXPECT_NE(r.out.find(bad), std::string::npos) << r.out;
     EXPECT_FALSE(fs::exists(out)) << bad << ": an output folder was left behind";
   }
+  // an empty address is no "no live view": it is refused, not run without the view the user asked for
+  const auto empty = test::palpate("record scenes/cube_press.json --serve '' --out " + out);
+  EXPECT_EQ(empty.code, 2) << empty.out;
+  EXPECT_NE(empty.out.find("palpate: --serve '': give [ADDR:]PORT"), std::string::npos) << empty.out;
+  EXPECT_FALSE(fs::exists(out)) << "an output folder was left behind";
   const auto r = test::palpate("record scenes/cube_press.json --serve-linger 5 --out " + out);
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("palpate: --serve-linger needs --serve"), std::string::npos) << r.out;

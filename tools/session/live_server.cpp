@@ -2,17 +2,14 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <cstring>
 #include <deque>
-#include <mutex>
 #include <thread>
 
 #include <httplib.h>
@@ -22,16 +19,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/clock.h"
+#include "tools/session/http_server.h"
 
 namespace palpate {
 namespace {
 
-// a client that stops reading holds a server thread this long at most
-constexpr int kWriteTimeout_s = 2;
-// an idle kept-alive connection is closed after this long
-constexpr int kKeepAlive_s = 2;
-// how long /frame.png waits for a frame newer than the one the client has
-constexpr int64_t kLongPoll_ns = 1'000'000'000;
+// the feed's points and figures are taken this often (the feed's queue holds ~8 s of points)
+constexpr int64_t kCollect_ms = 100;
 // after a frame request the sim thread keeps copying frames this long
 constexpr int64_t kWantFrames_ns = 3'000'000'000;
 // plot points kept for /stats.json (10 minutes at 60 Hz) and sent in one reply at most
@@ -67,25 +61,6 @@ bool encode_png(int width, int height, const uint8_t* rgba, std::string* out) {
   return true;
 }
 
-// The server's threads run at nice 10: when the cores are short, the recording's threads (nice 0, the servo
-// real-time) go first and the view gets fewer frames. Per thread (Linux nice values are per thread).
-void lower_priority_once() {
-  thread_local bool lowered = false;
-  if (lowered) return;
-  lowered = true;
-  ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 10);
-}
-
-int64_t int_param(const httplib::Request& req, const char* key, int64_t fallback) {
-  if (!req.has_param(key)) return fallback;
-  const std::string v = req.get_param_value(key);
-  char* end = nullptr;
-  errno = 0;
-  const long long x = std::strtoll(v.c_str(), &end, 10);
-  if (errno != 0 || end == v.c_str() || *end != '\0') return fallback;
-  return x;
-}
-
 }  // namespace
 
 Result<ServeAddress> parse_serve_address(const std::string& text) {
@@ -108,43 +83,34 @@ Result<ServeAddress> parse_serve_address(const std::string& text) {
 }
 
 struct LiveServer::Impl {
-  explicit Impl(LiveFeed* f) : feed(f) {}
+  explicit Impl(LiveFeed* f)
+      : feed(f), http([this](const HttpRequest& r, bool must) { return answer(r, must); }, [this] { collect(); },
+                      kCollect_ms) {}
 
   LiveFeed* feed;
-  httplib::Server svr;
-  std::thread listen_thread, collect_thread;
-  std::atomic<bool> stopping{false};
-  std::mutex stop_mutex;
-  std::condition_variable stop_cv;
-  bool started = false;
+  HttpServer http;
   std::string host;
   int port = 0;
 
-  // the feed's reading side, one reader at a time
-  std::mutex read_mutex;
+  // everything below is the server loop's own (one thread): no locks
   // plot points taken from the feed: points [history_begin, history_begin + history.size())
-  std::mutex history_mutex;
   std::deque<LivePoint> history;
   int64_t history_begin = 0;
   std::vector<LivePoint> scratch;
   LiveFigures figures;
-
   // the newest frame as PNG, shared by every client asking for it
-  std::mutex encode_mutex;
   std::vector<uint8_t> rgba;
   int64_t png_index = -1;
   std::shared_ptr<const std::string> png;
+  const std::shared_ptr<const std::string> page = std::make_shared<const std::string>(live_page_html());
 
   std::atomic<int64_t> frames_sent{0}, frames_encoded{0};
 
-  // takes the feed's new points and figures (collector thread and every /stats.json)
+  // takes the feed's new points and figures (every kCollect_ms and every /stats.json)
   void collect() {
-    std::lock_guard<std::mutex> lr(read_mutex);
     scratch.clear();
     feed->take_points(&scratch);
-    const LiveFigures f = feed->figures();
-    std::lock_guard<std::mutex> lh(history_mutex);
-    figures = f;
+    figures = feed->figures();
     for (const LivePoint& p : scratch) history.push_back(p);
     while (history.size() > kHistoryPoints) {
       history.pop_front();
@@ -154,7 +120,6 @@ struct LiveServer::Impl {
 
   // the newest frame encoded, when newer than `after` (nullptr otherwise)
   std::shared_ptr<const std::string> newest_png(int64_t after, int64_t* index) {
-    std::lock_guard<std::mutex> le(encode_mutex);
     if (feed->frame_index() > png_index) {
       const int64_t got = feed->copy_frame(png_index, &rgba);
       if (got >= 0) {
@@ -170,85 +135,77 @@ struct LiveServer::Impl {
     return png_index > after ? png : nullptr;
   }
 
-  void frame(const httplib::Request& req, httplib::Response& res) {
-    lower_priority_once();
-    const int64_t after = int_param(req, "after", -1);
-    const int64_t deadline = monotonic_ns() + kLongPoll_ns;
-    int64_t index = -1;
-    for (;;) {
+  HttpReply answer(const HttpRequest& req, bool must) {
+    HttpReply r;
+    r.headers.emplace_back("Cache-Control", "no-store");
+    if (req.path == "/") {
+      r.content_type = "text/html; charset=utf-8";
+      r.body = page;
+    } else if (req.path == "/frame.png") {
+      // long poll: the reply waits (up to the server's max_wait) for a frame newer than the client's
+      const int64_t after = query_int(req.query, "after", -1);
       feed->want_frames_until(monotonic_ns() + kWantFrames_ns);
+      int64_t index = -1;
       if (auto p = newest_png(after, &index)) {
-        res.set_header("Cache-Control", "no-store");
-        res.set_header("X-Frame", std::to_string(index));
-        res.set_content(*p, "image/png");
+        r.content_type = "image/png";
+        r.body = std::move(p);
         frames_sent.fetch_add(1, std::memory_order_relaxed);
-        return;
+      } else if (!must) {
+        r.wait = true;
+      } else {
+        r.status = 204;  // nothing newer: the client asks again
       }
-      if (stopping.load() || monotonic_ns() > deadline) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      r.headers.emplace_back("X-Frame", std::to_string(index));
+    } else if (req.path == "/stats.json") {
+      r.content_type = "application/json";
+      r.body = std::make_shared<const std::string>(stats(query_int(req.query, "since", 0)));
+    } else {
+      r.status = 404;
+      r.content_type = "text/plain; charset=utf-8";
+      r.body = std::make_shared<const std::string>("404 Not Found: the live view serves /, /frame.png and /stats.json\n");
     }
-    // nothing newer: the client asks again
-    res.status = 204;
-    res.set_header("Cache-Control", "no-store");
-    res.set_header("X-Frame", std::to_string(index));
+    return r;
   }
 
-  void stats(const httplib::Request& req, httplib::Response& res) {
-    lower_priority_once();
+  std::string stats(int64_t since) {
     collect();
-    int64_t since = int_param(req, "since", 0);
     nlohmann::json j;
-    {
-      std::lock_guard<std::mutex> lh(history_mutex);
-      const LiveFigures& f = figures;
-      j["scene"] = feed->scene();
-      j["mode"] = feed->mode();
-      j["width"] = feed->width();
-      j["height"] = feed->height();
-      j["finished"] = f.finished;
-      j["t_s"] = f.t_s;
-      j["frames"] = f.frames;
-      j["frames_written"] = f.frames_written;
-      j["frames_dropped"] = f.frames_dropped;
-      j["frames_late"] = f.frames_late;
-      j["max_force_N"] = f.max_force_N;
-      j["servo"] = {{"ticks", f.servo_ticks}, {"overruns", f.overruns}, {"p50_us", f.servo_p50_us},
-                    {"p99_us", f.servo_p99_us}};
-      j["frame"] = feed->frame_index();
-      j["points_dropped"] = feed->points_dropped();
-      since = std::clamp<int64_t>(since, history_begin, history_begin + static_cast<int64_t>(history.size()));
-      const auto first = static_cast<std::size_t>(since - history_begin);
-      const std::size_t n = std::min(history.size() - first, kPointsPerReply);
-      nlohmann::json frame = nlohmann::json::array(), t = nlohmann::json::array(), force = nlohmann::json::array(),
-                     contact = nlohmann::json::array(), wake = nlohmann::json::array(),
-                     work = nlohmann::json::array(), late = nlohmann::json::array();
-      for (std::size_t i = first; i < first + n; ++i) {
-        const LivePoint& p = history[i];
-        frame.push_back(p.frame);
-        t.push_back(p.t_s);
-        force.push_back(p.force_N);
-        contact.push_back(p.contact);
-        wake.push_back(p.wake_max_us);
-        work.push_back(p.frame_ms);
-        late.push_back(p.late_ms);
-      }
-      j["points"] = {{"from", since},      {"frame", frame},       {"t_s", t},          {"force_N", force},
-                     {"contact", contact}, {"wake_max_us", wake}, {"frame_ms", work}, {"late_ms", late}};
-      j["next"] = since + static_cast<int64_t>(n);
+    const LiveFigures& f = figures;
+    j["scene"] = feed->scene();
+    j["mode"] = feed->mode();
+    j["width"] = feed->width();
+    j["height"] = feed->height();
+    j["finished"] = f.finished;
+    j["t_s"] = f.t_s;
+    j["frames"] = f.frames;
+    j["frames_written"] = f.frames_written;
+    j["frames_dropped"] = f.frames_dropped;
+    j["frames_late"] = f.frames_late;
+    j["max_force_N"] = f.max_force_N;
+    j["servo"] = {{"ticks", f.servo_ticks}, {"overruns", f.overruns}, {"p50_us", f.servo_p50_us},
+                  {"p99_us", f.servo_p99_us}};
+    j["frame"] = feed->frame_index();
+    j["points_dropped"] = feed->points_dropped();
+    since = std::clamp<int64_t>(since, history_begin, history_begin + static_cast<int64_t>(history.size()));
+    const auto first = static_cast<std::size_t>(since - history_begin);
+    const std::size_t n = std::min(history.size() - first, kPointsPerReply);
+    nlohmann::json frame = nlohmann::json::array(), t = nlohmann::json::array(), force = nlohmann::json::array(),
+                   contact = nlohmann::json::array(), wake = nlohmann::json::array(),
+                   work = nlohmann::json::array(), late = nlohmann::json::array();
+    for (std::size_t i = first; i < first + n; ++i) {
+      const LivePoint& p = history[i];
+      frame.push_back(p.frame);
+      t.push_back(p.t_s);
+      force.push_back(p.force_N);
+      contact.push_back(p.contact);
+      wake.push_back(p.wake_max_us);
+      work.push_back(p.frame_ms);
+      late.push_back(p.late_ms);
     }
-    res.set_header("Cache-Control", "no-store");
-    res.set_content(j.dump(), "application/json");
-  }
-
-  void collect_loop() {
-    lower_priority_once();
-    std::unique_lock<std::mutex> lock(stop_mutex);
-    while (!stopping.load()) {
-      lock.unlock();
-      collect();
-      lock.lock();
-      stop_cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return stopping.load(); });
-    }
+    j["points"] = {{"from", since},      {"frame", frame},       {"t_s", t},          {"force_N", force},
+                   {"contact", contact}, {"wake_max_us", wake}, {"frame_ms", work}, {"late_ms", late}};
+    j["next"] = since + static_cast<int64_t>(n);
+    return j.dump();
   }
 };
 
@@ -258,41 +215,9 @@ LiveServer::~LiveServer() { stop(); }
 
 Status LiveServer::start(const ServeAddress& address) {
   Impl& m = *impl_;
-  const std::string where = address.host + ":" + std::to_string(address.port);
-  // a plain bind first: httplib says only that binding failed, the system says why
-  {
-    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (fd < 0) return make_error("--serve ", where, ": cannot open a socket: ", std::strerror(errno));
-    const int yes = 1;
-    ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    sockaddr_in sa{};
-    sa.sin_family = AF_INET;
-    sa.sin_port = htons(static_cast<uint16_t>(address.port));
-    inet_pton(AF_INET, address.host.c_str(), &sa.sin_addr);
-    const int rc = ::bind(fd, reinterpret_cast<const sockaddr*>(&sa), sizeof sa);
-    const int err = errno;
-    ::close(fd);
-    if (rc != 0) return make_error("--serve ", where, ": cannot listen there: ", std::strerror(err));
-  }
-  m.svr.set_write_timeout(kWriteTimeout_s, 0);
-  m.svr.set_read_timeout(kWriteTimeout_s, 0);
-  m.svr.set_keep_alive_timeout(kKeepAlive_s);
-  m.svr.set_tcp_nodelay(true);
-  m.svr.Get("/", [](const httplib::Request&, httplib::Response& res) {
-    res.set_header("Cache-Control", "no-store");
-    res.set_content(live_page_html(), "text/html; charset=utf-8");
-  });
-  m.svr.Get("/frame.png", [&m](const httplib::Request& req, httplib::Response& res) { m.frame(req, res); });
-  m.svr.Get("/stats.json", [&m](const httplib::Request& req, httplib::Response& res) { m.stats(req, res); });
-  const int port = address.port == 0 ? m.svr.bind_to_any_port(address.host) : m.svr.bind_to_port(address.host, address.port) ? address.port : -1;
-  if (port < 0) return make_error("--serve ", where, ": cannot listen there");
+  if (auto st = m.http.start(address.host, address.port); !st) return st;
   m.host = address.host;
-  m.port = port;
-  m.listen_thread = std::thread([&m] { m.svr.listen_after_bind(); });
-  // stop() must find the server running, or listen_after_bind would start after it and never end
-  while (!m.svr.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  m.collect_thread = std::thread([&m] { m.collect_loop(); });
-  m.started = true;
+  m.port = m.http.port();
   return Ok{};
 }
 
@@ -303,19 +228,11 @@ std::string LiveServer::url() const {
 
 int LiveServer::port() const { return impl_->port; }
 
-void LiveServer::stop() {
-  Impl& m = *impl_;
-  if (!m.started) return;
-  m.started = false;
-  {
-    std::lock_guard<std::mutex> lock(m.stop_mutex);
-    m.stopping.store(true);
-  }
-  m.stop_cv.notify_all();
-  m.svr.stop();
-  if (m.listen_thread.joinable()) m.listen_thread.join();
-  if (m.collect_thread.joinable()) m.collect_thread.join();
-}
+void LiveServer::stop() { impl_->http.stop(); }
+
+int LiveServer::connection_cap() const { return impl_->http.connection_cap(); }
+
+int LiveServer::connections() const { return impl_->http.connections(); }
 
 struct LivePageClient::Impl {
   std::atomic<bool> done{false};

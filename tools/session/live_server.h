@@ -1,8 +1,9 @@
 #pragma once
 /// LiveServer: the live view of a recording over HTTP. Serves one self-contained page ("/"), the newest frame
 /// as PNG ("/frame.png?after=N", long-polled) and the figures and plot points as JSON ("/stats.json?since=S").
-/// Reads only the LiveFeed; encodes PNG on its own threads; a slow or vanished client holds one of its threads
-/// for at most the write timeout and costs the recording nothing.
+/// Reads only the LiveFeed; runs on one event-driven thread (HttpServer, nice 10) that encodes the PNG. What a
+/// client can make it hold is bounded (request head, no body, connections under the descriptor limit with the
+/// recording's own descriptors reserved, deadlines; see HttpLimits), so no client costs the recording anything.
 
 #include <cstdint>
 #include <memory>
@@ -38,8 +39,13 @@ class LiveServer {
   std::string url() const;
   /// The port listened on (the one chosen when 0 was asked).
   int port() const;
-  /// Stops listening, ends the open connections and joins the threads; idempotent.
+  /// Stops listening, ends the open connections (waiting at most HttpLimits::shutdown_grace_ms for replies under
+  /// way) and joins the thread; idempotent.
   void stop();
+  /// Connections the descriptor limit leaves room for (valid after start()).
+  int connection_cap() const;
+  /// Connections open now (any thread).
+  int connections() const;
 
   /// Frames sent so far (any thread).
   int64_t frames_sent() const;
