@@ -1,7 +1,9 @@
 #include "render/video_encoder.h"
 
+#include <cstdarg>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <vector>
 
 extern "C" {
@@ -27,6 +29,23 @@ bool supports_yuv420p(const AVCodec* codec) {
   for (const AVPixelFormat* p = codec->pix_fmts; *p != AV_PIX_FMT_NONE; ++p)
     if (*p == AV_PIX_FMT_YUV420P) return true;
   return false;
+}
+
+}  // namespace
+
+namespace {
+
+// the last error line libav logged on this thread (its muxer and encoder log through av_log)
+thread_local std::string t_libav_said;
+
+void keep_libav_line(void* avcl, int level, const char* fmt, va_list args) {
+  if (level > AV_LOG_ERROR) return;
+  char line[512];
+  int prefix = 0;  // no "[mp4 @ 0x...]"
+  av_log_format_line2(avcl, level, fmt, args, line, sizeof line, &prefix);
+  std::string text(line);
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  if (!text.empty()) t_libav_said = text;
 }
 
 }  // namespace
@@ -63,7 +82,10 @@ struct VideoEncoder::Impl {
   }
 
   Error fail(const std::string& what, int code) const {
-    return make_error("video '", path, "': ", what, ": ", av_error_text(code));
+    std::string said;
+    said.swap(t_libav_said);
+    return make_error("video '", path, "': ", what, ": ", av_error_text(code), said.empty() ? "" : " (libav: ", said,
+                      said.empty() ? "" : ")");
   }
 
   // sends a frame (null: flush) and writes every packet the encoder returns
@@ -98,7 +120,9 @@ Result<std::unique_ptr<VideoEncoder>> VideoEncoder::open(const std::string& path
   im->height = height & ~1;
   im->src_stride = width * 4;
   im->fps = frame_rate_hz;
-  av_log_set_level(AV_LOG_ERROR);
+  // libav's own lines are kept for the error that follows them, never printed raw beside palpate's
+  av_log_set_callback(keep_libav_line);
+  t_libav_said.clear();
 
   auto file = AtomicFile::open(path, "video");
   if (!file) return file.error();

@@ -18,6 +18,7 @@
 #include "core/scene.h"
 #include "core/stats.h"
 #include "render/png_io.h"
+#include "tools/session/frame_files.h"
 #include "tools/session/recorder.h"
 
 namespace palpate {
@@ -133,14 +134,10 @@ Result<std::string> run_bench_png(const BenchPngOptions& o_in) {
   fs::path dir = fs::path(o.folder) / "frames";
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) dir = o.folder;
+  auto listed = list_frame_files(dir.string());
+  if (!listed) return make_error("bench png: folder '", o.folder, "': ", listed.error().message);
   std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (e.path().extension() == ".png" && name.rfind("frame_", 0) == 0) files.push_back(e.path());
-  }
-  if (ec) return make_error("bench png: folder '", o.folder, "': ", ec.message());
-  if (files.empty()) return make_error("bench png: folder '", o.folder, "': no frames/frame_*.png");
-  std::sort(files.begin(), files.end());
+  for (const FrameFile& f : listed.value()) files.emplace_back(f.path);
   // at most o.frames frames, spread over the whole recording (still, moving and cut frames alike)
   std::vector<Image> frames;
   const std::size_t n = std::min(files.size(), static_cast<std::size_t>(o.frames));

@@ -15,7 +15,8 @@ struct VideoCommandResult {
   int64_t bytes = 0;    ///< file size
 };
 
-/// Encodes FOLDER/frames/frame_*.png (in name order) into out_path (default FOLDER/recording.mp4) at
+/// Encodes FOLDER/frames/frame_N.png (in the order of N, which must run 0, 1, 2, ... with no gap; each a regular
+/// file no larger than a rendered frame) into out_path (default FOLDER/recording.mp4) at
 /// frame_rate_hz; a realtime recording's summary.json "frames_scene_index" places each file at its scene frame, so
 /// skipped frames hold the previous one, as in the recorder's video. Errors name the folder, file or key.
 Result<VideoCommandResult> make_recording_video(const std::string& folder, std::string out_path, int frame_rate_hz);

@@ -1,12 +1,14 @@
 // The MP4 beside a recording, checked by FFmpeg's own tools: codec, pixel format, rate, frame count, the index
 // before the data, and the pixels of a decoded frame against the PNG of the same frame.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -15,6 +17,7 @@
 #include "render/png_io.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 
 namespace palpate {
 namespace {
@@ -191,7 +194,95 @@ TEST(Video, VideoCommandErrorsNameTheFolder) {
   fs::create_directories(out + "/frames");
   const CliRun r = palpate("video '" + out + "'");
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.out.find("recording '" + out + "': no frames/frame_*.png"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("recording '" + out + "': no frame_*.png in '" + out + "/frames'"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
+}
+
+
+// a small recording folder of n solid frames (frame i has red = i % 256) named frame_%0Nd.png
+std::string frames_folder(const std::string& name, int n, int digits = 5) {
+  const std::string out = test::fresh_dir(name);
+  fs::create_directories(out + "/frames");
+  std::vector<uint8_t> rgba(32 * 16 * 4, 255);
+  for (int i = 0; i < n; ++i) {
+    for (std::size_t p = 0; p < rgba.size(); p += 4) rgba[p] = static_cast<uint8_t>(i % 256);
+    char file[64];
+    std::snprintf(file, sizeof file, "/frames/frame_%0*d.png", digits, i);
+    EXPECT_TRUE(write_png(out + file, 32, 16, rgba.data()));
+  }
+  return out;
+}
+
+// Frames are taken in the order of their number, not of their name's text: frame_10 follows frame_9 when the
+// names are not zero-padded to one width (as past frame 99,999 of %05d). The MP4's frame 10 must be file 10.
+TEST(Video, FramesAreOrderedByNumberNotByName) {
+  const std::string out = frames_folder("video_numeric", 12, 1);
+  const CliRun r = palpate("video '" + out + "'");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(probe(out + "/recording.mp4").value("nb_read_frames", ""), "12");
+  // text order would put frame_10 and frame_11 right after frame_1
+  EXPECT_LT(mean_abs_diff(out + "/recording.mp4", 10, out + "/frames/frame_10.png", out + "/f10.png"), 2.0);
+  EXPECT_LT(mean_abs_diff(out + "/recording.mp4", 2, out + "/frames/frame_2.png", out + "/f2.png"), 2.0);
+}
+
+// A frame missing from the sequence is named (it would shift every later frame); so are numbers far apart.
+TEST(Video, MissingFrameIsNamedNotShiftedOver) {
+  const std::string out = frames_folder("video_missing", 6);
+  fs::remove(out + "/frames/frame_00003.png");
+  CliRun r = palpate("video '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("frame 3 is missing"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
+  fs::rename(out + "/frames/frame_00005.png", out + "/frames/frame_1000000000.png");
+  fs::rename(out + "/frames/frame_00004.png", out + "/frames/frame_00003.png");
+  r = palpate("video '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("frame 4 is missing"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frame_1000000000.png"), std::string::npos) << r.out;
+  fs::rename(out + "/frames/frame_1000000000.png", out + "/frames/frame_99999999999999.png");
+  r = palpate("video '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("frame_99999999999999.png': the name is not frame_N.png"), std::string::npos) << r.out;
+  // a realtime summary's scene frames 1e12 apart: refused, not a video of a fraction of a second
+  fs::remove(out + "/frames/frame_99999999999999.png");
+  std::ofstream(out + "/summary.json") << R"({"frames_scene_index": [0, 1, 2, 1000000000000]})";
+  r = palpate("video '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("frames_scene_index[3] = 1000000000000 is more than 36000 frames after"), std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
+}
+
+// A FIFO under a frame's name would block the reader for ever: refused by name before anything is opened.
+TEST(Video, FifoFrameIsRefusedNotWaitedOn) {
+  const std::string out = frames_folder("video_fifo", 5);
+  fs::remove(out + "/frames/frame_00003.png");
+  ASSERT_EQ(::mkfifo((out + "/frames/frame_00003.png").c_str(), 0600), 0);
+  const CliRun r = shell("timeout 60 " + std::string(std::getenv("PALPATE_BIN_DIR") ? std::getenv("PALPATE_BIN_DIR") : "build/bin") +
+                         "/palpate video '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("frame_00003.png': not a regular file"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
+  EXPECT_FALSE(fs::exists(out + "/recording.mp4.tmp"));
+}
+
+// A PNG whose header claims a size no recording renders is refused from its header, never decoded: 68 bytes
+// claiming 32767 x 32767 (4.3 GB to decode), and a frame of another size than the first.
+TEST(Video, FrameSizeIsCheckedBeforeDecoding) {
+  const std::string out = frames_folder("video_huge", 3);
+  // a valid PNG's IHDR with the size patched (the CRC no longer matches: nothing may read past the header)
+  std::string png = test::read_file(out + "/frames/frame_00000.png");
+  ASSERT_GT(png.size(), 24u);
+  const unsigned char big[8] = {0, 0, 0x7f, 0xff, 0, 0, 0x7f, 0xff};
+  std::memcpy(png.data() + 16, big, 8);
+  std::ofstream(out + "/frames/frame_00000.png", std::ios::binary) << png;
+  CliRun r = palpate("video '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("frame_00000.png': 32767x32767 is outside what a recording renders"), std::string::npos) << r.out;
+  std::ofstream(out + "/frames/frame_00000.png", std::ios::binary) << "\x89PNG\r\n\x1a\n";
+  r = palpate("video '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("frame_00000.png': not a PNG file"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
 }
 

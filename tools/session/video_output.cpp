@@ -1,10 +1,21 @@
 #include "tools/session/video_output.h"
 
 #include <cstdio>
+#include <filesystem>
 
 #include "core/stats.h"
 
 namespace palpate {
+
+Status check_video_beside_frames(const std::string& video_path, const std::string& frames_dir) {
+  if (video_path.empty() || frames_dir.empty()) return Ok{};
+  std::error_code ec;
+  const auto dir = std::filesystem::weakly_canonical(frames_dir, ec);
+  const auto parent = std::filesystem::weakly_canonical(std::filesystem::absolute(video_path).parent_path(), ec);
+  if (ec || dir != parent) return Ok{};
+  return make_error("--video '", video_path, "': inside the frames folder '", frames_dir,
+                    "', where the frames are written (and an earlier run's removed); choose a path outside it");
+}
 
 Result<RecordingVideo> open_recording_video(const std::string& path, bool optional, int width, int height,
                                             int frame_rate_hz) {

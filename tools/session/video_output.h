@@ -23,6 +23,10 @@ struct RecordingVideo {
 /// Frame copies the encoder may fall behind by before a realtime recording drops video frames.
 inline constexpr int kVideoQueueFrames = 8;
 
+/// Refuses a video path inside the frames folder (where frame files are written and removed); an error naming
+/// both, Ok for an empty path or one elsewhere.
+Status check_video_beside_frames(const std::string& video_path, const std::string& frames_dir);
+
 /// Opens the encoder and its thread for width x height RGBA frames at frame_rate_hz. A failure is returned as
 /// the error unless `optional`; then it is printed as a warning on stderr and kept in error.
 Result<RecordingVideo> open_recording_video(const std::string& path, bool optional, int width, int height,
