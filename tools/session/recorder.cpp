@@ -145,6 +145,8 @@ Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording
   // an explicit video path that can never be written fails before any output exists
   if (!opt.video_path.empty() && !opt.video_optional)
     if (auto st = check_output_target(opt.video_path, "video"); !st) return st.error();
+  if (auto st = check_video_beside_frames(opt.video_path, (fs::path(opt.out_dir) / "frames").string()); !st)
+    return st.error();
   if (auto st = prepare_output(opt.out_dir, opt.render, &rec->frames_dir); !st) return st.error();
 
   rec->png.threads = opt.png_threads > 0 ? opt.png_threads : rec->lockstep ? kLockstepPngThreads : 1;
@@ -308,14 +310,16 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
     f.max_force_N = sc.max_force_N;
     opt.live->finish(f);
   }
-  // a full disk: the first file that failed is named, not summary.json, which fails after it
+  // a full disk: the first file that failed is named, not summary.json, which fails after it; the line still
+  // says when there is no summary
   if (!summary_status && log_status && !(rec.writer && rec.writer->write_errors() > 0)) return summary_status.error();
+  const std::string no_summary = summary_status ? "" : " (and no summary: " + summary_status.error().message + ")";
   if (rec.writer && rec.writer->write_errors() > 0)
     return make_error(std::to_string(rec.writer->write_errors()), " frame(s) could not be written: ",
-                      rec.writer->first_error());
-  if (!video_status) return video_status.error();
-  if (!log_status) return log_status.error();
-  if (!events_status) return events_status.error();
+                      rec.writer->first_error(), no_summary);
+  if (!video_status) return make_error(video_status.error().message, no_summary);
+  if (!log_status) return make_error(log_status.error().message, no_summary);
+  if (!events_status) return make_error(events_status.error().message, no_summary);
   return res;
 }
 
