@@ -183,7 +183,8 @@ nlohmann::json ShmDevice::report() const {
           {"torn_reads", c.torn_reads},
           {"stale_ticks", c.stale_ticks},
           {"disconnected_ticks", c.disconnected_ticks},
-          {"forces_sent", c.forces_sent}};
+          {"forces_sent", c.forces_sent},
+          {"segment_lost", seg_.lost()}};
 }
 
 }  // namespace palpate

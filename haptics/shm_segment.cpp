@@ -6,7 +6,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cctype>
+#include <cstdint>
+#include <mutex>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -37,22 +40,104 @@ Status check_owner(int fd, const std::string& what, struct stat* st) {
   return Ok{};
 }
 
+
+// ---- truncation guard ----
+// Another process of the same user can shrink the segment's file under a mapping; touching the lost pages then
+// raises SIGBUS, which would kill the process (and the recording with its summary). Each mapping is registered
+// here; the handler puts zero-filled private pages over a registered mapping that faulted, marks it lost and
+// returns, so the access is retried on zeros: the peer's heartbeat stops and the link is seen as gone. A fault
+// anywhere else goes to the handler that was there before (or the default: the process dies as it would have).
+constexpr int kGuardSlots = 16;
+struct GuardSlot {
+  std::atomic<uintptr_t> begin{0};
+  std::atomic<uintptr_t> end{0};
+  std::atomic<bool> lost{false};
+};
+GuardSlot g_slots[kGuardSlots];
+struct sigaction g_previous_bus {};
+std::once_flag g_guard_once;
+
+void on_sigbus(int sig, siginfo_t* info, void* context) {
+  const auto addr = reinterpret_cast<uintptr_t>(info->si_addr);
+  for (GuardSlot& slot : g_slots) {
+    const uintptr_t b = slot.begin.load(std::memory_order_acquire), e = slot.end.load(std::memory_order_acquire);
+    if (b != 0 && addr >= b && addr < e) {
+      // mmap is a plain system call, safe in a handler; the same range, so no other mapping is touched
+      void* p = ::mmap(reinterpret_cast<void*>(b), e - b, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED,
+                       -1, 0);
+      if (p != MAP_FAILED) {
+        slot.lost.store(true, std::memory_order_release);
+        return;
+      }
+    }
+  }
+  if (g_previous_bus.sa_flags & SA_SIGINFO) {
+    if (g_previous_bus.sa_sigaction) return g_previous_bus.sa_sigaction(sig, info, context);
+  } else if (g_previous_bus.sa_handler != SIG_DFL && g_previous_bus.sa_handler != SIG_IGN) {
+    return g_previous_bus.sa_handler(sig);
+  }
+  // default action: the fault repeats on return and ends the process
+  ::signal(SIGBUS, SIG_DFL);
+}
+
+int guard_mapping(void* p, std::size_t size) {
+  std::call_once(g_guard_once, [] {
+    struct sigaction sa {};
+    sa.sa_sigaction = on_sigbus;
+    sa.sa_flags = SA_SIGINFO | SA_NODEFER;
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(SIGBUS, &sa, &g_previous_bus);
+  });
+  for (int i = 0; i < kGuardSlots; ++i) {
+    uintptr_t expected = 0;
+    GuardSlot& slot = g_slots[i];
+    // claimed by end first (begin stays 0 until the slot is whole, so the handler never sees half a slot)
+    if (slot.end.compare_exchange_strong(expected, reinterpret_cast<uintptr_t>(p) + size)) {
+      slot.lost.store(false, std::memory_order_relaxed);
+      slot.begin.store(reinterpret_cast<uintptr_t>(p), std::memory_order_release);
+      return i;
+    }
+  }
+  return -1;  // more mappings than slots: this one is unguarded (as every one was before)
+}
+
+void unguard_mapping(int slot) {
+  if (slot < 0) return;
+  g_slots[slot].begin.store(0, std::memory_order_release);
+  g_slots[slot].end.store(0, std::memory_order_release);
+}
+
+void* map_segment(int fd, std::size_t size, int* slot) {
+  void* p = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  *slot = p == MAP_FAILED ? -1 : guard_mapping(p, size);
+  return p;
+}
+
+void unmap_segment(void* p, std::size_t size, int slot) {
+  unguard_mapping(slot);
+  munmap(p, size);
+}
+
 }  // namespace
 
 ShmSegment::~ShmSegment() {
-  if (seg_) munmap(seg_, kSize);
+  if (seg_) unmap_segment(seg_, kSize, guard_);
 }
 
-ShmSegment::ShmSegment(ShmSegment&& o) noexcept : seg_(std::exchange(o.seg_, nullptr)), name_(std::move(o.name_)) {}
+ShmSegment::ShmSegment(ShmSegment&& o) noexcept
+    : seg_(std::exchange(o.seg_, nullptr)), name_(std::move(o.name_)), guard_(std::exchange(o.guard_, -1)) {}
 
 ShmSegment& ShmSegment::operator=(ShmSegment&& o) noexcept {
   if (this != &o) {
-    if (seg_) munmap(seg_, kSize);
+    if (seg_) unmap_segment(seg_, kSize, guard_);
     seg_ = std::exchange(o.seg_, nullptr);
     name_ = std::move(o.name_);
+    guard_ = std::exchange(o.guard_, -1);
   }
   return *this;
 }
+
+bool ShmSegment::lost() const noexcept { return guard_ >= 0 && g_slots[guard_].lost.load(std::memory_order_acquire); }
 
 Status ShmSegment::check_name(const std::string& name) {
   if (name.empty() || name.size() > PALPATE_SHIM_NAME_MAX)
@@ -105,7 +190,8 @@ Result<ShmSegment> ShmSegment::serve(const std::string& name, const palpate_shim
     close(fd);
     return make_error(what, ": cannot size it: ", std::strerror(e));
   }
-  void* p = mmap(nullptr, kSize, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  int guard = -1;
+  void* p = map_segment(fd, kSize, &guard);
   close(fd);
   if (p == MAP_FAILED) return make_error(what, ": mmap: ", std::strerror(errno));
   auto* seg = static_cast<palpate_shim_segment*>(p);
@@ -116,7 +202,7 @@ Result<ShmSegment> ShmSegment::serve(const std::string& name, const palpate_shim
     const auto pid = static_cast<pid_t>(__atomic_load_n(&seg->header.device_pid, __ATOMIC_ACQUIRE));
     const bool stopped = __atomic_load_n(&seg->header.device_state, __ATOMIC_ACQUIRE) == PALPATE_SHIM_DEVICE_STOPPED;
     if (pid > 0 && pid != getpid() && !stopped && process_alive(pid)) {
-      munmap(p, kSize);
+      unmap_segment(p, kSize, guard);
       return make_error(what, ": already served by device process ", std::to_string(pid),
                         " (stop it first, or choose another --name)");
     }
@@ -136,6 +222,7 @@ Result<ShmSegment> ShmSegment::serve(const std::string& name, const palpate_shim
   ShmSegment s;
   s.seg_ = seg;
   s.name_ = name;
+  s.guard_ = guard;
   return s;
 }
 
@@ -164,7 +251,8 @@ Result<ShmSegment> ShmSegment::connect(const std::string& name, double timeout_s
       sleep_until_ns(monotonic_ns() + 10'000'000);
       continue;
     }
-    void* p = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    int guard = -1;
+    void* p = map_segment(fd, size, &guard);
     close(fd);
     if (p == MAP_FAILED) return make_error(what, ": mmap: ", std::strerror(errno));
     auto* seg = static_cast<palpate_shim_segment*>(p);
@@ -184,9 +272,10 @@ Result<ShmSegment> ShmSegment::connect(const std::string& name, double timeout_s
       ShmSegment s;
       s.seg_ = seg;
       s.name_ = name;
+      s.guard_ = guard;
       return s;
     }
-    munmap(p, size);
+    unmap_segment(p, size, guard);
     // an unpublished segment may still be being set up by its device
     if (magic == PALPATE_SHIM_MAGIC || last_try) return err;
     sleep_until_ns(monotonic_ns() + 10'000'000);

@@ -1,6 +1,7 @@
 #pragma once
 /// ShmSegment: a mapped palpate_shim_segment (haptics/shim/palpate_shim.h) — served by the device process,
-/// connected to by the sim — with every check a peer's segment needs (owner, mode, size, magic, version).
+/// connected to by the sim — with every check a peer's segment needs (owner, mode, size, magic, version), and a
+/// guard that survives the segment being truncated under the mapping (SIGBUS) instead of dying of it.
 
 #include <string>
 
@@ -38,10 +39,14 @@ class ShmSegment {
   palpate_shim_segment* get() const noexcept { return seg_; }
   /// The link name.
   const std::string& name() const noexcept { return name_; }
+  /// True once another process shrank the segment under this mapping: the access that faulted (SIGBUS) and every
+  /// later one see zero-filled private pages instead, so the peer looks silent. Thread: any (an atomic load).
+  bool lost() const noexcept;
 
  private:
   palpate_shim_segment* seg_ = nullptr;
   std::string name_;
+  int guard_ = -1;  // slot of this mapping in the SIGBUS guard (-1 = none)
 };
 
 }  // namespace palpate

@@ -1,6 +1,8 @@
 // The shim in one process: seqlock records stay consistent under a concurrent writer, the watchdog and ramp
 // behave as specified, and the drivers' servo-thread calls never allocate.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -204,6 +206,37 @@ int read_for(ShmDevice* shm, double s, int64_t* tick) {
     sleep_until_ns(monotonic_ns() + 1'000'000);
   }
   return got;
+}
+
+// Another process of the same user truncates the segment mid-run: both sides' next access would raise SIGBUS
+// and kill the process (the recording with its summary). Both survive: the lost pages read as zeros, the
+// segment says it is lost, the sim side sees a silent device and sends no force.
+TEST(ShmSegment, TruncatedUnderTheMappingIsLostNotFatal) {
+  const std::string name = unique("trunc");
+  auto seg = ShmSegment::serve(name, specs());
+  ASSERT_TRUE(seg);
+  FakeDevice dev(seg.value().get());
+  ShmParams p;
+  p.name = name;
+  p.watchdog_s = 0.02;
+  auto d = ShmDevice::connect(p, DeviceSpecs{});
+  ASSERT_TRUE(d) << d.error().message;
+  ShmDevice& shm = *d.value();
+  int64_t tick = 0;
+  EXPECT_GT(read_for(&shm, 0.05, &tick), 0);
+  EXPECT_FALSE(seg.value().lost());
+  const int fd = shm_open(ShmSegment::path_of(name).c_str(), O_RDWR, 0);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(ftruncate(fd, 0), 0);
+  close(fd);
+  EXPECT_EQ(read_for(&shm, 0.2, &tick), 0);
+  EXPECT_FALSE(shm.connected());
+  EXPECT_EQ(shm.last_force_sent_N().norm(), 0.0);
+  EXPECT_TRUE(shm.report()["segment_lost"].get<bool>());
+  // the device side faulted too (its thread writes every 0.2 ms) and was kept alive the same way
+  for (int i = 0; i < 500 && !seg.value().lost(); ++i) sleep_until_ns(monotonic_ns() + 1'000'000);
+  EXPECT_TRUE(seg.value().lost());
+  ShmSegment::unlink(name);
 }
 
 TEST(ShmDevice, TornPoseIsAMissingReadingNotTheLastGoodPose) {

@@ -79,7 +79,13 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
   __atomic_store_n(&seg->header.device_state, uint64_t{PALPATE_SHIM_DEVICE_RUNNING}, __ATOMIC_RELEASE);
   const int64_t t0_ns = monotonic_ns() + period_ns;
   int64_t next_ns = t0_ns;
+  bool lost = false;
   while (!stop.load(std::memory_order_relaxed)) {
+    // the segment shrunk under us by another process: what we write is seen by nobody
+    if (seg_r.value().lost()) {
+      lost = true;
+      break;
+    }
     sleep_until_ns(next_ns);
     const int64_t now = monotonic_ns();
     rep.wake_latency.add(now - next_ns);
@@ -172,6 +178,9 @@ Result<DeviceServerReport> run_device_server(const DeviceServerOptions& o, const
   if (log) {
     if (auto st = log_file.commit(/*keep_partial=*/true); !st) return st.error();
   }
+  if (lost)
+    return make_error("shm '", o.name, "': the segment was truncated by another process at device tick ",
+                      std::to_string(rep.ticks), "; the device stopped (its log is kept)");
   return rep;
 }
 
