@@ -30,6 +30,9 @@ inline constexpr int kMaxXmlNesting = 256;
 /// Smallest largest-extent of a mesh file's model, in its own units: assimp merges vertices closer than 1e-5
 /// while reading, so a smaller model has lost its shape (refused as degenerate, with its size).
 inline constexpr double kMinMeshSpan = 1e-3;
+/// A mesh file's vertex farther from the bulk of the model than this many times the median vertex's distance
+/// from its centre is refused as a stray (it would make the bounding box its own).
+inline constexpr double kMaxOutlierRatio = 1000.0;
 /// Most pixels of a rendered frame (width x height; 4096 x 4096).
 inline constexpr int64_t kMaxImagePixels = int64_t{4096} * 4096;
 /// Most substeps per frame (fixed or automatic cap).

@@ -205,6 +205,38 @@ void drop_degenerates(TriMesh* mesh) {
   mesh->vertices_m = std::move(kept);
 }
 
+// A vertex far out from the bulk of the model (a stray triangle 1e30 away from a unit cube) makes the bounding
+// box its own: the camera, the lattice and the touch all frame empty space and the body is never reached. The
+// bulk is measured robustly: the median vertex's distance from the per-axis median point. Empty when none is.
+std::string far_outlier(const TriMesh& mesh) {
+  const std::size_t n = mesh.vertices_m.size();
+  if (n < 4) return {};
+  Vec3 centre;
+  std::vector<double> v(n);
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < n; ++i) v[i] = mesh.vertices_m[i][a];
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n / 2), v.end());
+    centre[a] = v[n / 2];
+  }
+  for (std::size_t i = 0; i < n; ++i) v[i] = (mesh.vertices_m[i] - centre).norm();
+  std::vector<double> sorted = v;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2), sorted.end());
+  const double bulk = std::max(sorted[n / 2], kMinMeshSpan);
+  std::size_t worst = 0, count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(v[i] <= kMaxOutlierRatio * bulk)) ++count;
+    if (!(v[i] <= v[worst])) worst = i;
+  }
+  if (count == 0) return {};
+  const Vec3& p = mesh.vertices_m[worst];
+  char text[400];
+  std::snprintf(text, sizeof text, "vertex %zu at (%.6g, %.6g, %.6g) lies %.3g units from the bulk of the model, whose "
+                "median vertex lies %.3g from its centre; %zu vertices lie more than %g times that far out and would "
+                "make the bounding box theirs (the view, the lattice and the touch would miss the body): remove them",
+                worst, p.x(), p.y(), p.z(), v[worst], bulk, count, kMaxOutlierRatio);
+  return text;
+}
+
 // the reader and the conversion to a TriMesh (what runs in the child when isolated)
 Result<TriMesh> read_mesh(const std::string& path) {
   const std::string who = "mesh '" + path + "': ";
@@ -251,6 +283,7 @@ Result<TriMesh> read_mesh(const std::string& path) {
       return make_error(who, text);
     }
   }
+  if (const std::string far = far_outlier(mesh); !far.empty()) return make_error(who, far);
   drop_degenerates(&mesh);
   if (mesh.triangles.empty()) return make_error(who, "no triangles");
   return mesh;

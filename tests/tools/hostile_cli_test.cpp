@@ -238,5 +238,18 @@ TEST(Hostile, SceneNameCannotSteerTheOutput) {
   expect_error(palpate("record " + s + " -q"), "name: '../../escape' must be");
 }
 
+// A unit cube with one stray triangle 1e30 away: its bounding box is the triangle's, so the view, the lattice and
+// the touch would all miss the body (touch never made contact, pull diverged). `palpate scene` and a recording
+// refuse it, naming the stray vertex, and write nothing.
+TEST(HostileCli, StrayFarTriangleIsNamedNotFramed) {
+  const std::string obj = std::string(PALPATE_SOURCE_DIR) + "/tests/hostile/meshes/obj_cube_with_far_triangle.obj";
+  const std::string scene = tmp("far_triangle.json");
+  fs::remove(scene);
+  expect_error(palpate("scene " + obj + " --out " + scene), "lies 1e+30 units from the bulk of the model");
+  EXPECT_FALSE(fs::exists(scene));
+  const CliRun r = palpate("scene " + obj + " --out " + scene);
+  EXPECT_NE(r.out.find("3 vertices lie more than 1000 times that far out"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace palpate
