@@ -286,5 +286,18 @@ TEST(Video, FrameSizeIsCheckedBeforeDecoding) {
   EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
 }
 
+// A realtime run asked to write its video over one of its own frames: refused by name before anything is
+// written (it ended in a raw libav line, after the previous run's files were gone).
+TEST(Video, VideoPathInsideTheFramesFolderIsRefused) {
+  const std::string out = test::fresh_dir("video_in_frames");
+  const CliRun r = palpate("record scenes/cube_press.json --mode realtime --duration 0.2 --video '" + out +
+                           "/frames/frame_00003.png' --out '" + out + "'");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("palpate: --video '" + out + "/frames/frame_00003.png': inside the frames folder"),
+            std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("[mp4 @"), std::string::npos) << "a raw libav line: " << r.out;
+  EXPECT_FALSE(fs::exists(out + "/summary.json"));
+}
+
 }  // namespace
 }  // namespace palpate
