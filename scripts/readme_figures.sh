@@ -7,8 +7,19 @@
 # Usage: scripts/readme_figures.sh [OUT_DIR] [SECTION...]
 #   sections: record realtime scale loop force sim box model device (default: all; about 15 minutes on 2 cores)
 # Needs a build (scripts/build.sh); BIN_DIR overrides build/bin.
+#
+#        scripts/readme_figures.sh --commands [--slow] [--timeout S] [--out DIR] [FILE.md...]
+#   runs every command of the fenced ```sh blocks of README.md and docs/*.md (or the FILEs given) as written, one
+#   line at a time from the repository root, and reports which fail. Lines whose comment says `# slow:` are skipped
+#   unless --slow is given; each command is stopped after S seconds (default 600). Logs go to DIR (default
+#   out/readme_commands). Exit status 1 when a command failed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+if [ "${1:-}" = "--commands" ]; then
+  shift
+  exec python3 scripts/doc_commands.py "$@"
+fi
 bin=${BIN_DIR:-build/bin}
 out=${1:-out/readme_figures}
 shift || true
