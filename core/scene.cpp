@@ -242,6 +242,7 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.number("damping_Ns_per_m", &d.damping_Ns_per_m, 0.0, 1e3);
   r.boolean("passivity", &d.passivity);
   r.number("ramp_s", &d.ramp_s, 0.0, 10.0);
+  r.number("jump_limit_N_per_tick", &d.jump_limit_N_per_tick, 0.0, 100.0);
   r.finish();
 
   ObjectReader h(top.object("hand"), "hand.", err);
@@ -349,6 +350,8 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
     r.number("grab_radius_m", &s.grab_radius_m, 0.0, 10.0);
     r.number("blade_length_m", &s.blade_length_m, 1e-4, 10.0);
     r.number("cut_resistance_Ns_per_m", &s.cut_resistance_Ns_per_m, 0.0, 1e4);
+    r.number("static_friction", &s.static_friction, 0.0, 10.0);
+    r.number("dynamic_friction", &s.dynamic_friction, 0.0, 10.0);
     r.finish();
   }
   const Json& servo = top.object("servo");
@@ -366,6 +369,9 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
     err = "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);
   if (err.empty() && s.device.sphere_tool && s.mode != InteractionMode::kTouch)
     err = std::string("device.tool_shape: 'sphere' is a touch tool; interaction.mode is '") + mode_name(s.mode) + "'";
+  if (err.empty() && s.dynamic_friction > s.static_friction)
+    err = "interaction.dynamic_friction " + fmt_num(s.dynamic_friction) + " exceeds interaction.static_friction " +
+          fmt_num(s.static_friction) + " (sliding friction is at most sticking friction)";
   if (!err.empty()) return make_error(who, err);
   if (s.name.empty()) s.name = safe_name(std::filesystem::path(path).stem().string());
   // a relative mesh path is relative to the scene file's folder

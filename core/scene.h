@@ -74,6 +74,8 @@ struct DeviceSetup {
                                             ///< the scripted device's is the hand's): b of the passivity bound 2b/T
   bool passivity = true;                    ///< energy-based passivity observer/controller on the coupling
   double ramp_s = 0.2;                      ///< force ramp-in at start and after a reset
+  double jump_limit_N_per_tick = 0.02;      ///< a force step at a release, a grab, a region change or a cut reaches
+                                            ///< the hand at most this much a servo tick (0: unlimited)
 };
 
 /// The scripted hand: a mass pulled toward keyframe targets by a spring-damper.
@@ -120,6 +122,8 @@ struct Scene {
   double grab_radius_m = 0.01;      ///< pull: grab when the surface is this close on button press
   double blade_length_m = 0.03;     ///< cut: blade edge from the tool tip along the tool's local +z axis
   double cut_resistance_Ns_per_m = 4.0;  ///< cut: material's viscous resistance to the blade moving through it
+  double static_friction = 0.0;     ///< touch: mu_s, the proxy sticks until the pull across exceeds mu_s F_n
+  double dynamic_friction = 0.0;    ///< touch: mu_d <= mu_s, the force against sliding is mu_d F_n
   std::vector<Keyframe> trajectory;
   RenderSpec render;
   RunMode run_mode = RunMode::kLockstep;

@@ -4,9 +4,16 @@
 #include <cmath>
 
 #include "haptics/force_limit.h"
+#include "haptics/proxy_solver.h"
 #include "haptics/triangle_queries.h"
 
 namespace palpate {
+namespace {
+
+// a point tool is a god-object sphere of this radius whose proxy is the surface point under it
+constexpr double kPointClearance_m = 1e-6;
+
+}  // namespace
 
 Servo::Servo(const ServoParams& params, Device* device, SpscQueue<HapticSample>* samples,
              TripleBuffer<LocalModel>* model)
@@ -41,132 +48,91 @@ bool Servo::held_point(const LocalModel& m, Vec3* point) const noexcept {
   return false;
 }
 
-void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
-  if (contact_ == ContactState::kFree) {
-    // contact starts when the tool's path since the last tick enters the surface from outside
-    for (int i = 0; i < m.num_triangles; ++i) {
-      const auto& t = m.tri_m[i];
-      double u = 0.0;
-      Vec3 b = Vec3::Zero();
-      if (segment_enters_triangle(prev_tool_m_, tool, t[0], t[1], t[2], &u, &b)) {
-        contact_ = ContactState::kTouch;
-        contact_normal_ = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
-        break;
-      }
+bool Servo::touch_begins(const LocalModel& m, const Vec3& tool, double r) noexcept {
+  // the tool's path since the last tick enters a face from its front (a fast tool), or a sphere's centre comes
+  // within its radius of a face while in front of its plane
+  for (int i = 0; i < m.num_triangles; ++i) {
+    const auto& t = m.tri_m[i];
+    const Vec3 face = (t[1] - t[0]).cross(t[2] - t[0]);
+    double u = 0.0;
+    Vec3 b = Vec3::Zero();
+    bool begins = segment_enters_triangle(prev_tool_m_, tool, t[0], t[1], t[2], &u, &b);
+    if (!begins && params_.tool_radius_m > 0.0) {
+      const Vec3 q = closest_point_on_triangle(tool, t[0], t[1], t[2], &b);
+      begins = (tool - q).squaredNorm() < r * r && (tool - q).dot(face) > 0.0;
     }
-    if (contact_ == ContactState::kFree) {
-      proxy_m_ = tool;
-      return;
+    if (begins) {
+      contact_normal_ = face.normalized();
+      return true;
     }
   }
-  // in contact: P_s is the nearest surface point on the side the contact began on (a tool pushed past the middle
-  // of a thin part stays with its entry face: no pop-through); the tool is inside while it lies behind the
-  // surface's smooth (vertex-interpolated) normal there, which stays consistent across edges and in dents
-  int slot = -1;
-  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
-  if (!closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_)) return;
-  const auto& n = m.normal[slot];
-  const Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
-  if (normal.squaredNorm() > 0.0) contact_normal_ = normal.normalized();
-  if ((tool - q).dot(normal) > 0.0) {
-    contact_ = ContactState::kFree;
-    tri_ = -1;
-    proxy_m_ = tool;
-    return;
-  }
-  tri_ = m.tri_ids[slot];
-  bary_ = b;
-  proxy_m_ = q;
+  return false;
 }
 
-void Servo::update_touch_sphere(const LocalModel& m, const Vec3& tool) noexcept {
-  const double r = params_.tool_radius_m;
+bool Servo::tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept {
+  // in front of the nearest surface point's smooth normal (on the contact's side), and a radius from it
+  int slot = -1;
+  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
+  if (!closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_)) return true;
+  const auto& n = m.normal[slot];
+  const Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+  const Vec3 d = tool - q;
+  return d.dot(normal.squaredNorm() > 0.0 ? normal : contact_normal_) > 0.0 && d.squaredNorm() >= r * r * (1.0 - 1e-6);
+}
+
+void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
+  const bool sphere = params_.tool_radius_m > 0.0;
+  const double r = sphere ? params_.tool_radius_m : kPointClearance_m;
   if (contact_ == ContactState::kFree) {
-    // contact starts when the sphere reaches a face from its front: the centre's path since the last tick enters
-    // it (a fast tool), or the centre comes within the radius of it while in front of its plane
-    for (int i = 0; i < m.num_triangles && contact_ == ContactState::kFree; ++i) {
-      const auto& t = m.tri_m[i];
-      const Vec3 face = (t[1] - t[0]).cross(t[2] - t[0]);
-      double u = 0.0;
-      Vec3 b = Vec3::Zero();
-      const Vec3 q = closest_point_on_triangle(tool, t[0], t[1], t[2], &b);
-      if (segment_enters_triangle(prev_tool_m_, tool, t[0], t[1], t[2], &u, &b) ||
-          ((tool - q).squaredNorm() < r * r && (tool - q).dot(face) > 0.0)) {
-        contact_ = ContactState::kTouch;
-        contact_normal_ = face.normalized();
-      }
-    }
-    if (contact_ == ContactState::kFree) {
+    if (!touch_begins(m, tool, r)) {
       proxy_m_ = contact_point_m_ = tool;
       return;
     }
+    // the god-object starts where the tool was, outside
+    contact_ = ContactState::kTouch;
+    god_m_ = prev_tool_m_;
+    god_frame_ = m.frame;
+  } else if (m.frame != god_frame_) {
+    // a new frame moved the surface under the held proxy: it goes with the material point under it
+    Vec3 p = Vec3::Zero();
+    if (held_point(m, &p)) god_m_ += p - contact_frame_m_;
+    god_frame_ = m.frame;
   }
-  // the surface point nearest the device's centre on the entry side, as for a point tool: out of reach, contact ends
-  int slot = -1;
-  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
-  if (!closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_)) return;
-  const auto& n = m.normal[slot];
-  Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
-  if (normal.squaredNorm() > 0.0) contact_normal_ = normal.normalized();
-  const Vec3 d = tool - q;
-  if (d.dot(contact_normal_) > 0.0 && d.squaredNorm() >= r * r) {
+  // from where it was (out of any overlap the surface's move made), toward the device as far as the surface lets it
+  Vec3 held = god_m_;
+  push_out(m, r, contact_normal_, 4, &held);
+  int active = 0;
+  Vec3 free = god_object_move(m, held, tool, r, contact_normal_, &active);
+  if (active == 0 && !tool_outside(m, tool, r)) {
+    // the move reached a tool still inside (the sweep let it through): the proxy holds where it was
+    free = held;
+    active = 1;
+  }
+  if (active == 0) {
+    // the tool is out of reach of the surface: contact ends
     contact_ = ContactState::kFree;
     tri_ = -1;
+    friction_ = FrictionState{};
     proxy_m_ = contact_point_m_ = tool;
     return;
   }
-  // god-object: the centre follows the device from where it was, sliding along the surface while the device
-  // presses into it (the part of the motion into the surface is dropped), so it rolls round an edge instead of
-  // jumping between the faces' offsets; then it is put one radius from the nearest surface point
-  Vec3 c = proxy_m_;
-  if (closest_on_patch(m, c, &slot, &q, &b, &contact_normal_)) {
-    const Vec3 e = c - q;
-    const double en = e.norm();
-    const Vec3 out = en > 1e-9 * r && e.dot(contact_normal_) > 0.0 ? Vec3(e / en) : contact_normal_;
-    Vec3 move = tool - c;
-    const double into = move.dot(out);
-    if (into < 0.0) move -= into * out;
-    c += move;
+  Vec3 c = free;
+  if (params_.friction.on()) {
+    const FrictionStep f = friction_step(params_.friction, held, free, tool, tool_vel_m_per_s_, &friction_);
+    c = f.stick ? held : god_object_move(m, held, f.goal, r, contact_normal_, &active);
   }
+  // the contact point under the centre, and the surface's smooth normal there (the side later ticks hold to)
+  int slot = -1;
+  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
   if (!closest_on_patch(m, c, &slot, &q, &b, &contact_normal_)) return;
-  {
-    const Vec3 e = c - q;
-    const double en = e.norm();
-    const auto& nn = m.normal[slot];
-    Vec3 sn = b[0] * nn[0] + b[1] * nn[1] + b[2] * nn[2];
-    sn = sn.squaredNorm() > 0.0 ? Vec3(sn.normalized()) : contact_normal_;
-    c = q + r * (en > 1e-9 * r && e.dot(sn) > 0.0 ? Vec3(e / en) : sn);
-  }
-  // a sphere in a dent or a concave corner also overlaps other faces: push it out of the deepest overlap, a few
-  // rounds (each face of the entry side, so the far side of a thin part is never taken)
-  for (int round = 0; round < 8; ++round) {
-    double worst = 0.0;
-    Vec3 push = Vec3::Zero();
-    for (int i = 0; i < m.num_triangles; ++i) {
-      const auto& t = m.tri_m[i];
-      const Vec3 face = (t[1] - t[0]).cross(t[2] - t[0]);
-      // faces turned more than 120 degrees from the contact's side are the far side of a thin part
-      if (face.dot(contact_normal_) < -0.5 * face.norm()) continue;
-      Vec3 bi = Vec3::Zero();
-      const Vec3 qi = closest_point_on_triangle(c, t[0], t[1], t[2], &bi);
-      const Vec3 e = c - qi;
-      const double dist = e.norm();
-      if (dist >= r) continue;  // the sphere does not reach this face
-      const bool in_front = e.dot(face) > 0.0;
-      const double depth = in_front ? r - dist : r + dist;  // how far the sphere reaches past this face (centre behind it: through)
-      if (depth > worst + 1e-12 * r) {
-        worst = depth;
-        push = (in_front && dist > 1e-9 * r ? Vec3(e / dist) : Vec3(face.normalized())) * depth;
-      }
-    }
-    if (worst <= 1e-9 * r) break;
-    c += push;
-  }
-  // the contact point: the surface point under the centre
-  if (!closest_on_patch(m, c, &slot, &q, &b, &contact_normal_)) return;
+  const auto& n = m.normal[slot];
+  const Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+  if (normal.squaredNorm() > 0.0) contact_normal_ = normal.normalized();
+  god_m_ = c;
+  contact_frame_m_ = q;
   tri_ = m.tri_ids[slot];
   bary_ = b;
-  proxy_m_ = c;
+  proxy_m_ = sphere ? c : q;
   contact_point_m_ = q;
 }
 
@@ -241,6 +207,19 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
   return p.allFinite() ? p : proxy_m_;
 }
 
+bool Servo::jump_event(const LocalModel& m, ContactState before) noexcept {
+  // every change of contact but a touch beginning (release, grab, grab release, a cut starting or ending)
+  bool event = before != contact_ && !(before == ContactState::kFree && contact_ == ContactState::kTouch);
+  // a frame whose patch came from a region placed or moved (no contact model on it), or that brings the first
+  // contact model after one, while in contact
+  if (m.frame != jump_frame_) {
+    if (jump_frame_ >= 0 && contact_ != ContactState::kFree && (!m.has_contact_model || !jump_model_)) event = true;
+    jump_frame_ = m.frame;
+    jump_model_ = m.has_contact_model;
+  }
+  return event;
+}
+
 void Servo::tick(int64_t tick_index, double t_s) noexcept {
   DevicePose pose;
   bool rejected = false;
@@ -266,11 +245,11 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
 
   const bool button = (pose.buttons & 1u) != 0;
   const LocalModel& m = model_->read();
+  const ContactState contact_before = contact_;
   Vec3 axis = pose.orientation * Vec3::UnitZ();
   if (!axis.allFinite() || axis.squaredNorm() < 1e-12) axis = Vec3::UnitZ();
   axis.normalize();
   if (params_.mode == InteractionMode::kCut) update_cut(m, tool, axis, button);
-  else if (params_.mode == InteractionMode::kTouch && params_.tool_radius_m > 0.0) update_touch_sphere(m, tool);
   else if (params_.mode == InteractionMode::kTouch) update_touch(m, tool);
   else update_pull(m, tool, button);
 
@@ -311,6 +290,13 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     if (contact_ != ContactState::kFree) force = guarded;
     counters_.passivity_activations += guard_.activations() - before;
     counters_.passivity_dissipated_J = guard_.dissipated_J();
+  }
+  // a step the device's motion does not explain reaches the hand at most jump_limit_N_per_tick a tick
+  if (rejected) {
+    jump_.reset();
+  } else {
+    if (jump_event(m, contact_before)) jump_.absorb(last_.force_N, force);
+    force = jump_.apply(force, params_.jump_limit_N_per_tick);
   }
   force = limit_force(force, device_->specs().max_force_N);
   guard_.sent(force);

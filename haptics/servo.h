@@ -8,7 +8,9 @@
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
 #include "haptics/device.h"
+#include "haptics/friction.h"
 #include "haptics/haptic_sample.h"
+#include "haptics/jump_limit.h"
 #include "haptics/local_model.h"
 #include "haptics/passivity_guard.h"
 
@@ -35,6 +37,9 @@ struct ServoParams {
   double cut_resistance_Ns_per_m = 4.0;   ///< cut: viscous resistance to blade motion across its edge in material
   double tool_radius_m = 0.0;             ///< touch: > 0 makes the tool a sphere of this radius (the proxy is its
                                           ///< centre, kept this far outside the surface); 0 = a point
+  FrictionParams friction;                ///< touch: Coulomb friction in the proxy (both coefficients 0: none)
+  double jump_limit_N_per_tick = 0.0;     ///< > 0: a step at a contact event, a region change or a cut reaches the
+                                          ///< device at most this fast (haptics/jump_limit.h); 0 = no limit
 };
 
 /// Counters the servo keeps (read after the run, or approximately while it runs).
@@ -66,9 +71,15 @@ class Servo {
   const HapticSample& last_sample() const noexcept { return last_; }
 
  private:
+  // touch: a god-object — a sphere's centre held tool_radius_m outside the surface (a point tool: a sphere of
+  // vanishing radius, the proxy the surface point under it), with Coulomb friction
   void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
-  // touch with a sphere: the proxy is the sphere's centre, held tool_radius_m outside the surface on the entry side
-  void update_touch_sphere(const LocalModel& m, const Vec3& tool) noexcept;
+  // whether the tool lies outside the surface by at least r (where a touch may end)
+  bool tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept;
+  // whether the tool's move since the last tick starts a touch (sets the side it came from)
+  bool touch_begins(const LocalModel& m, const Vec3& tool, double r) noexcept;
+  // the step this tick that the device's motion does not explain is an event (release, grab, region, cut)
+  bool jump_event(const LocalModel& m, ContactState before) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
   // cut: the blade cuts while the button is held and the edge crosses the surface or its tip is inside
   void update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, bool button) noexcept;
@@ -97,6 +108,13 @@ class Servo {
   Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
   Vec3 contact_normal_ = Vec3::UnitZ();  // touch: surface normal at the proxy (which side we are on)
   Vec3 cut_force_N_ = Vec3::Zero();      // cut: blade resistance this tick
+  Vec3 god_m_ = Vec3::Zero();            // touch: the god-object's centre on the latest frame's surface
+  Vec3 contact_frame_m_ = Vec3::Zero();  // touch: the surface point under it on that surface (before prediction)
+  int64_t god_frame_ = -1;               // touch: the frame god_m_ lies on
+  FrictionState friction_;               // touch: stick or slide, and the trail
+  JumpLimit jump_;                       // the step at an event, returning to zero at jump_limit_N_per_tick
+  int64_t jump_frame_ = -1;              // the frame the limit last saw
+  bool jump_model_ = false;              // whether that frame had a contact model
   // the proxy moved by the object's response predicted since the frame (kLocalModel)
   Vec3 predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept;
 

@@ -18,6 +18,7 @@
 #include "core/atomic_file.h"
 #include "core/scene.h"
 #include "sim/stability.h"
+#include "tools/bench_feel.h"
 #include "tools/bench_force.h"
 #include "tools/bench_loop.h"
 #include "tools/bench_mesh.h"
@@ -284,6 +285,16 @@ int main(int argc, char** argv) {
   bforce->add_option("scenes", fo.scenes, "Scenes to replay in lockstep")->capture_default_str();
   bforce->add_option("--json", fo.json_path, "Write the figures as JSON");
 
+  auto* bfeel = bench->add_subcommand("feel", "What the hand feels: force steps per tick against the device's motion, "
+                                      "ripple, event steps, buzz above 100 Hz (lockstep)");
+  palpate::BenchFeelOptions feo;
+  bfeel->add_option("scenes", feo.scenes, "Scenes (default: every shipped scene)");
+  bfeel->add_option("--json", feo.json_path, "Write the figures as JSON");
+  bfeel->add_option("--plot", feo.plot_path, "Force traces with gnuplot: FILE.png (and FILE_spectrum.png, the spectra), "
+                    "their data FILE.dat and scripts FILE.gp");
+  bfeel->add_option("--step-threshold", feo.step_threshold_N, "Steps counted above this (N)")
+      ->check(palpate::finite_range(0.0, 100.0))->capture_default_str();
+
   auto* bsim = bench->add_subcommand("sim", "Speed against error per integrator x level x substeps/iterations (lockstep)");
   std::string bsim_scene;
   palpate::BenchSimOptions so;
@@ -423,6 +434,10 @@ int main(int argc, char** argv) {
   if (*bscale && bscale->get_option("scene")->count() == 0) bscale_scene = palpate::locate_default(bscale_scene);
   if (*bloop) return palpate::run_bench_loop(lo);
   if (*bforce) return palpate::run_bench_force(fo);
+  if (*bfeel) {
+    if (feo.scenes.empty()) feo.scenes_dir = palpate::locate_default(feo.scenes_dir);
+    return palpate::run_bench_feel(feo);
+  }
   if (*bmat && !palpate::integrator_from_name(mo_integrator, &mo.integrator)) {
     std::fprintf(stderr, "palpate: bench model: --integrator '%s' is not one of: explicit_euler, symplectic_euler, "
                  "implicit_euler, local_global, rk4\n", mo_integrator.c_str());

@@ -86,11 +86,31 @@ TEST(Scene, MinimalSceneTakesDefaults) {
 TEST(Scene, ShippedScenesParse) {
   for (const char* name : {"scenes/bunny_touch.json", "scenes/bunny_pull.json", "scenes/bunny_pull_explicit.json",
                            "scenes/bunny_cut.json", "scenes/cube_press.json", "scenes/phantom_press.json",
-                           "scenes/tissue_pull.json"}) {
+                           "scenes/tissue_pull.json", "scenes/block_stroke.json"}) {
     auto r = load_scene(test::source_path(name));
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_FALSE(r.value().trajectory.empty());
   }
+}
+
+TEST(Scene, FrictionAndJumpLimitKeys) {
+  auto plain = parse_scene(kMinimal, "s.json");
+  ASSERT_TRUE(plain) << plain.error().message;
+  EXPECT_EQ(plain.value().static_friction, 0.0);  // frictionless unless asked
+  EXPECT_EQ(plain.value().dynamic_friction, 0.0);
+  EXPECT_EQ(plain.value().device.jump_limit_N_per_tick, 0.02);
+  auto f = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "device": {"jump_limit_N_per_tick": 0.05},
+                           "interaction": {"static_friction": 0.5, "dynamic_friction": 0.3},
+                           "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(f) << f.error().message;
+  EXPECT_EQ(f.value().static_friction, 0.5);
+  EXPECT_EQ(f.value().dynamic_friction, 0.3);
+  EXPECT_EQ(f.value().device.jump_limit_N_per_tick, 0.05);
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "interaction": {"static_friction": 0.2, "dynamic_friction": 0.3},
+                   "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "interaction.dynamic_friction 0.3 exceeds interaction.static_friction 0.2");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"jump_limit_N_per_tick": -1},
+                   "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.jump_limit_N_per_tick");
 }
 
 TEST(Scene, ToolShapeIsAPointUnlessASphereIsAskedForATouch) {

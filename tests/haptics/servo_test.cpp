@@ -114,7 +114,13 @@ TEST(Servo, ForceRampsBackInAfterTheDeviceWentSilent) {
 
 TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
   ServoRig r(InteractionMode::kPull);
-  r.servo = std::make_unique<Servo>(ServoParams{InteractionMode::kPull, 300, 0, 0.01, 1e-3, true, 0.0}, &r.dev, &r.q, r.tb.get());
+  ServoParams p;
+  p.mode = InteractionMode::kPull;
+  p.coupling_N_per_m = 300;
+  p.coupling_damping_Ns_per_m = 0;
+  p.grab_radius_m = 0.01;
+  p.ramp_s = 0.0;
+  r.servo = std::make_unique<Servo>(p, &r.dev, &r.q, r.tb.get());
   r.dev.pos_m = Vec3(0.01, 0.02, 0.005);
   r.tick();
   r.dev.buttons = 1;
@@ -178,13 +184,24 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     m.model_radius_m = 1.0;
     tb->publish();
   }
-  // touch with a point tool, with a 5 mm sphere, pull, cut
-  const std::pair<InteractionMode, double> runs[] = {{InteractionMode::kTouch, 0.0}, {InteractionMode::kTouch, 0.005},
-                                                     {InteractionMode::kPull, 0.0}, {InteractionMode::kCut, 0.0}};
-  for (const auto& [mode, radius] : runs) {
+  // touch with a point tool, with a 5 mm sphere, pull, cut; then touch with friction and every mode with the
+  // jump limit
+  struct RunSpec {
+    InteractionMode mode;
+    double radius, friction, jump_limit;
+  };
+  const RunSpec runs[] = {{InteractionMode::kTouch, 0.0, 0.0, 0.0},  {InteractionMode::kTouch, 0.005, 0.0, 0.0},
+                          {InteractionMode::kPull, 0.0, 0.0, 0.0},   {InteractionMode::kCut, 0.0, 0.0, 0.0},
+                          {InteractionMode::kTouch, 0.0, 0.5, 0.02}, {InteractionMode::kTouch, 0.005, 0.5, 0.02},
+                          {InteractionMode::kPull, 0.0, 0.0, 0.02},  {InteractionMode::kCut, 0.0, 0.0, 0.02}};
+  for (const auto& [mode, radius, mu, jump] : runs) {
     ServoParams p;
     p.mode = mode;
     p.tool_radius_m = radius;
+    p.friction.static_coefficient = mu;
+    p.friction.dynamic_coefficient = 0.7 * mu;
+    p.friction.trail_drop_m = 1e-4;
+    p.jump_limit_N_per_tick = jump;
     Servo servo(p, &dev, &q, tb.get());
     HapticSample sink;
     int64_t allocs = 0;
@@ -198,7 +215,8 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
       }
       allocs = guard.count();
     }
-    EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode) << ", tool radius " << radius;
+    EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode) << ", tool radius " << radius << ", friction " << mu
+                         << ", jump limit " << jump;
     EXPECT_EQ(servo.counters().ticks, 10000);
   }
 }

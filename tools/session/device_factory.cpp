@@ -197,6 +197,11 @@ ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, doub
   sp.blade_length_m = scene.blade_length_m;
   sp.cut_resistance_Ns_per_m = scene.cut_resistance_Ns_per_m;
   sp.tool_radius_m = scene.device.sphere_tool ? scene.device.tool_radius_m : 0.0;
+  sp.friction.static_coefficient = scene.static_friction;
+  sp.friction.dynamic_coefficient = scene.dynamic_friction;
+  sp.jump_limit_N_per_tick = scene.device.jump_limit_N_per_tick;
+  // after breakaway the friction force comes down to the sliding level no faster than the jump limit
+  if (sp.coupling_N_per_m > 0.0) sp.friction.trail_drop_m = sp.jump_limit_N_per_tick / sp.coupling_N_per_m;
   sp.period_s = 1.0 / rate_hz;
   return sp;
 }
