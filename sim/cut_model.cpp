@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 
 #include "sim/deformer.h"
 #include "sim/rest_map.h"
@@ -120,13 +121,19 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
   // the front of the queue, up to the split budget
   std::size_t take = queued_.size();
   if (max_split_tris_ > 0 && !queued_.empty()) {
-    std::vector<int32_t> near;
+    // the triangle entries of the cubes the quads reach, each cube counted once
+    std::unordered_set<uint64_t> seen;
+    std::vector<uint64_t> keys;
+    std::size_t entries = 0;
     take = 0;
     while (take < queued_.size()) {
       CutBox b;
       b.add(queued_[take]);
-      tri_grid_.query(b.lo_m, b.hi_m, &near);
-      if (take > 0 && static_cast<int>(near.size()) > max_split_tris_) break;
+      keys.clear();
+      tri_grid_.cube_keys(b.lo_m, b.hi_m, &keys);
+      for (uint64_t k : keys)
+        if (seen.insert(k).second) entries += tri_grid_.count_in(k);
+      if (take > 0 && entries > static_cast<std::size_t>(max_split_tris_)) break;
       ++take;
     }
   }
@@ -155,10 +162,11 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
   // on the far side of the cut are dropped
   const double reach = 1.8 * lat->cell_m;
   std::vector<int32_t> near_tris;
-  for (const CutBox& b : set.quad_box)
-    tri_grid_.query(b.lo_m - Vec3::Constant(reach), b.hi_m + Vec3::Constant(reach), &near_tris);
-  std::sort(near_tris.begin(), near_tris.end());
-  near_tris.erase(std::unique(near_tris.begin(), near_tris.end()), near_tris.end());
+  {
+    std::vector<Vec3> lo, hi;
+    for (const CutBox& b : set.quad_box) lo.push_back(b.lo_m), hi.push_back(b.hi_m);
+    tri_grid_.query_all(lo, hi, reach, &near_tris);
+  }
   std::vector<int32_t> near_v;
   for (int32_t t : near_tris)
     for (int32_t v : triangles_[t])

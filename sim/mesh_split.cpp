@@ -30,9 +30,11 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
 
   // the triangles near the sweep: those registered in the cubes each quad's box overlaps
   std::vector<int32_t> near;
-  for (const CutBox& b : set.quad_box) grid->query(b.lo_m, b.hi_m, &near);
-  std::sort(near.begin(), near.end());
-  near.erase(std::unique(near.begin(), near.end()), near.end());
+  {
+    std::vector<Vec3> lo, hi;
+    for (const CutBox& b : set.quad_box) lo.push_back(b.lo_m), hi.push_back(b.hi_m);
+    grid->query_all(lo, hi, 0.0, &near);
+  }
 
   // the work: each near triangle, with a crack tip's two halves taken back to the original triangle (its
   // crossing kept), in slot order so the numbering of new vertices is deterministic

@@ -20,9 +20,14 @@ class TriangleGrid {
   TriangleGrid(double cube_m, const std::vector<Vec3>& rest_m, const std::vector<std::array<int32_t, 3>>& triangles);
   /// Registers triangle id t (corners at rest) in every cube its box overlaps.
   void add(int32_t t, const Vec3& a_m, const Vec3& b_m, const Vec3& c_m);
-  /// Appends to *out the ids registered in the cubes the box [lo_m, hi_m] overlaps (repeats possible; the caller
-  /// sorts and dedups).
-  void query(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* out) const;
+  /// The ids registered in the cubes any of the boxes [lo_m[i] - grow_m, hi_m[i] + grow_m] overlaps, each once,
+  /// ascending, into *out (cleared first). Each cube is visited once however many boxes overlap it.
+  void query_all(const std::vector<Vec3>& lo_m, const std::vector<Vec3>& hi_m, double grow_m,
+                 std::vector<int32_t>* out) const;
+  /// Triangle entries in the cube of key k (see cube_keys()).
+  std::size_t count_in(uint64_t k) const;
+  /// Appends the keys of the cubes the box [lo_m, hi_m] overlaps to *keys (at most 256 a side).
+  void cube_keys(const Vec3& lo_m, const Vec3& hi_m, std::vector<uint64_t>* keys) const;
   /// Cube edge length.
   double cube_m() const { return cube_m_; }
 
