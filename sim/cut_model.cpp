@@ -1,6 +1,8 @@
 #include "sim/cut_model.h"
 
 #include <algorithm>
+#include <cmath>
+#include <unordered_set>
 
 #include "sim/deformer.h"
 #include "sim/rest_map.h"
@@ -16,7 +18,8 @@ CutModel::CutModel(const TriMesh& rest, const std::vector<VertexBinding>& bindin
       triangles_(rest.triangles),
       bindings_(bindings),
       blocked_(rest.vertices_m.size(), 0),
-      fallback_(rest.vertices_m.size(), -1) {}
+      fallback_(rest.vertices_m.size(), -1),
+      tri_grid_(grid->cell_size_m(level), rest.vertices_m, rest.triangles) {}
 
 void CutModel::add_sample(const Vec3& tip_m, const Vec3& axis, bool cutting) {
   if (!cutting || !tip_m.allFinite() || !axis.allFinite()) {
@@ -41,6 +44,17 @@ CutReport CutModel::apply(Lattice* lat, std::vector<Vec3>* vertices_m) {
   pending_.clear();
   return rep;
 }
+
+namespace {
+
+// The quad moved by d_m along one fixed direction, the same for every quad so those sharing an edge still share it
+// (moved along each one's normal, the pieces of a bent blade would open gaps a spring or edge slips through).
+BladeQuad offset_quad(const BladeQuad& q, double d_m) {
+  const Vec3 d = d_m * Vec3(1.0, 0.618034, 0.381966).normalized();
+  return {q.tip0_m + d, q.end0_m + d, q.tip1_m + d, q.end1_m + d};
+}
+
+}  // namespace
 
 bool CutModel::block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads) {
   const int32_t slot = lat.slot_of_cell[bindings_[v].cell];
@@ -78,28 +92,90 @@ int32_t CutModel::nearest_visible_node(const Lattice& lat, std::size_t v, const 
 }
 
 CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* lat, std::vector<Vec3>* vertices_m) {
+  // every test in rest coordinates, so a node's side of the cut does not drift while the object moves
+  int dropped = 0;
+  if (!quads_W.empty()) {
+    std::vector<BladeQuad> rest;
+    quads_to_rest(*lat, *grid_, quads_W, &last_edge_, &rest);
+    // quads_to_rest() cuts each world quad into pieces no longer than a cell, in order; a piece whose map jumped
+    // (a blade end mapped into a piece that fell away, or outside every cell) sweeps far more at rest than the
+    // blade did in the world: it is dropped, not cut across the object
+    const double cell = lat->cell_m;
+    std::size_t r = 0;
+    for (const BladeQuad& w : quads_W) {
+      const double len = std::max((w.end0_m - w.tip0_m).norm(), (w.end1_m - w.tip1_m).norm());
+      const int pieces = std::clamp(static_cast<int>(std::ceil(len / cell)), 1, 256);
+      const double swept = std::max((w.tip1_m - w.tip0_m).norm(), (w.end1_m - w.end0_m).norm());
+      for (int i = 0; i < pieces && r < rest.size(); ++i, ++r) {
+        const BladeQuad& q = rest[r];
+        const double rest_swept = std::max((q.tip1_m - q.tip0_m).norm(), (q.end1_m - q.end0_m).norm());
+        const double rest_len = std::max((q.end0_m - q.tip0_m).norm(), (q.end1_m - q.tip1_m).norm());
+        if (rest_swept > kMaxRestStretch * swept + 0.5 * cell || rest_len > kMaxRestStretch * cell) {
+          ++dropped;
+          continue;
+        }
+        queued_.push_back(offset_quad(q, kBladeOffsetCells * cell));
+      }
+    }
+  }
+  // the front of the queue, up to the split budget
+  std::size_t take = queued_.size();
+  if (max_split_tris_ > 0 && !queued_.empty()) {
+    // the triangle entries of the cubes the quads reach, each cube counted once
+    std::unordered_set<uint64_t> seen;
+    std::vector<uint64_t> keys;
+    std::size_t entries = 0;
+    take = 0;
+    while (take < queued_.size()) {
+      CutBox b;
+      b.add(queued_[take]);
+      keys.clear();
+      tri_grid_.cube_keys(b.lo_m, b.hi_m, &keys);
+      for (uint64_t k : keys)
+        if (seen.insert(k).second) entries += tri_grid_.count_in(k);
+      if (take > 0 && entries > static_cast<std::size_t>(max_split_tris_)) break;
+      ++take;
+    }
+  }
+  const std::vector<BladeQuad> batch(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
+  queued_.erase(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
+  CutReport rep = cut_rest(batch, lat, vertices_m);
+  rep.quads_dropped = dropped;
+  return rep;
+}
+
+CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, std::vector<Vec3>* vertices_m) {
   CutReport rep;
-  if (quads_W.empty()) {
+  if (quads.empty()) {
     if (!deferred_.empty()) rep.springs_cut = cut_springs_capped(lat, {}, springs_this_apply(), &deferred_);
     return rep;
   }
-  // every test in rest coordinates, so a node's side of the cut does not drift while the object moves
-  std::vector<BladeQuad> quads;
-  quads_to_rest(*lat, *grid_, quads_W, &last_edge_, &quads);
   const CutQuads set(quads);
-  const CutBox& box = set.box;
   rep.springs_cut = max_springs_ > 0 ? cut_springs_capped(lat, quads, springs_this_apply(), &deferred_)
                                      : cut_springs(lat, quads);
 
   const std::size_t old_count = rest_m_.size();
   std::vector<SplitVertex> created;
-  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_);
+  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_, &tri_grid_);
 
-  // existing vertices near the sweep: corners now on the far side of the cut are dropped
+  // existing vertices near the sweep (of the triangles in the cubes its quads reach, grown by reach): corners now
+  // on the far side of the cut are dropped
   const double reach = 1.8 * lat->cell_m;
-  for (std::size_t v = 0; v < old_count; ++v) {
+  std::vector<int32_t> near_tris;
+  {
+    std::vector<Vec3> lo, hi;
+    for (const CutBox& b : set.quad_box) lo.push_back(b.lo_m), hi.push_back(b.hi_m);
+    tri_grid_.query_all(lo, hi, reach, &near_tris);
+  }
+  std::vector<int32_t> near_v;
+  for (int32_t t : near_tris)
+    for (int32_t v : triangles_[t])
+      if (static_cast<std::size_t>(v) < old_count) near_v.push_back(v);
+  std::sort(near_v.begin(), near_v.end());
+  near_v.erase(std::unique(near_v.begin(), near_v.end()), near_v.end());
+  for (int32_t v : near_v) {
     const Vec3& p = rest_m_[v];
-    if (!box.overlaps_segment(p, p, reach)) continue;
+    if (!set.box.overlaps_segment(p, p, reach)) continue;
     if (block_corners(*lat, v, p, set)) ++rep.vertices_rebound;
   }
   // new vertices: bound at their rest position, tested from a point just off the cut on their own side
@@ -112,11 +188,12 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
     blocked_.push_back(same_cell ? blocked_[sv.from] : 0);
     fallback_.push_back(same_cell ? fallback_[sv.from] : -1);
     block_corners(*lat, v, off_cut(v, sv.from), set);
+    near_v.push_back(static_cast<int32_t>(v));
   }
   // vertices cut off from all their corners follow the nearest node on their side
-  for (std::size_t v = 0; v < rest_m_.size(); ++v) {
+  for (int32_t v : near_v) {
     if (blocked_[v] != 0xff || fallback_[v] >= 0) continue;
-    const Vec3 p = v < old_count ? rest_m_[v] : off_cut(v, created[v - old_count].from);
+    const Vec3 p = static_cast<std::size_t>(v) < old_count ? rest_m_[v] : off_cut(v, created[v - old_count].from);
     fallback_[v] = nearest_visible_node(*lat, v, p, set);
   }
   return rep;

@@ -18,14 +18,26 @@
 #include "sim/lattice.h"
 #include "sim/mesh_split.h"
 #include "sim/rest_map.h"
+#include "sim/triangle_grid.h"
 
 namespace palpate {
+
+/// The distance a rest quad is moved off its plane, in lattice cells: a mesh edge is split only where crossed
+/// farther than kSplitEdgeEps of its length from an end, so a vertex on the blade's plane would leave its edges
+/// uncut (a blade along a row of vertices splitting nothing); moved, every vertex and node is on one side.
+inline constexpr double kBladeOffsetCells = 0.01;
+
+/// A blade piece mapped to rest may sweep at most this many times what it swept in the world (plus half a cell),
+/// and be at most this many cells long; one beyond was mapped across a gap (into a piece that fell away) and is
+/// dropped.
+inline constexpr double kMaxRestStretch = 2.0;
 
 /// What one apply() changed.
 struct CutReport {
   int springs_cut = 0;         ///< springs removed
   MeshSplitReport split;       ///< mesh split figures
   int vertices_rebound = 0;    ///< existing vertices that lost a corner to the cut
+  int quads_dropped = 0;       ///< rest quads whose map jumped (kMaxRestStretch), left uncut
   bool changed() const { return springs_cut > 0 || split.edges_cut > 0 || vertices_rebound > 0; }
 };
 
@@ -41,11 +53,21 @@ class CutModel {
   void add_sample(const Vec3& tip_m, const Vec3& axis, bool cutting);
   /// Quads waiting for apply().
   const std::vector<BladeQuad>& pending() const { return pending_; }
+  /// True when the next apply() has something to do: quads swept, quads queued, springs deferred.
+  bool has_work() const { return !pending_.empty() || !queued_.empty() || !deferred_.empty(); }
+  /// At most about n triangles near the sweep are visited per apply() (0: no limit, the default): the quads
+  /// mapped to rest wait in order in a queue and each apply() takes from its front until their near triangles
+  /// exceed n (always at least one quad), so a long or fast stroke is cut over several frames.
+  void set_max_split_triangles_per_apply(int n) { max_split_tris_ = std::max(n, 0); }
+  /// Rest quads mapped but not cut yet.
+  std::size_t queued_quads() const { return queued_.size(); }
   /// Cuts the lattice springs and the mesh with the pending quads, mapped into rest coordinates through the
   /// current lattice (rest_map.h) and tested against rest positions; *vertices_m (current) grows by the new
   /// vertices. Updates the side binding and clears the pending quads.
   CutReport apply(Lattice* lat, std::vector<Vec3>* vertices_m);
-  /// Cuts with the given quads, in world coordinates (as apply() does with the pending ones).
+  /// Cuts with the given quads, in world coordinates (as apply() does with the pending ones). Each quad is
+  /// mapped to rest and moved by kBladeOffsetCells of a cell along one fixed direction, so a blade through a
+  /// row of vertices or nodes still has them all on one side.
   CutReport apply_quads(const std::vector<BladeQuad>& quads, Lattice* lat, std::vector<Vec3>* vertices_m);
   /// At most n springs leave the lattice per apply() (0: no limit, the default), or a quarter of those waiting
   /// when more wait, so none waits much more than four applies; the others crossed stay until a later apply()
@@ -72,6 +94,8 @@ class CutModel {
   int orphans() const { return orphans_; }
 
  private:
+  // cuts springs and mesh with a batch of rest quads
+  CutReport cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, std::vector<Vec3>* vertices_m);
   // springs the next apply() removes at most (max_springs_ > 0)
   int springs_this_apply() const;
   // marks the corners of vertex v (seen from test point p) that the quads separate it from; true when changed
@@ -88,6 +112,9 @@ class CutModel {
   std::vector<uint8_t> blocked_;                  // corners cut off (n_v)
   std::vector<int32_t> fallback_;                 // node followed when every corner is cut off, else -1 (n_v)
   std::vector<BladeQuad> pending_;                // swept quads not applied yet
+  std::vector<BladeQuad> queued_;                 // rest quads mapped, not cut yet (split budget)
+  int max_split_tris_ = 0;                        // near triangles visited per apply() at most (0: all)
+  TriangleGrid tri_grid_;                         // triangles by rest cube
   int max_springs_ = 0;                           // springs removed per apply() at most (0: all)
   std::vector<uint64_t> deferred_;                // crossed springs still in the lattice, oldest first
   RestEdge last_edge_;                            // the last blade edge mapped to rest

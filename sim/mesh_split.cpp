@@ -21,33 +21,57 @@ struct EdgeCut {
 
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
                            std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
-                           std::vector<TipTriangle>* tips) {
+                           std::vector<TipTriangle>* tips, TriangleGrid* grid) {
   MeshSplitReport rep;
   created->clear();
   if (quads.empty()) return rep;
   const std::size_t count_before = triangles->size();
-  // crack tips go back to their original triangle, their crossing kept
+  const CutQuads set(quads);
+
+  // the triangles near the sweep: those registered in the cubes each quad's box overlaps
+  std::vector<int32_t> near;
+  {
+    std::vector<Vec3> lo, hi;
+    for (const CutBox& b : set.quad_box) lo.push_back(b.lo_m), hi.push_back(b.hi_m);
+    grid->query_all(lo, hi, 0.0, &near);
+  }
+
+  // the work: each near triangle, with a crack tip's two halves taken back to the original triangle (its
+  // crossing kept), in slot order so the numbering of new vertices is deterministic
+  struct Work {
+    std::array<int32_t, 3> tri;
+    std::array<int32_t, 2> slot;  // slot[1] < 0: one slot
+  };
+  std::unordered_map<int32_t, std::size_t> tip_of_slot;
+  for (std::size_t i = 0; i < tips->size(); ++i)
+    for (int32_t sl : (*tips)[i].slot) tip_of_slot.emplace(sl, i);
   std::unordered_map<uint64_t, EdgeCut> cuts;
-  const std::vector<TipTriangle> old_tips = std::move(*tips);
-  tips->clear();
-  triangles->resize(triangles->size() - 2 * old_tips.size());
-  for (const TipTriangle& tip : old_tips) {
-    triangles->push_back(tip.tri);
+  std::vector<uint8_t> reopened(tips->size(), 0);
+  std::vector<Work> work;
+  work.reserve(near.size());
+  for (int32_t t : near) {
+    const auto it = tip_of_slot.find(t);
+    if (it == tip_of_slot.end()) {
+      work.push_back({(*triangles)[t], {t, -1}});
+      continue;
+    }
+    if (reopened[it->second]) continue;
+    reopened[it->second] = 1;
+    const TipTriangle& tip = (*tips)[it->second];
+    work.push_back({tip.tri, tip.slot});
     EdgeCut c;
     c.lo = tip.edge_lo;
     c.copy = {tip.copy_lo, tip.copy_hi};
     cuts.emplace(unordered_pair_key(tip.edge_lo, tip.edge_hi), c);
+    ++rep.tips_reopened;
   }
-  rep.tips_reopened = static_cast<int>(old_tips.size());
-  const CutQuads set(quads);
+  rep.triangles_tested = static_cast<int>(work.size());
   const std::vector<Vec3>& x = *rest_m;
 
-  // crossed edges, in triangle order so the numbering of new vertices is deterministic
   std::unordered_map<uint64_t, uint8_t> tested;  // 0 = not crossed
-  for (const auto& tri : *triangles) {
+  for (const Work& w : work) {
     for (int k = 0; k < 3; ++k) {
-      const int32_t a = std::min(tri[k], tri[(k + 1) % 3]), b = std::max(tri[k], tri[(k + 1) % 3]);
-      // an edge away from the sweep's box is not crossed: no need to remember it
+      const int32_t a = std::min(w.tri[k], w.tri[(k + 1) % 3]), b = std::max(w.tri[k], w.tri[(k + 1) % 3]);
       if (!set.box.overlaps_segment(x[a], x[b], 0.0)) continue;
       const uint64_t key = unordered_pair_key(a, b);
       if (tested.count(key) || cuts.count(key)) continue;
@@ -69,11 +93,32 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       ++rep.edges_cut;
     }
   }
-  if (cuts.empty()) return rep;
+  if (rep.edges_cut == 0 && rep.tips_reopened == 0) return rep;
 
-  std::vector<std::array<int32_t, 3>> out, tip_halves;
-  out.reserve(triangles->size() + 2 * cuts.size() + 8);
-  for (const auto& tri : *triangles) {
+  // the tips not reopened stay; reopened ones become tips again, or are split through
+  std::vector<TipTriangle> kept;
+  for (std::size_t i = 0; i < tips->size(); ++i)
+    if (!reopened[i]) kept.push_back((*tips)[i]);
+  auto place = [&](const Work& w, const std::vector<std::array<int32_t, 3>>& pieces, std::vector<int32_t>* slots) {
+    slots->clear();
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      int32_t sl;
+      if (i == 0 || (i == 1 && w.slot[1] >= 0)) {
+        sl = w.slot[i];
+        (*triangles)[sl] = pieces[i];
+      } else {
+        sl = static_cast<int32_t>(triangles->size());
+        triangles->push_back(pieces[i]);
+        const auto& p = pieces[i];
+        grid->add(sl, (*rest_m)[p[0]], (*rest_m)[p[1]], (*rest_m)[p[2]]);
+      }
+      slots->push_back(sl);
+    }
+  };
+  std::vector<std::array<int32_t, 3>> pieces;
+  std::vector<int32_t> slots;
+  for (const Work& w : work) {
+    const auto& tri = w.tri;
     const EdgeCut* e[3];
     int n = 0;
     for (int k = 0; k < 3; ++k) {
@@ -81,17 +126,18 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       e[k] = it == cuts.end() ? nullptr : &it->second;
       n += e[k] ? 1 : 0;
     }
-    if (n == 0) {
-      out.push_back(tri);
-    } else if (n == 1) {
+    pieces.clear();
+    if (n == 0) continue;  // a near triangle the sweep missed (a reopened tip always has its crossing)
+    if (n == 1) {
       // rotate so the crossed edge is a -> b; the opening runs from the crossing to the far corner c
       int k = 0;
       while (!e[k]) ++k;
       const int32_t a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
-      tip_halves.push_back({a, e[k]->side_of(a), c});
-      tip_halves.push_back({e[k]->side_of(b), b, c});
+      pieces.push_back({a, e[k]->side_of(a), c});
+      pieces.push_back({e[k]->side_of(b), b, c});
+      place(w, pieces, &slots);
       const int32_t lo = std::min(a, b), hi = std::max(a, b);
-      tips->push_back({tri, lo, hi, e[k]->side_of(lo), e[k]->side_of(hi)});
+      kept.push_back({tri, lo, hi, e[k]->side_of(lo), e[k]->side_of(hi), {slots[0], slots[1]}});
       ++rep.tris_one_cut;
     } else if (n == 2) {
       // rotate so the uncrossed edge is a -> b: b -> c crossed at q, c -> a at r; c alone on its side
@@ -100,29 +146,30 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       const int32_t a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
       const EdgeCut& q = *e[(k + 1) % 3];
       const EdgeCut& r = *e[(k + 2) % 3];
-      out.push_back({q.side_of(c), c, r.side_of(c)});
+      pieces.push_back({q.side_of(c), c, r.side_of(c)});
       const int32_t qb = q.side_of(b), ra = r.side_of(a);
       // the quad a, b, q, r split along its shorter diagonal
       if (((*rest_m)[a] - (*rest_m)[qb]).squaredNorm() <= ((*rest_m)[b] - (*rest_m)[ra]).squaredNorm()) {
-        out.push_back({a, b, qb});
-        out.push_back({a, qb, ra});
+        pieces.push_back({a, b, qb});
+        pieces.push_back({a, qb, ra});
       } else {
-        out.push_back({a, b, ra});
-        out.push_back({b, qb, ra});
+        pieces.push_back({a, b, ra});
+        pieces.push_back({b, qb, ra});
       }
+      place(w, pieces, &slots);
       ++rep.tris_two_cut;
     } else {
       const int32_t a = tri[0], b = tri[1], c = tri[2];
-      out.push_back({a, e[0]->side_of(a), e[2]->side_of(a)});
-      out.push_back({e[0]->side_of(b), b, e[1]->side_of(b)});
-      out.push_back({e[1]->side_of(c), c, e[2]->side_of(c)});
+      pieces.push_back({a, e[0]->side_of(a), e[2]->side_of(a)});
+      pieces.push_back({e[0]->side_of(b), b, e[1]->side_of(b)});
+      pieces.push_back({e[1]->side_of(c), c, e[2]->side_of(c)});
+      place(w, pieces, &slots);
       ++rep.tris_three_cut;
     }
   }
-  out.insert(out.end(), tip_halves.begin(), tip_halves.end());
-  rep.triangles_added = static_cast<int>(out.size()) - static_cast<int>(count_before);
+  *tips = std::move(kept);
+  rep.triangles_added = static_cast<int>(triangles->size()) - static_cast<int>(count_before);
   rep.vertices_added = 2 * rep.edges_cut;
-  *triangles = std::move(out);
   return rep;
 }
 

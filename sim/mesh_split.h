@@ -10,6 +10,7 @@
 
 #include "core/types.h"
 #include "sim/cut.h"
+#include "sim/triangle_grid.h"
 
 namespace palpate {
 
@@ -21,12 +22,13 @@ struct SplitVertex {
 };
 
 /// A triangle the cut entered through one edge only (its crack tip): kept as two triangles opening from the
-/// crossing to the far corner, and split again from its original shape when a later sweep crosses another edge,
-/// so a cut made over many frames separates as one made at once. Plain data.
+/// crossing to the far corner, and split again from its original shape when a later sweep reaches it, so a cut
+/// made over many frames separates as one made at once. Plain data.
 struct TipTriangle {
   std::array<int32_t, 3> tri{};       ///< the original triangle
   int32_t edge_lo = 0, edge_hi = 0;   ///< its crossed edge (lower, higher vertex id)
   int32_t copy_lo = 0, copy_hi = 0;   ///< the crossing's vertex on the side of edge_lo / edge_hi
+  std::array<int32_t, 2> slot{};      ///< where its two halves are in the triangle list
 };
 
 /// What one split did. The split formula: triangles_added = tris_one_cut + 2 (tris_two_cut + tris_three_cut)
@@ -38,6 +40,7 @@ struct MeshSplitReport {
   int tris_two_cut = 0;     ///< triangles crossed through: 1 -> 3 (a corner triangle and a quad)
   int tris_three_cut = 0;   ///< triangles with all edges crossed: 1 -> 3 corner triangles (the middle is removed)
   int triangles_added = 0;  ///< growth of the triangle count
+  int triangles_tested = 0; ///< triangles near the sweep whose edges were tested (the split's work)
   int vertices_added = 0;   ///< growth of the vertex count
 };
 
@@ -47,11 +50,12 @@ inline constexpr double kSplitEdgeEps = 1e-3;
 
 /// Splits *triangles along the quads (rest coordinates), testing edges at the rest positions *rest_m; new vertices are
 /// appended to *rest_m and *current_m (interpolated at the crossing) and listed in *created (cleared first) in
-/// the same order. Winding is kept. *tips (in/out) lists the crack-tip triangles, whose two halves are the last
-/// 2 * tips->size() triangles of *triangles. Returns what it did.
+/// the same order. Winding is kept. Only the triangles *grid finds near the quads are visited: a split triangle's
+/// first piece takes its place, the others are appended (and registered in *grid). *tips (in/out) lists the
+/// crack-tip triangles and where their halves are. Cost: the triangles in the cubes the quads overlap, not the mesh.
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
                            std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
-                           std::vector<TipTriangle>* tips);
+                           std::vector<TipTriangle>* tips, TriangleGrid* grid);
 
 /// The first problem that makes this not a valid triangle mesh, or "" when there is none: an index out of range,
 /// a repeated index, a triangle of (near) zero area, two triangles on the same three vertices, or a directed edge

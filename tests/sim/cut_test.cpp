@@ -10,6 +10,7 @@
 #include "core/binding.h"
 #include "sim/cut_model.h"
 #include "sim/integrator.h"
+#include "sim/piece_contact.h"
 #include "sim_test_util.h"
 
 namespace palpate {
@@ -117,14 +118,14 @@ TEST(Cut, CuttingABlockInTwoLeavesTwoConsistentPieces) {
     EXPECT_EQ(b.lat.rest_m[s.a].x() < 0.003, b.lat.rest_m[s.b].x() < 0.003);
     EXPECT_FALSE(segment_crosses_quad(b.lat.x_m[s.a], b.lat.x_m[s.b], quads[0]));
   }
-  // two pieces of triangles, each on one side (new rim vertices lie on the plane)
+  // two pieces of triangles, each on one side (new rim vertices lie on the plane, moved off it by the offset)
   std::vector<int32_t> tri_label;
   ASSERT_EQ(triangle_components(b.vertices.size(), b.cut.triangles(), &tri_label), 2);
   std::array<std::set<bool>, 2> sides;
   for (std::size_t t = 0; t < tri_label.size(); ++t)
     for (int32_t v : b.cut.triangles()[t]) {
       const double x = b.cut.rest_vertices_m()[v].x();
-      if (std::abs(x - 0.003) > 1e-12) sides[tri_label[t]].insert(x < 0.003);
+      if (std::abs(x - 0.003) > kBladeOffsetCells * b.lat.cell_m + 1e-12) sides[tri_label[t]].insert(x < 0.003);
     }
   EXPECT_EQ(sides[0].size(), 1u);
   EXPECT_EQ(sides[1].size(), 1u);
@@ -278,7 +279,9 @@ TEST(Cut, CutAlongAnExistingCutAndACrossingCutStayValid) {
   EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
   std::vector<int32_t> label;
   EXPECT_EQ(spring_components(b.lat, &label), 4);
-  EXPECT_EQ(triangle_components(b.vertices.size(), b.cut.triangles()), 4);
+  // the cut beside the first shaves a 0.1 mm strip off the +x face of the first one, itself cut in two by the
+  // crossing one: four pieces and two strips
+  EXPECT_EQ(triangle_components(b.vertices.size(), b.cut.triangles()), 6);
 }
 
 TEST(Cut, APieceCutFreeFallsToTheFloorWithoutNaN) {
@@ -373,6 +376,113 @@ TEST(Cut, WorldPointsMapToRestThroughADeformedLattice) {
   quads_to_rest(b.lat, b.box.grid, {plane_x(0.003)}, &last, &rest);
   EXPECT_EQ(rest.size(), 6u);  // a 12 cm blade edge in 2 cm cells
   EXPECT_EQ(last.pieces, 6);
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+// A blade along a row of mesh vertices and lattice nodes (the plane x = 0 holds a column of each): before the
+// quads were moved off their plane, no edge was split (every crossing at an end) and the nodes on it lost their
+// springs on both sides. Now the mesh and the lattice each come apart in two, every vertex of the row on one side.
+TEST(Cut, ABladeAlongARowOfVerticesAndNodesStillSplits) {
+  Block b;
+  int on_plane_v = 0, on_plane_n = 0;
+  for (const Vec3& v : b.box.mesh.vertices_m) on_plane_v += std::abs(v.x()) < 1e-12;
+  for (const Vec3& r : b.lat.rest_m) on_plane_n += std::abs(r.x()) < 1e-12;
+  ASSERT_GT(on_plane_v, 20);
+  ASSERT_GT(on_plane_n, 20);
+  const CutReport rep = b.cut.apply_quads({plane_x(0.0)}, &b.lat, &b.vertices);
+  EXPECT_GT(rep.split.triangles_added, 0);
+  std::vector<int32_t> label;
+  EXPECT_EQ(spring_components(b.lat, &label), 2);
+  EXPECT_EQ(triangle_components(b.vertices.size(), b.cut.triangles()), 2);
+  EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
+  // no node lost every spring (a node alone would fall away and drag its vertices into spikes)
+  std::vector<int> springs_of(b.lat.num_nodes(), 0);
+  for (const Spring& s : b.lat.springs) ++springs_of[s.a], ++springs_of[s.b];
+  for (std::size_t i = 0; i < springs_of.size(); ++i) EXPECT_GT(springs_of[i], 0) << "node " << i;
+}
+
+// A split visits only the triangles near the sweep: a short cut into a corner of a fine mesh leaves the triangles
+// away from it untouched (same index, same vertices) and adds at most two triangles per crossed one.
+TEST(Cut, ASplitTouchesOnlyTheTrianglesNearTheSweep) {
+  Block b;
+  const auto before = b.cut.triangles();
+  const CutReport rep = b.cut.apply_quads({plane_x(0.013, 0.02, 0.06)}, &b.lat, &b.vertices);
+  const int crossed = rep.split.tris_one_cut + rep.split.tris_two_cut + rep.split.tris_three_cut;
+  ASSERT_GT(crossed, 0);
+  EXPECT_LE(rep.split.triangles_added, 2 * crossed);
+  EXPECT_LT(rep.split.triangles_tested, static_cast<int>(before.size()) / 4);
+  int changed = 0;
+  for (std::size_t t = 0; t < before.size(); ++t) changed += b.cut.triangles()[t] != before[t];
+  EXPECT_EQ(changed, crossed);
+  EXPECT_EQ(mesh_problem(b.cut.rest_vertices_m(), b.cut.triangles()), "");
+}
+
+// Under a split budget a stroke is cut over several applies, and ends as the same cut made at once.
+TEST(Cut, ASplitBudgetSpreadsAStrokeOverAppliesAndEndsAtTheSameMesh) {
+  Block whole, spread;
+  spread.cut.set_max_split_triangles_per_apply(20);
+  for (Block* b : {&whole, &spread})
+    for (int i = 0; i <= 120; ++i) b->cut.add_sample({0.003, -0.06 + 0.001 * i, -0.06}, Vec3::UnitZ(), true);
+  whole.cut.apply(&whole.lat, &whole.vertices);
+  int applies = 0;
+  spread.cut.apply(&spread.lat, &spread.vertices);
+  while (spread.cut.has_work()) {
+    spread.cut.apply(&spread.lat, &spread.vertices);
+    ++applies;
+  }
+  EXPECT_GT(applies, 2);
+  EXPECT_EQ(spread.cut.triangles().size(), whole.cut.triangles().size());
+  EXPECT_EQ(spread.lat.springs.size(), whole.lat.springs.size());
+  EXPECT_EQ(triangle_components(spread.vertices.size(), spread.cut.triangles()), 2);
+  EXPECT_EQ(mesh_problem(spread.cut.rest_vertices_m(), spread.cut.triangles()), "");
+}
+
+// A piece cut free falls onto the body, not through it: the top of the block, cut off along a slope, slides and
+// rests on the body's cells: its surface stays within a cell of the body's top. Without the contact it falls to the floor.
+TEST(Cut, APieceCutFreeRestsOnTheBodyAndNeverPassesThroughIt) {
+  for (const bool contact : {true, false}) {
+    Block b;
+    b.spec.fix_floor = true;
+    b.spec.gravity_m_per_s2 = Vec3(0, 0, -9.81);
+    b.lat = build_lattice(b.box.grid, b.spec, region_cells(b.box.grid, kLevel, {1, 1, 1}, 8)).value();
+    const BladeQuad slope{{-0.06, -0.06, 0.005}, {0.06, -0.06, 0.015}, {-0.06, 0.06, 0.005}, {0.06, 0.06, 0.015}};
+    b.cut.apply_quads({slope}, &b.lat, &b.vertices);
+    PieceContact pc;
+    pc.update(b.lat, b.box.grid);
+    ASSERT_GT(pc.free_nodes().size(), 0u);
+    IntegratorWorkspace ws;
+    const double floor_z = -kSide_m / 2;
+    double lowest_mean = 1.0;  // the lowest the piece's nodes' mean height came
+    for (int f = 0; f < 120; ++f) {
+      step_lattice(&b.lat, IntegratorKind::kSymplecticEuler, 1.0 / 60.0, 256, {}, &ws);
+      apply_floor(&b.lat, floor_z);
+      if (contact) pc.apply(&b.lat, b.box.grid);
+      double mean = 0.0;
+      for (int32_t n : pc.free_nodes()) mean += b.lat.x_m[n].z();
+      lowest_mean = std::min(lowest_mean, mean / static_cast<double>(pc.free_nodes().size()));
+    }
+    if (!contact) {
+      EXPECT_LT(lowest_mean, floor_z + 0.015);  // the measure can fail: without contact the piece drops through
+      continue;
+    }
+    // the piece's nodes start 2 and 4 cm above the body's top node plane (z = 0); landing on the soft body they
+    // sink into it less than a cell on average (measured: 9 mm at worst, in the bounce), never through it
+    EXPECT_GT(lowest_mean, -b.lat.cell_m);
+    b.cut.deform(b.lat, &b.vertices);
+    std::vector<int32_t> label;
+    triangle_components(b.vertices.size(), b.cut.triangles(), &label);
+    for (std::size_t t = 0; t < label.size(); ++t)
+      for (int32_t v : b.cut.triangles()[t]) ASSERT_TRUE(b.vertices[v].allFinite());
+    double lowest_v = 1.0;
+    for (std::size_t v = 0; v < b.vertices.size(); ++v)
+      if (b.cut.rest_vertices_m()[v].z() > 0.016) lowest_v = std::min(lowest_v, b.vertices[v].z());
+    EXPECT_GT(lowest_v, 0.0 - b.lat.cell_m);
+  }
 }
 
 }  // namespace

@@ -9,12 +9,14 @@ namespace palpate {
 
 CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
     : scene_(scene),
+      grid_(model.grid),
       stats_(stats),
       cut_(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m) {
   // one lattice over every solid cell: a region centred in the grid reaching all of it
   const int level = scene.lattice.level;
   const int n = model.grid.cells_per_axis(level);
   auto lat = build_lattice(model.grid, scene.lattice, region_cells(model.grid, level, {n / 2, n / 2, n / 2}, n));
+  cut_.set_max_split_triangles_per_apply(kSplitTrianglesPerFrame);
   if (!lat) return;
   lattice_ = std::move(lat).value();
   floor_z_m_ = lattice_->rest_m.front().z();
@@ -32,7 +34,7 @@ void CutRegion::add_sample(const HapticSample& s) {
 
 bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   cutting_ = false;
-  if (!lattice_ || (cut_.pending().empty() && cut_.deferred_springs() == 0)) return false;
+  if (!lattice_ || !cut_.has_work()) return false;
   const CutReport rep = cut_.apply(&*lattice_, mesh.vertices_m);
   cutting_ = true;
   ++stats_->frames_cutting;
@@ -43,7 +45,10 @@ bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   stats_->triangles_added += rep.split.triangles_added;
   stats_->vertices_added += rep.split.vertices_added;
   stats_->lattice_vertices = std::max(stats_->lattice_vertices, cut_.rest_vertices_m().size());
-  if (rep.springs_cut > 0) stats_->free_nodes = free_nodes(*lattice_);
+  if (rep.springs_cut > 0) {
+    contact_.update(*lattice_, grid_);
+    stats_->free_nodes = static_cast<int64_t>(contact_.free_nodes().size());
+  }
   if (!rep.changed()) return false;
   mesh.normals->clear();
   return true;
@@ -61,7 +66,10 @@ bool CutRegion::follow(const Vec3& p_rest_m, const DeformedMesh& mesh) {
   return false;
 }
 
-void CutRegion::after_step() { apply_floor(&*lattice_, floor_z_m_); }
+void CutRegion::after_step() {
+  apply_floor(&*lattice_, floor_z_m_);
+  contact_.apply(&*lattice_, grid_);
+}
 
 void CutRegion::deform(std::vector<Vec3>* vertices_m) const { cut_.deform(*lattice_, vertices_m); }
 

@@ -1,15 +1,20 @@
 #pragma once
 /// CutRegion (cut): one lattice over every solid cell of the object, built with the region and never moved (the
-/// blade may go anywhere and cuts must persist). The blade's sweeps cut its springs and split the mesh; pieces
-/// cut free fall onto a floor at the lowest node plane.
+/// blade may go anywhere and cuts must persist). The blade's sweeps cut its springs and split the mesh, at most
+/// kSplitTrianglesPerFrame triangles near the sweep a frame (the rest of a long stroke on the frames after);
+/// pieces cut free fall onto the body (sim/piece_contact.h) or a floor at the lowest node plane.
 
 #include <cstdint>
 #include <vector>
 
 #include "sim/cut_model.h"
+#include "sim/piece_contact.h"
 #include "tools/session/region_policy.h"
 
 namespace palpate {
+
+/// Triangles near the blade's sweep a frame's mesh split visits at most (CutModel::set_max_split_triangles_per_apply).
+inline constexpr int kSplitTrianglesPerFrame = 6000;
 
 /// The whole-object region. Its node count never changes: a cut removes springs, and the nodes of a piece cut
 /// free of every fixed node stay in the lattice (counted in FrameStats::free_nodes). Every vertex may move and
@@ -37,7 +42,7 @@ class CutRegion final : public RegionPolicy {
   bool place(const Vec3& p_m, const DeformedMesh& mesh) override;
   /// The whole-object lattice never follows the contact.
   bool follow(const Vec3& p_rest_m, const DeformedMesh& mesh) override;
-  /// Keeps pieces cut free on the floor.
+  /// Keeps pieces cut free on the floor and out of the body.
   void after_step() override;
   void deform(std::vector<Vec3>* vertices_m) const override;
   void update_normals(bool moved, const DeformedMesh& mesh) override;
@@ -54,7 +59,9 @@ class CutRegion final : public RegionPolicy {
 
  private:
   const Scene& scene_;
+  const GridHierarchy& grid_;
   FrameStats* stats_;
+  PieceContact contact_;     // pieces cut free against the body
   CutModel cut_;             // the cut mesh and side binding
   double floor_z_m_ = 0.0;   // lowest node plane
   bool cutting_ = false;     // this frame applied blade sweeps
