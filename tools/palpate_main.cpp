@@ -67,7 +67,7 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   if (opt.out_dir.empty()) opt.out_dir = (std::filesystem::path("out") / scene.value().name).string();
   if (want_video && opt.video_path.empty()) opt.video_path = (std::filesystem::path(opt.out_dir) / "recording.mp4").string();
   // the integrator's stability at the frame step, said once before starting
-  if (const std::string w = palpate::integrator_warning(scene.value().lattice, 1.0 / 60.0); !w.empty())
+  if (const std::string w = palpate::integrator_warning(scene.value().lattice, scene.value().rates.frame_period_s()); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   if (const std::string w = palpate::material_warning(scene.value()); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
@@ -114,7 +114,7 @@ int run_record(const std::string& scene_path, palpate::RecordOptions opt, const 
   }
   auto& r = res.value();
   if (video_after && r.frames_written > 0) {
-    auto made = palpate::make_recording_video(opt.out_dir, video_after_path, 60);
+    auto made = palpate::make_recording_video(opt.out_dir, video_after_path, scene.value().rates.video_fps());
     nlohmann::json v;
     if (made) {
       r.video_path = made.value().path;
@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
   rec->add_option("--mode", mode, "lockstep (reproducible, default of scenes) or realtime (wall clock)")
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   rec->add_option("--duration", opt.duration_s, "Scene seconds to record (overrides the scene)")
-      ->check(palpate::finite_range(1.0 / 60.0, 3600.0));
+      ->check(palpate::finite_range(palpate::Rates{}.frame_period_s(), 3600.0));
   rec->add_flag("--quiet,-q", opt.quiet, "No progress line");
   rec->add_flag("--no-render", no_render, "Simulate and log only: no GL, no frames");
   rec->add_flag("--full-redraw", full_redraw,
@@ -198,7 +198,7 @@ int main(int argc, char** argv) {
   rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
       ->check(CLI::Range(0, 99));
   rec->add_option("--servo-rate", opt.servo_rate_hz,
-                  "Servo rate in Hz (lockstep: ticks per scene-second; default: the scene's servo.rate_hz, 1000); "
+                  "Servo rate in Hz (lockstep: ticks per scene-second; default: the scene's servo.rate_hz); "
                   "device, servo period, passivity guard and the coupling's passivity bound 2b/T follow it")
       ->check(palpate::finite_range(palpate::kMinServoRate_hz, palpate::kMaxServoRate_hz));
 
@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
 
   auto* vid = app.add_subcommand("video", "Make the MP4 (H.264, yuv420p) of a recording from its frames/frame_*.png");
   std::string vid_folder, vid_out;
-  int vid_fps = 60;
+  int vid_fps = palpate::Rates{}.video_fps();
   vid->add_option("folder", vid_folder, "Recording folder (holds frames/ and summary.json)")->required();
   vid->add_option("--out,-o", vid_out, "MP4 to write (default: FOLDER/recording.mp4)");
   vid->add_option("--fps", vid_fps, "Frames per second")->check(CLI::Range(1, 1000))->capture_default_str();
@@ -260,7 +260,8 @@ int main(int argc, char** argv) {
   auto* bloop = bench->add_subcommand("loop", "Servo loop timing alone or beside the sim / record pipeline");
   palpate::BenchLoopOptions lo;
   bloop->add_option("--scene", lo.scene, "Scene whose device, model and pipeline are used")->capture_default_str();
-  bloop->add_option("--rate", lo.rate_hz, "Servo rate in Hz")->check(palpate::finite_range(100.0, 50000.0))->capture_default_str();
+  bloop->add_option("--rate", lo.rate_hz, "Servo rate in Hz (default: the scene's servo.rate_hz)")
+      ->check(palpate::finite_range(100.0, 50000.0));
   bloop->add_option("--seconds", lo.seconds, "Seconds per run")->check(palpate::finite_range(0.1, 3600.0))->capture_default_str();
   bloop->add_option("--load", lo.load, "none | sim | record")->check(CLI::IsMember({"none", "sim", "record"}))
       ->capture_default_str();
@@ -279,7 +280,7 @@ int main(int argc, char** argv) {
   bloop->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log-log) with gnuplot: FILE.png, "
                   "its data FILE.dat and script FILE.gp");
 
-  auto* bforce = bench->add_subcommand("force", "Force between sim frames against a 1 kHz reference (per force model)");
+  auto* bforce = bench->add_subcommand("force", "Force between sim frames against a reference stepped at the servo rate (per force model)");
   palpate::BenchForceOptions fo;
   bforce->add_option("scenes", fo.scenes, "Scenes to replay in lockstep")->capture_default_str();
   bforce->add_option("--json", fo.json_path, "Write the figures as JSON");
@@ -301,7 +302,7 @@ int main(int argc, char** argv) {
   bsim->add_option("--ref-substeps", so.reference_substeps, "RK4 substeps per frame of the reference")
       ->check(CLI::Range(2, palpate::kMaxSubsteps))->capture_default_str();
   bsim->add_option("--duration", so.duration_s, "Scene seconds to replay (overrides the scene)")
-      ->check(palpate::finite_range(1.0 / 60.0, 3600.0));
+      ->check(palpate::finite_range(palpate::Rates{}.frame_period_s(), 3600.0));
   bsim->add_option("--box", so.box_cells, "Box lattices of N cells per axis (powers of two) instead of the replay, "
                    "e.g. 4,8,16 = 125, 729, 4913 nodes")->delimiter(',')->check(CLI::Range(1, 128));
   bsim->add_flag("--quiet,-q", so.quiet, "No progress lines");
@@ -315,7 +316,7 @@ int main(int argc, char** argv) {
                      "Largest midpoint subdivision (bunny: 0 = 3.7k, 1 = 14.7k, 2 = 58.8k, 3 = 235k, 4 = 940k triangles)")
       ->check(CLI::Range(0, 5))->capture_default_str();
   bscale->add_option("--duration", sco.duration_s, "Scene seconds to record (overrides the scene)")
-      ->check(palpate::finite_range(1.0 / 60.0, 3600.0));
+      ->check(palpate::finite_range(palpate::Rates{}.frame_period_s(), 3600.0));
   bscale->add_flag("!--no-full", sco.full_redraw, "Skip the full-redraw runs beside the cached-layer ones");
   bscale->add_option("--json", sco.json_path, "Write the rows as JSON");
   bscale->add_option("--plot", sco.plot_path, "Plot ms per frame against triangles (log-log) with gnuplot: "

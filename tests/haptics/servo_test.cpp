@@ -185,7 +185,8 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     ServoParams p;
     p.mode = mode;
     p.tool_radius_m = radius;
-    Servo servo(p, &dev, &q, tb.get());
+    const Rates rates;  // 1 kHz
+    Servo servo(p, rates, &dev, &q, tb.get());
     HapticSample sink;
     int64_t allocs = 0;
     {

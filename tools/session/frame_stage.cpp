@@ -31,26 +31,20 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
       vertices_m_(model.rest.vertices_m) {
   latest_.tool_pos_m = scene.trajectory.front().pos_m;
   latest_.proxy_pos_m = latest_.tool_pos_m;
-  stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
+  stats_.sim_ms.reserve(static_cast<std::size_t>(scene.rates.frames(scene.duration_s)) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
   stats_.profile.reserve(stats_.sim_ms.capacity());
   region_ = make_region_policy(scene, model, &stats_);
   if (region_->lattice()) region_changed();
   // a lattice built up front gets its solver's factorisation too, before the first frame's deadline (the same
   // one the first step would make)
-  if (region_->prepared_ahead() && region_->lattice()) prepare_step(*region_->mutable_lattice(), step_opts_, step_dt_s_, &ws_);
+  if (region_->prepared_ahead() && region_->lattice())
+    prepare_step(*region_->mutable_lattice(), step_opts_, scene.rates.frame_period_s(), &ws_);
   // a mesh finer than the image is drawn clustered to about a pixel's edge (render.lod_min_edge_px); not in cut
   // mode, whose blade changes the triangles on every frame it cuts
   if (renderer_ && scene.mode != InteractionMode::kCut)
     lod_ = screen_lod(model.rest.vertices_m, region_->triangles(),
                       [r = renderer_](const Vec3& p) { return r->project(p); }, scene.render.lod_min_edge_px);
-}
-
-void FrameStage::set_step_dt(double dt_s) {
-  const bool changed = dt_s != step_dt_s_;
-  step_dt_s_ = dt_s;
-  if (changed && region_->prepared_ahead() && region_->lattice())
-    prepare_step(*region_->mutable_lattice(), step_opts_, step_dt_s_, &ws_);
 }
 
 void FrameStage::use_budget(BudgetClock* clock) {
@@ -122,10 +116,10 @@ bool FrameStage::step_lattice_frame() {
   const double c0 = cpu_clock_.now_ms();
   // the solver's matrix first (what the step would do first anyway; the rungs differ only in iterations), so the
   // budget knows what the frame has spent before choosing the iterations, and the profile tells the two apart
-  prepare_step(lat, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, &ws_);
+  prepare_step(lat, frame_opts_ ? *frame_opts_ : step_opts_, scene_.rates.frame_period_s(), &ws_);
   lap(FramePart::kFactor);
   const StepOptions& opts = budget_ ? budget_->step_begin() : step_opts_;
-  const StepReport rep = step_lattice(&lat, opts, step_dt_s_, f_ext_N_, &ws_);
+  const StepReport rep = step_lattice(&lat, opts, scene_.rates.frame_period_s(), f_ext_N_, &ws_);
   if (budget_) budget_->step_end();
   stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
@@ -350,9 +344,9 @@ void FrameStage::warm_up() {
     Lattice copy = *region_->lattice();
     const std::vector<Vec3> none;
     const StepOptions& opts = budget_->ladder().front().opts;
-    prepare_step(copy, opts, step_dt_s_, &ws_);
+    prepare_step(copy, opts, scene_.rates.frame_period_s(), &ws_);
     const double t0 = budget_->clock()->now_ms();
-    step_lattice(&copy, opts, step_dt_s_, none, &ws_);
+    step_lattice(&copy, opts, scene_.rates.frame_period_s(), none, &ws_);
     budget_->seed_step(0, budget_->clock()->now_ms() - t0);
   }
   if (!renderer_) return;

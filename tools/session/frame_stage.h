@@ -1,5 +1,5 @@
 #pragma once
-/// FrameStage: the 60 Hz work — drain servo samples, load and step the lattice, deform the mesh,
+/// FrameStage: the per-frame work (scene.rates.frame_hz) — drain servo samples, load and step the lattice, deform the mesh,
 /// publish the surface patch for the servo, render and queue the PNG.
 
 #include <chrono>
@@ -50,8 +50,6 @@ class FrameStage {
   /// Also publishes every frame's pixels, samples and figures to a live view (may be null; must outlive the
   /// stage); it never waits for the view's readers.
   void set_live(LiveFeed* live) { live_ = live; }
-  /// Sets the lattice step per frame (default 1/60 s; a reference run steps at the servo rate).
-  void set_step_dt(double dt_s);
   /// Keeps the scene's lattice.budget_ms with the frame's sim cost read from `clock` (must outlive the stage):
   /// each frame steps at the most accurate setting of the ladder predicted to hold the budget. No effect when
   /// the scene sets no budget or its integrator has nothing to trade.
@@ -149,7 +147,6 @@ class FrameStage {
   bool compliance_next_frame_ = false;  // the region was placed or moved this frame: no contact model until the next
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
   double t_s_ = 0.0;                 // scene time of the current frame
-  double step_dt_s_ = 1.0 / 60.0;    // lattice step per frame
   HapticSample latest_;              // newest sample drained
   HapticSample contact_;             // newest sample in contact this frame
   bool contact_this_frame_ = false;

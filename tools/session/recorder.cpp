@@ -105,10 +105,9 @@ class Progress {
 // Everything a recording opens before it runs, inputs first: a bad mesh, device or video path leaves no output
 // folder behind. Not movable (the log); filled in place by open_recording.
 struct Recording {
-  Scene scene;                     // with the command line's duration and the keyframes resolved
+  Scene scene;                     // with the command line's duration and servo rate, the keyframes resolved
   bool lockstep = true;
   bool rate_given = false;         // --servo-rate, else the scene's servo.rate_hz
-  Rates rates;
   double startup_s = 0.0;          // loading the model
   std::optional<Model> model;
   std::unique_ptr<Device> device;
@@ -125,6 +124,9 @@ Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording
   rec->scene = scene_in;
   Scene& scene = rec->scene;
   if (opt.duration_s > 0.0) scene.duration_s = opt.duration_s;
+  // the one place the command line's rate is applied: everything else reads scene.rates
+  rec->rate_given = opt.servo_rate_hz > 0.0;
+  if (rec->rate_given) scene.rates.servo_hz = opt.servo_rate_hz;
   rec->lockstep = (opt.override_mode ? opt.mode : scene.run_mode) == RunMode::kLockstep;
 
   // inputs first: a bad mesh leaves no output folder behind
@@ -137,9 +139,7 @@ Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
-  rec->rate_given = opt.servo_rate_hz > 0.0;
-  rec->rates = Rates{rec->rate_given ? opt.servo_rate_hz : scene.servo_rate_hz, kDefaultFrameRate_hz};
-  auto device_r = make_device(scene, opt.device, rec->rates.servo_hz);
+  auto device_r = make_device(scene, opt.device);
   if (!device_r) return device_r.error();
   rec->device = std::move(device_r).value();
   // an explicit video path that can never be written fails before any output exists
@@ -166,7 +166,7 @@ Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording
     rec->writer = std::make_unique<PngWriter>(rec->frames_dir, scene.render.width, scene.render.height, 6, rec->png);
   }
   auto video_r = open_recording_video(opt.render ? opt.video_path : "", opt.video_optional, scene.render.width,
-                                      scene.render.height, static_cast<int>(std::lround(rec->rates.frame_hz)));
+                                      scene.render.height, scene.rates.video_fps());
   if (!video_r) return video_r.error();
   rec->video = std::move(video_r).value();
 
@@ -194,12 +194,11 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
   std::string mem_refused;
   const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);
   ServoRunnerConfig cfg;
-  cfg.rate_hz = rates.servo_hz;
   cfg.spin_us = opt.spin_us >= 0 ? opt.spin_us : ServoRunnerConfig::kAdaptiveSpin;
   cfg.rt.fifo_priority = opt.fifo_priority;
   cfg.rt.cpu = opt.servo_cpu;
   cfg.max_ticks = rates.ticks(duration_s);  // the servo ends on time by itself
-  ServoRunner runner(&session.servo(), cfg);
+  ServoRunner runner(&session.servo(), rates, cfg);
   // the renderer's one-time set-up before the clock starts, not in frame 0's period (it made frame 1 late)
   session.warm_up();
   const int64_t t0_ns = monotonic_ns() + 5'000'000;
@@ -325,7 +324,7 @@ Result<RecordResult> record_scene(const Scene& scene, const RecordOptions& opt) 
   auto rec = std::make_unique<Recording>();
   if (auto st = open_recording(scene, opt, rec.get()); !st) return st.error();
   const SessionOutputs outputs{rec->renderer.get(), rec->writer.get(), &rec->log, rec->video.writer.get(), opt.live};
-  Session session(rec->scene, *rec->model, rec->rates, rec->device.get(), outputs);
+  Session session(rec->scene, *rec->model, rec->device.get(), outputs);
   Progress progress(opt.quiet, rec->scene.name, rec->scene.duration_s);
   const auto wall0 = std::chrono::steady_clock::now();
   const RunFigures run = rec->lockstep ? drive_lockstep(session, rec->scene.duration_s, progress)

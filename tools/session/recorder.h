@@ -14,8 +14,6 @@ namespace palpate {
 
 class LiveFeed;
 
-/// Sim/render frames per (scene-)second.
-inline constexpr double kDefaultFrameRate_hz = 60.0;
 /// PNG encoder threads of a lockstep recording (realtime recordings use one).
 inline constexpr int kLockstepPngThreads = 2;
 
