@@ -8,6 +8,7 @@
 #include "haptics/cpu_steal.h"
 #include "sim/deformer.h"
 #include "sim/rest.h"
+#include "tools/session/region_policy_factory.h"
 
 namespace palpate {
 namespace {
@@ -22,6 +23,7 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
                        TripleBuffer<LocalModel>* local_model, Renderer* renderer, PngWriter* writer, HapticLog* log)
     : scene_(scene),
       model_(model),
+      rest_{&model.rest, &model.grid, &model.bindings},
       samples_(samples),
       local_model_(local_model),
       renderer_(renderer),
@@ -81,12 +83,10 @@ void FrameStage::region_changed() {
 
 void FrameStage::place_region() {
   // a sphere's centre is outside the surface: the region is built around the surface point under it
-  Vec3 at = contact_.proxy_pos_m;
-  if (scene_.device.sphere_tool) {
-    const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-    at.setZero();
-    for (int c = 0; c < 3; ++c) at += contact_.contact_bary[c] * vertices_m_[tri[c]];
-  }
+  const Vec3 at = scene_.device.sphere_tool
+                      ? surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)],
+                                      contact_.contact_bary)
+                      : contact_.proxy_pos_m;
   if (region_->place(at, {&vertices_m_, &normals_})) {
     region_changed();
     compliance_next_frame_ = true;
@@ -96,9 +96,8 @@ void FrameStage::place_region() {
 void FrameStage::follow_contact() {
   if (!contact_this_frame_ || contact_.contact_tri < 0) return;
   // the material point under the contact, at rest: its cell is where the contact force goes
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-  Vec3 p = Vec3::Zero();
-  for (int c = 0; c < 3; ++c) p += contact_.contact_bary[c] * model_.rest.vertices_m[tri[c]];
+  const Vec3 p = surface_point(model_.rest.vertices_m,
+                               model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)], contact_.contact_bary);
   if (region_->follow(p, {&vertices_m_, &normals_})) {
     region_changed();
     compliance_next_frame_ = true;
@@ -141,91 +140,14 @@ bool FrameStage::step_lattice_frame() {
   return true;
 }
 
-PointWeights FrameStage::contact_weights(int32_t tri_id, const Vec3& bary) const {
-  const Lattice& lat = *region_->lattice();
-  PointWeights w;
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(tri_id)];
-  for (int c = 0; c < 3; ++c) {
-    const VertexBinding& b = model_.bindings[static_cast<std::size_t>(tri[c])];
-    const int32_t slot = lat.slot_of_cell[b.cell];
-    if (slot < 0) continue;
-    const auto tw = trilinear_weights(b.local);
-    for (int k = 0; k < 8; ++k) {
-      w.node[w.count] = lat.cell_nodes[slot][k];
-      w.weight[w.count] = bary[c] * tw[k];
-      ++w.count;
-    }
-  }
-  return w;
-}
-
-PointWeights FrameStage::patch_weights(const HapticSample& s) const {
-  const Lattice& lat = *region_->lattice();
-  const double radius = scene_.device.tool_radius_m;
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(s.contact_tri)];
-  const Vec3& a0 = model_.rest.vertices_m[tri[0]];
-  const Vec3& a1 = model_.rest.vertices_m[tri[1]];
-  const Vec3& a2 = model_.rest.vertices_m[tri[2]];
-  const Vec3 n = (a1 - a0).cross(a2 - a0).normalized();
-  PointWeights w;
-  if (!n.allFinite()) return w;
-  // the patch is centred under the sphere's centre (its foot on the contact face's rest plane), not on the
-  // servo's nearest surface point, which wanders over a patch the sphere has pressed into its own shape
-  const double height = (s.proxy_pos_m - a0).dot(n);
-  const Vec3 centre = s.proxy_pos_m - height * n;
-  // depth of the sphere's lowest point below the rest surface, and the contact radius it gives
-  const double depth = std::clamp(radius - height, 0.0, radius);
-  const double a = std::sqrt(radius * depth);
-  // the rings' orientation from a world axis, not the triangle: the same patch whichever triangle at a shared
-  // vertex or edge holds the contact point this frame
-  const Vec3 axis = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  const Vec3 t1 = (axis - axis.dot(n) * n).normalized(), t2 = n.cross(t1);
-  const int level = lat.level;
-  const double cell = lat.cell_m;
-  // a hair inside the surface, so a sample on a face that lies on a cell plane lands in the solid cell
-  const Vec3 in = -1e-3 * cell * n;
-  double total = 0.0;
-  auto sample = [&](const Vec3& p, double weight) {
-    const int32_t slot = lat.slot_of_cell[model_.grid.linear_index(model_.grid.cell_of(p, level), level)];
-    if (slot < 0 || !(weight > 0.0)) return;
-    const auto& nodes = lat.cell_nodes[static_cast<std::size_t>(slot)];
-    const Vec3 local = ((p - lat.rest_m[nodes[0]]) / cell).cwiseMax(0.0).cwiseMin(1.0);
-    const auto tw = trilinear_weights(local);
-    for (int k = 0; k < 8; ++k)
-      if (!w.add(nodes[k], weight * tw[k])) return;
-    total += weight;
-  };
-  // rings of samples, kRings annuli of equal width, each sample carrying pressure x its share of the area
-  constexpr int kRings = 6;
-  const double h = a / (kRings + 0.5);
-  sample(centre + in, 0.25 * h * h * 3.14159265358979323846);
-  for (int k = 1; k <= kRings && a > 0.0; ++k) {
-    const double rho = k * h;
-    const int count = 6 * k;
-    const double share = 2.0 * 3.14159265358979323846 * rho * h / count;
-    const double pressure = std::sqrt(std::max(0.0, 1.0 - rho * rho / (a * a)));
-    for (int j = 0; j < count; ++j) {
-      const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5 * (k % 2)) / count;
-      sample(centre + in + rho * (std::cos(phi) * t1 + std::sin(phi) * t2), share * pressure);
-    }
-  }
-  if (!(total > 0.0)) return contact_weights(s.contact_tri, s.contact_bary);
-  for (int i = 0; i < w.count; ++i) w.weight[i] /= total;
-  return w;
-}
-
-Vec3 FrameStage::object_force(const Vec3& reaction_N) const {
-  if (!scene_.device.sphere_tool || contact_.contact_tri < 0) return reaction_N;
-  // a frictionless sphere pushes along the normal of the face under it (at rest: the tilt of the deformed facets
-  // would swing a large sphere's centre sideways and back every frame)
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-  const Vec3& a0 = model_.rest.vertices_m[tri[0]];
-  const Vec3 n = (model_.rest.vertices_m[tri[1]] - a0).cross(model_.rest.vertices_m[tri[2]] - a0).normalized();
-  return n.allFinite() ? Vec3(n.dot(reaction_N) * n) : reaction_N;
-}
-
-PointWeights FrameStage::force_weights(const HapticSample& s) const {
-  return scene_.device.sphere_tool ? patch_weights(s) : contact_weights(s.contact_tri, s.contact_bary);
+ToolContact FrameStage::tool_contact(const HapticSample& s) const {
+  ToolContact c;
+  c.tri = s.contact_tri;
+  c.bary = s.contact_bary;
+  c.centre_m = s.proxy_pos_m;
+  c.sphere = scene_.device.sphere_tool;
+  c.radius_m = scene_.device.tool_radius_m;
+  return c;
 }
 
 int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
@@ -233,8 +155,9 @@ int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
   if (!contact_this_frame_ || frame_samples_ == 0) return 0;
   // the frame's mean device force, reacted on the material point P_s: -F spread over the cell nodes of the
   // contact triangle's vertices by barycentric and trilinear weights (a sphere tool: over its contact patch)
-  const Vec3 f_obj = object_force(-force_sum_N_ / static_cast<double>(frame_samples_));
-  const PointWeights w = force_weights(contact_);
+  const ToolContact c = tool_contact(contact_);
+  const Vec3 f_obj = object_force(rest_, c, -force_sum_N_ / static_cast<double>(frame_samples_));
+  const PointWeights w = contact_load_weights(*region_->lattice(), rest_, c);
   for (int i = 0; i < w.count; ++i) (*f_ext)[w.node[i]] += w.weight[i] * f_obj;
   int loaded = 0;
   for (const Vec3& f : *f_ext) loaded += f.squaredNorm() > 0.0 ? 1 : 0;
@@ -251,20 +174,17 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   }
   if (!region_->lattice() || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
   const Lattice& lat = *region_->lattice();
-  const PointWeights w = force_weights(latest_);
-  if (w.count == 0) return;
-  Mat3 c;
-  if (!compliance_.compute(lat, w, false, &c)) return;
-  Vec3 p = Vec3::Zero(), v = Vec3::Zero();
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)];
-  for (int k = 0; k < 3; ++k) p += latest_.contact_bary[k] * vertices_m_[tri[k]];
-  for (int i = 0; i < w.count; ++i) v += w.weight[i] * lat.v_m_per_s[w.node[i]];
+  const PointWeights w = contact_load_weights(lat, rest_, tool_contact(latest_));
+  const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)],
+                               latest_.contact_bary);
+  ContactResponse r;
+  if (!contact_response(lat, w, p, frame_force_obj_N_, &compliance_, &r)) return;
   m->has_contact_model = true;
-  m->contact_p0_m = p;
-  m->contact_v0_m_per_s = v;
-  m->contact_f0_N = frame_force_obj_N_;
-  m->compliance_m_per_N = c;
-  m->model_radius_m = lat.cell_m;
+  m->contact_p0_m = r.p0_m;
+  m->contact_v0_m_per_s = r.v0_m_per_s;
+  m->contact_f0_N = r.f0_N;
+  m->compliance_m_per_N = r.compliance_m_per_N;
+  m->model_radius_m = r.radius_m;
   ++stats_.contact_models;
 }
 
@@ -406,8 +326,9 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   if (!region_->lattice() && contact_this_frame_) place_region();
   profile_.springs_cut = static_cast<int>(stats_.springs_cut - cut_before);
   lap(FramePart::kCut);
-  frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? object_force(-force_sum_N_ / static_cast<double>(frame_samples_))
-                                                                  : Vec3::Zero();
+  frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0
+                           ? object_force(rest_, tool_contact(contact_), -force_sum_N_ / static_cast<double>(frame_samples_))
+                           : Vec3::Zero();
   bool moved = false;
   if (region_->lattice()) {
     follow_contact();

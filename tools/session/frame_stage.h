@@ -13,6 +13,8 @@
 #include "core/triple_buffer.h"
 #include "core/vertex_triangles.h"
 #include "sim/contact_compliance.h"
+#include "sim/contact_load.h"
+#include "sim/contact_response.h"
 #include "haptics/haptic_sample.h"
 #include "haptics/local_model.h"
 #include "render/gl_context.h"
@@ -96,20 +98,9 @@ class FrameStage {
   bool step_lattice_frame();
   // the frame's contact force on the lattice nodes; returns how many nodes it went to
   int apply_contact_force(std::vector<Vec3>* f_ext) const;
-  // lattice nodes and weights of the material point (tri, bary) (empty when it is outside the lattice)
-  PointWeights contact_weights(int32_t tri, const Vec3& bary) const;
-  // where the contact force of sample s goes: the point (tri, bary) for a point tool; for a sphere tool the
-  // nodes under its contact patch (see patch_weights)
-  PointWeights force_weights(const HapticSample& s) const;
-  // the force the object receives for the device's mean reaction: all of it for a point tool; for a sphere tool its
-  // component along the rest normal of the face under the sphere (frictionless contact)
-  Vec3 object_force(const Vec3& reaction_N) const;
-  // sphere tool: the contact patch under the sphere centred at s.proxy_pos_m, at rest: a disc of radius
-  // a = sqrt(R delta) (delta: how deep the sphere's lowest point is below the rest surface) around the material
-  // point under it, loaded with Hertz's pressure sqrt(1 - rho^2 / a^2), sampled on rings and spread to the
-  // nodes of the lattice cells holding the samples by trilinear weights
-  PointWeights patch_weights(const HapticSample& s) const;
-  // the object's linearised response at the current contact, for the servo between frames
+  // the contact of sample s as the contact load reads it (sim/contact_load.h), with the scene's tool
+  ToolContact tool_contact(const HapticSample& s) const;
+  // the object's linearised response at the current contact (sim/contact_response.h), for the servo between frames
   void fill_contact_model(LocalModel* m);
   void publish_patch();
   void render(int64_t index, bool block);
@@ -118,6 +109,7 @@ class FrameStage {
 
   const Scene& scene_;
   const Model& model_;
+  const RestObject rest_;            // the model at rest, as the contact load reads it
   SpscQueue<HapticSample>* samples_;
   TripleBuffer<LocalModel>* local_model_;
   Renderer* renderer_;

@@ -20,6 +20,7 @@
 #include "haptics/latency_histogram.h"
 #include "haptics/replay_device.h"
 #include "haptics/servo_runner.h"
+#include "render/gl_context_factory.h"
 #include "sim/frame_budget.h"
 #include "tools/session/contact_report.h"
 #include "tools/session/device_factory.h"
