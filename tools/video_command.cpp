@@ -7,8 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/png_io.h"
-#include "render/video_encoder.h"
+#include "tools/session/video_output.h"
 
 namespace palpate {
 namespace fs = std::filesystem;
@@ -53,24 +52,11 @@ Result<VideoCommandResult> make_recording_video(const std::string& folder, std::
   if (!idx) return idx.error();
   if (out_path.empty()) out_path = (fs::path(folder) / "recording.mp4").string();
 
-  auto first = read_png(files.front().string());
-  if (!first) return first.error();
-  const int w = first.value().width, h = first.value().height;
-  auto enc_r = VideoEncoder::open(out_path, w, h, frame_rate_hz);
-  if (!enc_r) return enc_r.error();
-  VideoEncoder& enc = *enc_r.value();
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    auto img = i == 0 ? std::move(first) : read_png(files[i].string());
-    if (!img) return img.error();
-    if (img.value().width != w || img.value().height != h)
-      return make_error("frame '", files[i].string(), "': ", std::to_string(img.value().width), "x",
-                        std::to_string(img.value().height), " differs from the first frame's ", std::to_string(w), "x",
-                        std::to_string(h));
-    const int64_t index = idx.value().empty() ? static_cast<int64_t>(i) : idx.value()[i];
-    if (auto st = enc.encode(img.value().rgba.data(), index); !st) return st.error();
-  }
-  if (auto st = enc.finish(); !st) return st.error();
-  return VideoCommandResult{enc.path(), enc.encoder_name(), enc.frames(), enc.bytes()};
+  std::vector<std::string> names;
+  for (const fs::path& f : files) names.push_back(f.string());
+  auto made = encode_png_frames(names, idx.value(), out_path, frame_rate_hz);
+  if (!made) return made.error();
+  return VideoCommandResult{made.value().path, made.value().encoder, made.value().frames, made.value().bytes};
 }
 
 }  // namespace palpate

@@ -70,9 +70,9 @@ Result<DeviceChoice> device_choice(const Scene& scene, const std::string& spec) 
 
 }  // namespace
 
-std::optional<DeviceDriver> device_driver(const Scene& scene, const std::string& spec) {
+Result<DeviceDriver> device_driver(const Scene& scene, const std::string& spec) {
   auto c = device_choice(scene, spec);
-  if (!c) return std::nullopt;
+  if (!c) return c.error();
   return c.value().driver;
 }
 

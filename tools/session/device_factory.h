@@ -20,9 +20,9 @@ namespace palpate {
 /// The device reads scene.rates: the scene must outlive it.
 Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec);
 
-/// The driver of a spec (shm for "shm:x"; the scene's driver when spec is empty); nothing for an unknown driver
-/// (make_device names it).
-std::optional<DeviceDriver> device_driver(const Scene& scene, const std::string& spec);
+/// The driver of a spec (shm for "shm:x"; the scene's driver when spec is empty); an unknown driver is an error
+/// naming it.
+Result<DeviceDriver> device_driver(const Scene& scene, const std::string& spec);
 
 /// Writes <out_dir>/device_events.csv (tick,t_s,event,silent_ms) via a temporary name when the driver keeps
 /// link events, and prints one line per event to stderr unless quiet. Errors name the file.
