@@ -29,7 +29,6 @@ Swing run(bool passivity) {
   DeviceSpecs specs;
   ScriptedDevice dev(specs, scene.hand, scene.trajectory);
   // the servo the scene asks for on this device (the coupling at its 700 N/m limit), with or without the guard
-  const Rates& rates = scene.rates;  // the defaults: 1 kHz, 60 Hz
   ServoParams p = servo_params_for(scene, specs);
   p.passivity = passivity;
   Session session(scene, model, &dev, p);
