@@ -19,10 +19,10 @@ int main(int argc, char** argv) {
   CLI::App app{"palpate: feel and deform 3D models through a haptic device; headless recordings and loop-rate figures"};
   palpate::prefix_usage_errors(app, "palpate");
   app.require_subcommand(1);
-  app.footer(palpate::kLimitsHelp);  // once, here: not repeated under every subcommand
   const palpate::Subcommand commands[] = {palpate::add_record_command(app), palpate::add_video_command(app),
                                           palpate::add_info_command(app), palpate::add_scene_command(app),
                                           palpate::add_bench_command(app)};
+  app.footer(palpate::kLimitsHelp);  // after the subcommands, which would copy it: printed here only
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
