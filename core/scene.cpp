@@ -357,13 +357,13 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   const Json& servo = top.object("servo");
   if (!servo.is_null()) {
     ObjectReader r(servo, "servo.", &err);
-    r.number("rate_hz", &s.servo_rate_hz, kMinServoRate_hz, kMaxServoRate_hz);
+    r.number("rate_hz", &s.rates.servo_hz, kMinServoRate_hz, kMaxServoRate_hz);
     r.finish();
   }
   read_trajectory(top, &s, &err);
   read_render(top, &s, &err);
   top.name("run_mode", &s.run_mode);
-  top.number("duration_s", &s.duration_s, 1.0 / 60.0, 3600.0);
+  top.number("duration_s", &s.duration_s, s.rates.frame_period_s(), 3600.0);
   top.finish();
   if (err.empty() && s.lattice.level > s.grid_levels)
     err = "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);

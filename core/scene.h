@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/rates.h"
 #include "core/result.h"
 #include "core/scene_enums.h"
 #include "core/types.h"
@@ -128,7 +129,8 @@ struct Scene {
   RenderSpec render;
   RunMode run_mode = RunMode::kLockstep;
   double duration_s = 1.0;
-  double servo_rate_hz = 1000.0;    ///< servo ticks per (scene-)second (key servo.rate_hz; --servo-rate overrides)
+  Rates rates;                      ///< servo ticks (key servo.rate_hz) and frames per (scene-)second; the one copy
+                                    ///< a run reads (--servo-rate is applied to it once, by the record plan)
 };
 
 /// Parses JSON text; `path` names the scene in errors ("scene 'x.json': lattice.level 9 out of range [1, 8]").

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/rates.h"
 #include "core/types.h"
 
 namespace palpate {
@@ -16,7 +17,7 @@ struct DeviceSpecs {
   double max_force_N = 3.3;               ///< force clamp
   double max_stiffness_N_per_m = 700.0;   ///< highest stable rendered stiffness
   double workspace_half_m = 0.5;          ///< poses outside this cube around the origin are rejected
-  double rate_hz = 1000.0;                ///< native servo rate
+  double rate_hz = kDefaultServoRate_hz;  ///< the device's own clock (shm, plugin; not the servo's rate, Scene::rates)
   double damping_Ns_per_m = 2.0;          ///< physical viscous damping at the handle (b of the passivity bound)
 };
 

@@ -15,9 +15,9 @@ constexpr double kPointClearance_m = 1e-6;
 
 }  // namespace
 
-Servo::Servo(const ServoParams& params, Device* device, SpscQueue<HapticSample>* samples,
+Servo::Servo(const ServoParams& params, const Rates& rates, Device* device, SpscQueue<HapticSample>* samples,
              TripleBuffer<LocalModel>* model)
-    : params_(params), device_(device), samples_(samples), model_(model) {}
+    : params_(params), rates_(rates), device_(device), samples_(samples), model_(model) {}
 
 bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
                              const Vec3* side) const noexcept {
@@ -239,9 +239,10 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     proxy_m_ = tool;
     have_pose_ = true;
   }
-  // tool velocity: first difference, low-passed (about 60 Hz cut-off at 1 kHz)
-  const Vec3 vel = (tool - prev_tool_m_) / params_.period_s;
-  tool_vel_m_per_s_ += 0.3 * (vel - tool_vel_m_per_s_);
+  // tool velocity: first difference, low-passed at velocity_cutoff_hz whatever the rate
+  const double period_s = rates_.servo_period_s();
+  const Vec3 vel = (tool - prev_tool_m_) / period_s;
+  tool_vel_m_per_s_ += low_pass_weight(params_.velocity_cutoff_hz, period_s) * (vel - tool_vel_m_per_s_);
 
   const bool button = (pose.buttons & 1u) != 0;
   const LocalModel& m = model_->read();
@@ -286,7 +287,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   if (params_.passivity && !rejected) {
     const int64_t before = guard_.activations();
     // the observer runs on every tick; its damping acts only through a contact (never as drag in free air)
-    const Vec3 guarded = guard_.filter(force, tool - prev_tool_m_, params_.period_s);
+    const Vec3 guarded = guard_.filter(force, tool - prev_tool_m_, period_s);
     if (contact_ != ContactState::kFree) force = guarded;
     counters_.passivity_activations += guard_.activations() - before;
     counters_.passivity_dissipated_J = guard_.dissipated_J();

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "core/rates.h"
 #include "core/scene.h"
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
@@ -23,13 +24,18 @@ enum class ForceModel : uint8_t {
   kLocalModel,     ///< as kStaticSurface, plus the object's linearised response at the contact (multirate)
 };
 
+/// Cut-off of the servo's tool velocity estimate (first difference, one-pole low-pass), Hz: the same at every
+/// servo rate. Its weight at 1 kHz is 0.3 a tick exactly (low_pass_weight), the estimate's weight before the
+/// cut-off was given in Hz, so recordings at 1 kHz are unchanged bit for bit.
+inline constexpr double kVelocityCutoff_hz = 56.766580404873906;
+
 /// Servo parameters, validated by the scene loader; read-only while running.
 struct ServoParams {
   InteractionMode mode = InteractionMode::kTouch;
   double coupling_N_per_m = 300.0;        ///< k_c
   double coupling_damping_Ns_per_m = 0.5; ///< b_c
   double grab_radius_m = 0.01;            ///< pull: grab distance on button press
-  double period_s = 1e-3;                 ///< servo period
+  double velocity_cutoff_hz = kVelocityCutoff_hz;  ///< the tool velocity estimate's low-pass cut-off
   bool passivity = true;                  ///< energy-based passivity observer/controller on
   double ramp_s = 0.2;                    ///< force ramp-in time at start and after a reset
   ForceModel force_model = ForceModel::kLocalModel;  ///< between-frame force
@@ -57,7 +63,10 @@ struct ServoCounters {
 /// The servo's state machine. Thread: servo (tick); constructed and inspected elsewhere before/after.
 class Servo {
  public:
-  Servo(const ServoParams& params, Device* device, SpscQueue<HapticSample>* samples, TripleBuffer<LocalModel>* model);
+  /// rates: the run's (Scene::rates), read every tick for the period; must outlive the servo.
+  Servo(const ServoParams& params, const Rates& rates, Device* device, SpscQueue<HapticSample>* samples,
+        TripleBuffer<LocalModel>* model);
+  Servo(const ServoParams&, Rates&&, Device*, SpscQueue<HapticSample>*, TripleBuffer<LocalModel>*) = delete;
 
   /// One tick at scene time t_s. Thread: servo. Never allocates, locks, logs, throws or blocks.
   void tick(int64_t tick_index, double t_s) noexcept;
@@ -65,6 +74,8 @@ class Servo {
   /// How late the thread woke for the next tick (reported in its sample). Thread: servo.
   void set_wake_latency_ns(int64_t ns) noexcept { wake_latency_us_ = static_cast<float>(ns) * 1e-3f; }
 
+  /// The tool velocity estimate after the last tick, m/s (read between ticks).
+  const Vec3& tool_velocity_m_per_s() const noexcept { return tool_vel_m_per_s_; }
   /// Counters so far.
   const ServoCounters& counters() const noexcept { return counters_; }
   /// The last sample produced.
@@ -91,6 +102,7 @@ class Servo {
   bool held_point(const LocalModel& m, Vec3* point) const noexcept;
 
   ServoParams params_;
+  const Rates& rates_;
   Device* device_;
   SpscQueue<HapticSample>* samples_;
   TripleBuffer<LocalModel>* model_;

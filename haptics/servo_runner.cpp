@@ -35,8 +35,8 @@ void SpinWindow::update() noexcept {
   window_ns_ = want < cap_ns_ ? want : cap_ns_;
 }
 
-ServoRunner::ServoRunner(Servo* servo, const ServoRunnerConfig& config)
-    : servo_(servo), config_(config), period_ns_(static_cast<int64_t>(std::llround(1e9 / config.rate_hz))) {}
+ServoRunner::ServoRunner(Servo* servo, const Rates& rates, const ServoRunnerConfig& config)
+    : servo_(servo), rates_(rates), config_(config) {}
 
 ServoRunner::~ServoRunner() { stop(); }
 
@@ -83,7 +83,8 @@ void ServoRunner::finish() {
 
 void ServoRunner::run() noexcept {
   const bool adaptive = config_.spin_us == ServoRunnerConfig::kAdaptiveSpin;
-  SpinWindow window(period_ns_, adaptive ? static_cast<int64_t>(default_spin_us(config_.rate_hz)) * 1000
+  const int64_t period_ns = std::llround(1e9 / rates_.servo_hz);
+  SpinWindow window(period_ns, adaptive ? static_cast<int64_t>(default_spin_us(rates_.servo_hz)) * 1000
                                          : static_cast<int64_t>(config_.spin_us < 0 ? 0 : config_.spin_us) * 1000);
   const int64_t fixed_spin_ns = adaptive ? 0 : static_cast<int64_t>(config_.spin_us < 0 ? 0 : config_.spin_us) * 1000;
   SpinStats spin{adaptive, 0, INT64_MAX, 0, window.cap_ns()};
@@ -107,15 +108,15 @@ void ServoRunner::run() noexcept {
     const int64_t wake_latency_ns = woke_ns - next_ns;
     timing_.wake_latency.add(wake_latency_ns);
     servo_->set_wake_latency_ns(wake_latency_ns);
-    servo_->tick(tick, static_cast<double>(tick) * static_cast<double>(period_ns_) * 1e-9);
+    servo_->tick(tick, static_cast<double>(tick) * static_cast<double>(period_ns) * 1e-9);
     done_ns = monotonic_ns();
     timing_.compute.add(done_ns - woke_ns);
     ticks_.store(tick + 1, std::memory_order_relaxed);
     // next deadline; periods already past are skipped whole, counted and classified
     ++tick;
-    next_ns += period_ns_;
+    next_ns += period_ns;
     if (done_ns > next_ns) {
-      const int64_t missed = (done_ns - next_ns) / period_ns_ + 1;
+      const int64_t missed = (done_ns - next_ns) / period_ns + 1;
       const bool stall = overrun_is_stall(wake_latency_ns, done_ns - woke_ns);
       if (timing_.overrun_ticks_recorded < ServoTiming::kOverrunTicks) {
         timing_.first_overrun_stalls[static_cast<std::size_t>(timing_.overrun_ticks_recorded)] = stall;
@@ -128,7 +129,7 @@ void ServoRunner::run() noexcept {
         ++timing_.stall_events;
       }
       tick += missed;
-      next_ns += missed * period_ns_;
+      next_ns += missed * period_ns;
     }
   }
   // after the loop: what was taken from the thread, and the window used

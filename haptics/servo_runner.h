@@ -76,7 +76,6 @@ class SpinWindow {
 /// How the servo thread runs.
 struct ServoRunnerConfig {
   static constexpr int kAdaptiveSpin = -1;
-  double rate_hz = 1000.0;  ///< tick rate
   int spin_us = 0;          ///< sleep until deadline - spin_us, then spin (0 = sleep only, kAdaptiveSpin = SpinWindow)
   RtRequest rt;             ///< priority, pinning (memory locking is the caller's, process-wide)
   int64_t max_ticks = -1;   ///< the thread ends by itself once this many periods have passed; -1 = run until stop()
@@ -116,8 +115,10 @@ struct ServoTiming {
 /// Owns the servo thread. Not copyable. Thread: start/stop from the controlling thread.
 class ServoRunner {
  public:
-  /// Ticks `servo` at config.rate_hz until stop(); scene time t = tick / rate_hz from start().
-  ServoRunner(Servo* servo, const ServoRunnerConfig& config);
+  /// Ticks `servo` at rates.servo_hz until stop(); scene time t = tick / servo_hz from start(). rates: the run's
+  /// (Scene::rates), read when the thread starts; must outlive the runner.
+  ServoRunner(Servo* servo, const Rates& rates, const ServoRunnerConfig& config);
+  ServoRunner(Servo*, Rates&&, const ServoRunnerConfig&) = delete;
   ~ServoRunner();
   ServoRunner(const ServoRunner&) = delete;
   ServoRunner& operator=(const ServoRunner&) = delete;
@@ -141,8 +142,8 @@ class ServoRunner {
   void finish();        // joins the thread and reads the steal time since start(); controlling thread
 
   Servo* servo_;
+  const Rates& rates_;
   ServoRunnerConfig config_;
-  int64_t period_ns_;
   int64_t t0_ns_ = 0;
   std::atomic<bool> stop_{false};
   std::atomic<bool> ready_{false};

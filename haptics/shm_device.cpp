@@ -13,9 +13,10 @@ bool finite_in(double v, double lo, double hi) { return std::isfinite(v) && v > 
 
 }  // namespace
 
-ShmDevice::ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs& specs)
+ShmDevice::ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs& specs, const Rates& rates)
     : seg_(std::move(seg)),
       params_(params),
+      rates_(rates),
       specs_(specs),
       watchdog_(static_cast<int64_t>(params.watchdog_s * 1e9)) {
   palpate_shim_segment* s = seg_.get();
@@ -32,7 +33,7 @@ ShmDevice::~ShmDevice() {
   if (stopped || !watchdog_.update(palpate_shim_beats(&s->device_hb), monotonic_ns())) ShmSegment::unlink(params_.name);
 }
 
-Result<std::unique_ptr<ShmDevice>> ShmDevice::connect(const ShmParams& p, const DeviceSpecs& limits) {
+Result<std::unique_ptr<ShmDevice>> ShmDevice::connect(const ShmParams& p, const DeviceSpecs& limits, const Rates& rates) {
   const std::string what = "shm '" + p.name + "'";
   if (!(p.watchdog_s > 0.0 && p.watchdog_s <= 10.0)) return make_error(what, ": watchdog ", std::to_string(p.watchdog_s), " s out of range (0, 10]");
   if (!(p.max_speed_m_per_s > 0.0)) return make_error(what, ": max speed must be > 0");
@@ -49,7 +50,7 @@ Result<std::unique_ptr<ShmDevice>> ShmDevice::connect(const ShmParams& p, const 
   specs.max_force_N = std::min(limits.max_force_N, ds.max_force_N);
   specs.workspace_half_m = std::min(limits.workspace_half_m, ds.workspace_half_m);
   specs.max_stiffness_N_per_m = std::min(limits.max_stiffness_N_per_m, ds.max_stiffness_N_per_m);
-  std::unique_ptr<ShmDevice> dev(new ShmDevice(std::move(seg).value(), p, specs));
+  std::unique_ptr<ShmDevice> dev(new ShmDevice(std::move(seg).value(), p, specs, rates));
 
   // wait for a heartbeat, so a recording starts against a live device
   const int64_t deadline_ns = monotonic_ns() + static_cast<int64_t>(p.connect_timeout_s * 1e9);
@@ -80,7 +81,7 @@ bool ShmDevice::accept(const palpate_shim_pose& p, int64_t now_ns) noexcept {
     // our own clock, not the peer's timestamps: those are untrusted too. The window is capped at a few periods,
     // so a servo that was late (a loaded machine) does not widen what counts as possible; a pose that stays away
     // for kReanchorRejects samples in a row is a real move made while we were not looking, and is taken
-    const double period_s = 1.0 / params_.servo_rate_hz;
+    const double period_s = rates_.servo_period_s();
     const double dt_s = std::clamp(static_cast<double>(now_ns - good_ns_) * 1e-9, period_s, 3.0 * period_s);
     if ((pos - good_.pos_m).norm() > params_.max_speed_m_per_s * dt_s && ++speed_rejects_in_row_ < kReanchorRejects) {
       ++counters_.rejected_speed;
@@ -103,7 +104,7 @@ bool ShmDevice::read(double t_s, DevicePose* out) noexcept {
   const int64_t now = monotonic_ns();
   now_ns_ = now;
   palpate_shim_beat(&s->sim_hb, now);
-  const int64_t tick = std::llround(t_s * params_.servo_rate_hz);
+  const int64_t tick = std::llround(t_s * rates_.servo_hz);
 
   // link health: the device's heartbeat, its state and its epoch (a new process attached)
   const bool stopped = __atomic_load_n(&s->header.device_state, __ATOMIC_ACQUIRE) == PALPATE_SHIM_DEVICE_STOPPED;

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "core/rates.h"
 #include "core/result.h"
 #include "haptics/device.h"
 #include "haptics/device_link.h"
@@ -19,7 +20,6 @@ struct ShmParams {
   double watchdog_s = 0.005;          ///< peer silent this long -> disconnected
   double max_speed_m_per_s = 10.0;    ///< faster pose changes are rejected as impossible
   double connect_timeout_s = 5.0;     ///< how long connect() waits for the device to publish the segment
-  double servo_rate_hz = 1000.0;      ///< servo ticks per scene second (tick numbers of events)
 };
 
 /// Counters of what the link saw. Plain data.
@@ -40,7 +40,10 @@ class ShmDevice final : public Device {
  public:
   /// Connects to the device serving params.name; errors name the link and the problem (absent, foreign owner,
   /// loose mode, size or version mismatch, bad specs). `limits` caps the device's own specs (scene's max force).
-  static Result<std::unique_ptr<ShmDevice>> connect(const ShmParams& params, const DeviceSpecs& limits);
+  /// rates: the run's (Scene::rates: tick numbers of events, the speed check's period); must outlive the device.
+  static Result<std::unique_ptr<ShmDevice>> connect(const ShmParams& params, const DeviceSpecs& limits,
+                                                    const Rates& rates);
+  static Result<std::unique_ptr<ShmDevice>> connect(const ShmParams&, const DeviceSpecs&, Rates&&) = delete;
 
   /// Removes the link name when the device is gone (crashed or stopped), so no segment is left behind.
   ~ShmDevice() override;
@@ -73,11 +76,12 @@ class ShmDevice final : public Device {
   std::string link_name() const override { return params_.name; }
 
  private:
-  ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs& specs);
+  ShmDevice(ShmSegment seg, const ShmParams& params, const DeviceSpecs& specs, const Rates& rates);
   bool accept(const palpate_shim_pose& p, int64_t now_ns) noexcept;
 
   ShmSegment seg_;
   ShmParams params_;
+  const Rates& rates_;
   DeviceSpecs specs_;
   PeerWatchdog watchdog_;
   DeviceEventLog events_;

@@ -12,17 +12,13 @@
 namespace palpate {
 
 PngWriter::PngWriter(std::string dir, int width, int height, int pool_size, const PngWriterConfig& config)
-    : dir_(std::move(dir)), width_(std::max(width, 1)), height_(std::max(height, 1)), config_(config) {
-  const auto n = static_cast<std::size_t>(std::max(pool_size, 1));
-  const std::size_t bytes = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * 4;
-  pool_.resize(n);
-  free_.reserve(n);
-  for (auto& buffer : pool_) {
-    buffer.assign(bytes, 0);
-    free_.push_back(buffer.data());
-  }
-  queue_.resize(n);
-  encoded_.resize(2 * n);
+    : dir_(std::move(dir)),
+      width_(std::max(width, 1)),
+      height_(std::max(height, 1)),
+      config_(config),
+      jobs_(static_cast<std::size_t>(std::max(pool_size, 1)),
+            static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * 4) {
+  encoded_.resize(2 * static_cast<std::size_t>(std::max(pool_size, 1)));
   png_ms_.reserve(1024);
   for (int i = 0; i < std::max(config_.threads, 1); ++i) threads_.emplace_back([this] { run(); });
   committer_ = std::thread([this] { commit_run(); });
@@ -30,35 +26,19 @@ PngWriter::PngWriter(std::string dir, int width, int height, int pool_size, cons
 
 PngWriter::~PngWriter() { finish(); }
 
-uint8_t* PngWriter::acquire(bool block) {
-  std::unique_lock<std::mutex> lock(mutex_);
-  if (block) buffer_free_.wait(lock, [this] { return !free_.empty() || stopping_; });
-  if (free_.empty() || stopping_) return nullptr;
-  uint8_t* buffer = free_.back();
-  free_.pop_back();
-  return buffer;
-}
+uint8_t* PngWriter::acquire(bool block) { return jobs_.acquire(block); }
 
 void PngWriter::submit(int index, uint8_t* buffer) {
   if (buffer == nullptr) return;
   char name[32];
   std::snprintf(name, sizeof name, "frame_%05d.png", index);
-  const bool from_pool =
-      std::any_of(pool_.begin(), pool_.end(), [buffer](const auto& b) { return b.data() == buffer; });
-  if (!from_pool) {
+  if (!jobs_.owns(buffer)) {
     record_error("png '" + dir_ + "/" + name + "': buffer was not acquired from this writer");
     return;
   }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!stopping_) {
-      // at most pool_size buffers are out, so the ring never overflows
-      queue_[(queue_head_ + queue_size_) % queue_.size()] = Job{index, buffer, next_seq_++};
-      ++queue_size_;
-      job_ready_.notify_one();
-      return;
-    }
-    free_.push_back(buffer);
+  if (jobs_.push(Job{index, buffer, next_seq_})) {
+    ++next_seq_;
+    return;
   }
   record_error("png '" + dir_ + "/" + name + "': submitted after finish()");
 }
@@ -66,12 +46,7 @@ void PngWriter::submit(int index, uint8_t* buffer) {
 void PngWriter::finish() {
   if (finished_) return;
   finished_ = true;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
-  }
-  job_ready_.notify_all();
-  buffer_free_.notify_all();
+  jobs_.close();
   for (auto& t : threads_)
     if (t.joinable()) t.join();
   // every frame an encoder took is with the committer now
@@ -84,13 +59,13 @@ void PngWriter::finish() {
 }
 
 std::string PngWriter::first_error() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(error_mutex_);
   return first_error_;
 }
 
 void PngWriter::record_error(const std::string& message) {
   write_errors_.fetch_add(1, std::memory_order_relaxed);
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(error_mutex_);
   if (first_error_.empty()) first_error_ = message;
 }
 
@@ -98,17 +73,9 @@ void PngWriter::run() {
   PngEncoder encoder(config_.codec);  // this thread's compressor and buffers
   encoder.set_keep_alpha(config_.keep_alpha);
   char name[32];
-  for (;;) {
-    Job job;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      job_ready_.wait(lock, [this] { return queue_size_ > 0 || stopping_; });
-      // stopping still drains what was queued
-      if (queue_size_ == 0) return;
-      job = queue_[queue_head_];
-      queue_head_ = (queue_head_ + 1) % queue_.size();
-      --queue_size_;
-    }
+  Job job;
+  // finish() still drains what was queued
+  while (jobs_.pop(&job)) {
     std::snprintf(name, sizeof name, "frame_%05d.png", job.index);
     const std::string path = dir_ + "/" + name;
     const auto start = std::chrono::steady_clock::now();
@@ -117,11 +84,7 @@ void PngWriter::run() {
                          ? Status(make_error("png '", path, "': not written after an earlier frame failed"))
                          : encoder.encode(width_, height_, job.buffer, path);
     // the pixels are in the encoder's output now: the buffer goes back to the producer before the disk work
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      free_.push_back(job.buffer);
-    }
-    buffer_free_.notify_one();
+    jobs_.release(job.buffer);
     Encoded done;
     if (written.ok()) {
       Result<AtomicFile> file = AtomicFile::open(path, "png");

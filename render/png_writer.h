@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/buffer_job_queue.h"
 #include "render/png_io.h"
 
 namespace palpate {
@@ -81,16 +82,9 @@ class PngWriter {
   const int width_;
   const int height_;
   const PngWriterConfig config_;
-  std::vector<std::vector<uint8_t>> pool_;  // frame buffers (pool_size x w*h*4)
+  BufferJobQueue<Job> jobs_;             // frame buffers (pool_size x w*h*4) and the frames queued on them
 
-  mutable std::mutex mutex_;
-  std::condition_variable job_ready_;    // writer waits: a job or stopping
-  std::condition_variable buffer_free_;  // producer waits: a free buffer
-  std::vector<uint8_t*> free_;           // free buffers (capacity pool_size)
-  std::vector<Job> queue_;               // ring of queued jobs (capacity pool_size)
-  std::size_t queue_head_ = 0;           // next job to write
-  std::size_t queue_size_ = 0;           // jobs queued
-  bool stopping_ = false;
+  mutable std::mutex error_mutex_;
   std::string first_error_;
 
   int64_t next_seq_ = 0;                 // seq of the next job submitted

@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/buffer_job_queue.h"
 #include "core/result.h"
 #include "render/video_encoder.h"
 
@@ -56,16 +57,7 @@ class VideoWriter {
 
   std::unique_ptr<VideoEncoder> encoder_;
   const std::size_t frame_bytes_;
-  std::vector<std::vector<uint8_t>> pool_;  // frame copies (queue_frames x w*h*4)
-
-  std::mutex mutex_;
-  std::condition_variable job_ready_;    // encoder waits: a job or stopping
-  std::condition_variable buffer_free_;  // producer waits: a free copy
-  std::vector<uint8_t*> free_;           // free copies (capacity queue_frames)
-  std::vector<Job> queue_;               // ring of queued jobs (capacity queue_frames)
-  std::size_t queue_head_ = 0;
-  std::size_t queue_size_ = 0;
-  bool stopping_ = false;
+  BufferJobQueue<Job> jobs_;             // frame copies (queue_frames x w*h*4) and the frames queued on them
   Status error_ = Ok{};                  // first encoder error (encoder thread; read after join)
   std::atomic<bool> failed_{false};
 

@@ -21,15 +21,18 @@ struct ForceTrace {
   double sim_ms_per_scene_s = 0.0;
 };
 
-// Lockstep run with the sim stepping at frame_hz (60, or 1000 for the reference) and the given force model.
-Result<ForceTrace> run(const Scene& scene, const Model& model, double frame_hz, ForceModel fm) {
-  const Rates rates{1000.0, frame_hz};
-  auto dev = make_device(scene, "scripted", rates.servo_hz);
+// Lockstep run with the sim stepping at frame_hz (the scene's, or the servo's for the reference) and the given
+// force model.
+Result<ForceTrace> run(const Scene& scene_in, const Model& model, double frame_hz, ForceModel fm) {
+  Scene scene = scene_in;
+  scene.rates.frame_hz = frame_hz;
+  const Rates& rates = scene.rates;
+  auto dev = make_device(scene, "scripted");
   if (!dev) return dev.error();
   // the servo `palpate record` runs, with the force model under comparison instead of the scene's
-  ServoParams sp = servo_params_for(scene, dev.value()->specs(), rates.servo_hz);
+  ServoParams sp = servo_params_for(scene, dev.value()->specs());
   sp.force_model = fm;
-  Session session(scene, model, rates, dev.value().get(), sp);
+  Session session(scene, model, dev.value().get(), sp);
   ForceTrace tr;
   tr.force_N.reserve(static_cast<std::size_t>(rates.ticks(scene.duration_s)));
   session.run_lockstep(
@@ -77,7 +80,7 @@ int run_bench_force(const BenchForceOptions& o) {
       return 1;
     }
   nlohmann::json out;
-  out["reference"] = "lattice stepped at 1000 Hz, surface published every servo tick";
+  out["reference"] = "lattice stepped at the servo rate, surface published every servo tick";
   out["scenes"] = nlohmann::json::array();
   std::printf("%-22s %-16s %10s %10s %14s\n", "scene", "force_model", "rms_N", "max_N", "sim_ms/scene_s");
   for (const std::string& path : o.scenes) {
@@ -91,7 +94,7 @@ int run_bench_force(const BenchForceOptions& o) {
       std::fprintf(stderr, "palpate: %s\n", model.error().message.c_str());
       return 1;
     }
-    auto ref = run(scene.value(), model.value(), 1000.0, ForceModel::kStaticSurface);
+    auto ref = run(scene.value(), model.value(), scene.value().rates.servo_hz, ForceModel::kStaticSurface);
     if (!ref) {
       std::fprintf(stderr, "palpate: %s\n", ref.error().message.c_str());
       return 1;
@@ -100,7 +103,7 @@ int run_bench_force(const BenchForceOptions& o) {
     std::printf("%-22s %-16s %10s %10s %14.1f\n", scene.value().name.c_str(), "reference_1kHz", "-", "-",
                 ref.value().sim_ms_per_scene_s);
     for (ForceModel fm : {ForceModel::kHoldFrame, ForceModel::kStaticSurface, ForceModel::kLocalModel}) {
-      auto tr = run(scene.value(), model.value(), 60.0, fm);
+      auto tr = run(scene.value(), model.value(), scene.value().rates.frame_hz, fm);
       if (!tr) {
         std::fprintf(stderr, "palpate: %s\n", tr.error().message.c_str());
         return 1;

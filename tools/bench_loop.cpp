@@ -44,17 +44,16 @@ struct LoopRun {
 Status run_servo_alone(const Scene& scene, const BenchLoopOptions& o, int spin_us, LoopRun* out) {
   auto model = load_model(scene);
   if (!model) return model.error();
-  auto device = make_device(scene, "", o.rate_hz);
+  auto device = make_device(scene, "");
   if (!device) return device.error();
-  Session session(scene, model.value(), Rates{o.rate_hz, kDefaultFrameRate_hz}, device.value().get());
+  Session session(scene, model.value(), device.value().get());
   session.frame(0, false);  // publishes the surface patch around the tool's start
   std::string why;
   lock_process_memory(&why);
   ServoRunnerConfig cfg;
-  cfg.rate_hz = o.rate_hz;
   cfg.spin_us = spin_us;
   cfg.rt.fifo_priority = o.priority;
-  ServoRunner runner(&session.servo(), cfg);
+  ServoRunner runner(&session.servo(), scene.rates, cfg);
   const int64_t t0 = monotonic_ns() + 5'000'000;
   runner.start(t0);
   HapticSample s;
@@ -77,7 +76,9 @@ Status run_one(const Scene& scene, const BenchLoopOptions& o, double rate_hz, in
   BenchLoopOptions oo = o;
   oo.rate_hz = rate_hz;
   if (o.load == "none") {
-    auto st = run_servo_alone(scene, oo, spin_us, out);
+    Scene at = scene;  // the servo at this run's rate
+    at.rates.servo_hz = rate_hz;
+    auto st = run_servo_alone(at, oo, spin_us, out);
     out->spin_us = static_cast<int>(out->timing.spin.final_ns / 1000);
     return st;
   }
@@ -226,7 +227,8 @@ int run_bench_loop(const BenchLoopOptions& o) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
     return 1;
   }
-  std::vector<double> rates = o.sweep ? std::vector<double>{1000, 2000, 5000, 10000} : std::vector<double>{o.rate_hz};
+  const double one_rate_hz = o.rate_hz > 0.0 ? o.rate_hz : scene.value().rates.servo_hz;
+  std::vector<double> rates = o.sweep ? std::vector<double>{1000, 2000, 5000, 10000} : std::vector<double>{one_rate_hz};
   std::printf("servo loop: scene %s, %.1f s per run, load %s\n", o.scene.c_str(), o.seconds, o.load.c_str());
   print_header();
   std::vector<LoopRun> runs;

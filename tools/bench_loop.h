@@ -9,7 +9,7 @@ namespace palpate {
 /// What to run.
 struct BenchLoopOptions {
   std::string scene = "scenes/bunny_pull.json";  ///< scene whose device, model and pipeline are used
-  double rate_hz = 1000.0;                       ///< servo rate
+  double rate_hz = 0.0;                          ///< servo rate; 0 = the scene's (Scene::rates)
   double seconds = 5.0;                          ///< run length per rate
   std::string load = "none";                     ///< none | sim | record
   int spin_us = -1;                              ///< -1 = the adaptive window (the recorder's default)

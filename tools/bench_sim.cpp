@@ -23,8 +23,6 @@
 namespace palpate {
 namespace {
 
-constexpr Rates kRates{};  // the rates `palpate record` runs at by default
-
 // Everything one lockstep replay leaves behind for comparison.
 struct Trace {
   std::vector<std::unordered_map<int32_t, Vec3>> nodes_m;  // per frame: grid node -> position
@@ -38,13 +36,13 @@ struct Trace {
 
 // Replays the scene's interaction through the real servo and frame stage (no rendering), in lockstep.
 Result<Trace> replay(const Scene& scene, const Model& model) {
-  auto device_r = make_device(scene, "", kRates.servo_hz);
+  auto device_r = make_device(scene, "");
   if (!device_r) return device_r.error();
-  // the session as `palpate record` wires it; every configuration gets the same servo
-  Session session(scene, model, kRates, device_r.value().get());
+  // the session as `palpate record` wires it, at the scene's rates; every configuration gets the same servo
+  Session session(scene, model, device_r.value().get());
   const FrameStage& stage = session.stage();
   Trace t;
-  t.force_N.reserve(static_cast<std::size_t>(kRates.ticks(scene.duration_s)));
+  t.force_N.reserve(static_cast<std::size_t>(scene.rates.ticks(scene.duration_s)));
   auto after_frame = [&]() {
     std::unordered_map<int32_t, Vec3> nodes;
     double e = 0.0;

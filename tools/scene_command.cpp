@@ -14,6 +14,7 @@
 #include "core/mesh_io.h"
 #include "tools/session/model.h"
 #include "tools/scene_target.h"
+#include "tools/subcommand.h"
 #include "tools/session/surface_queries.h"
 
 namespace palpate {
@@ -316,7 +317,7 @@ int run_scene(SceneRequest rq, const std::string& out_path) {
     std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
     return 1;
   }
-  std::printf("scene    %s\nrecord   palpate record %s\n", out.c_str(), out.c_str());
+  std::printf("scene    %s\nrecord   %s record %s\n", out.c_str(), invoked_program().c_str(), out.c_str());
   return 0;
 }
 

@@ -7,10 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/limits.h"
-#include "render/png_io.h"
-#include "render/video_encoder.h"
 #include "tools/session/frame_files.h"
+#include "tools/session/video_output.h"
 
 namespace palpate {
 namespace fs = std::filesystem;
@@ -18,8 +16,6 @@ namespace {
 
 // the longest a realtime recording's frame is held in its video: ten minutes at 60 Hz
 constexpr int64_t kMaxHeldFrames = 36'000;
-// a side of a rendered frame at most (as a scene's render.width and render.height)
-constexpr int64_t kMaxImageSide = 8192;
 
 // the scene frame each file shows, from a realtime summary.json; empty when the files are frames 0, 1, 2, ...
 Result<std::vector<int64_t>> scene_indices(const std::string& folder, std::size_t files) {
@@ -59,40 +55,11 @@ Result<VideoCommandResult> make_recording_video(const std::string& folder, std::
   if (!idx) return idx.error();
   if (out_path.empty()) out_path = (fs::path(folder) / "recording.mp4").string();
 
-  // the size from each file's header before anything is decoded: a frame the renderer could not have made (a
-  // few bytes can claim 32767 x 32767, a small file can inflate to gigabytes) is refused unread
-  int64_t w = 0, h = 0;
-  for (const FrameFile& f : files) {
-    auto size = png_size(f.path);
-    if (!size) return size.error();
-    const auto [fw, fh] = size.value();
-    if (w == 0) {
-      if (fw < 1 || fh < 1 || fw > kMaxImageSide || fh > kMaxImageSide || fw * fh > kMaxImagePixels)
-        return make_error("frame '", f.path, "': ", std::to_string(fw), "x", std::to_string(fh),
-                          " is outside what a recording renders (sides 1..", std::to_string(kMaxImageSide), ", at most ",
-                          std::to_string(kMaxImagePixels), " pixels)");
-      w = fw;
-      h = fh;
-    } else if (fw != w || fh != h) {
-      return make_error("frame '", f.path, "': ", std::to_string(fw), "x", std::to_string(fh),
-                        " differs from the first frame's ", std::to_string(w), "x", std::to_string(h));
-    }
-  }
-  auto enc_r = VideoEncoder::open(out_path, static_cast<int>(w), static_cast<int>(h), frame_rate_hz);
-  if (!enc_r) return enc_r.error();
-  VideoEncoder& enc = *enc_r.value();
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    auto img = read_png(files[i].path);
-    if (!img) return img.error();
-    if (img.value().width != w || img.value().height != h)
-      return make_error("frame '", files[i].path, "': ", std::to_string(img.value().width), "x",
-                        std::to_string(img.value().height), " differs from the first frame's ", std::to_string(w), "x",
-                        std::to_string(h));
-    const int64_t index = idx.value().empty() ? static_cast<int64_t>(i) : idx.value()[i];
-    if (auto st = enc.encode(img.value().rgba.data(), index); !st) return st.error();
-  }
-  if (auto st = enc.finish(); !st) return st.error();
-  return VideoCommandResult{enc.path(), enc.encoder_name(), enc.frames(), enc.bytes()};
+  std::vector<std::string> names;
+  for (const FrameFile& f : files) names.push_back(f.path);
+  auto made = encode_png_frames(names, idx.value(), out_path, frame_rate_hz);
+  if (!made) return made.error();
+  return VideoCommandResult{made.value().path, made.value().encoder, made.value().frames, made.value().bytes};
 }
 
 }  // namespace palpate

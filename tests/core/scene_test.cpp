@@ -164,9 +164,9 @@ TEST(Scene, ServoRateAndDeviceDampingAreSceneKeys) {
   auto r = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "servo": {"rate_hz": 10000}, "device": {"damping_Ns_per_m": 3.5},
                           "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
   ASSERT_TRUE(r) << r.error().message;
-  EXPECT_DOUBLE_EQ(r.value().servo_rate_hz, 10000.0);
+  EXPECT_DOUBLE_EQ(r.value().rates.servo_hz, 10000.0);
   EXPECT_DOUBLE_EQ(r.value().device.damping_Ns_per_m, 3.5);
-  EXPECT_DOUBLE_EQ(parse_scene(kMinimal, "s.json").value().servo_rate_hz, 1000.0);
+  EXPECT_DOUBLE_EQ(parse_scene(kMinimal, "s.json").value().rates.servo_hz, 1000.0);
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "servo": {"rate_hz": 50}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "servo.rate_hz: 50 out of range [100, 20000]");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "servo": {"rate": 2000}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "servo.rate: unknown key");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "servo": 2000, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "servo: must be an object");

@@ -30,6 +30,7 @@ constexpr double kMaxForce_N = 3.0;
 // which a thread gives until it returns).
 struct Link {
   palpate::ShmSegment served;
+  palpate::Rates rates;  // the servo's (1 kHz)
   std::unique_ptr<palpate::ShmDevice> device;
   std::string name = "fuzz-" + std::to_string(::getpid());
 
@@ -56,7 +57,7 @@ struct Link {
     palpate::DeviceSpecs limits;
     limits.workspace_half_m = kWorkspace_m;
     limits.max_force_N = kMaxForce_N;
-    auto dev = palpate::ShmDevice::connect(p, limits);
+    auto dev = palpate::ShmDevice::connect(p, limits, rates);
     connected = true;
     beat.join();
     if (!dev) std::abort();

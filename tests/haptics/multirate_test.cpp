@@ -33,7 +33,8 @@ TEST(Servo, LocalModelGivesTheSeriesSpringOfCouplingAndObject) {
     p.ramp_s = 0;
     p.passivity = false;
     p.force_model = fm;
-    Servo servo(p, &dev, &q, tb.get());
+    const Rates rates;  // 1 kHz
+    Servo servo(p, rates, &dev, &q, tb.get());
     dev.pos_m = Vec3(0, 0, 0.01);
     servo.tick(0, 0.0);
     dev.pos_m = Vec3(0, 0, -d);

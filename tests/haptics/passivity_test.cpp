@@ -39,7 +39,8 @@ WallRun run_wall(bool passivity) {
   p.coupling_damping_Ns_per_m = 0;
   p.passivity = passivity;
   p.ramp_s = 0;
-  Servo servo(p, &dev, &q, tb.get());
+  const Rates rates;  // 1 kHz
+  Servo servo(p, rates, &dev, &q, tb.get());
   WallRun r;
   double lo1 = 1, hi1 = -1, lo2 = 1, hi2 = -1;
   HapticSample sink;

@@ -176,15 +176,20 @@ struct RunnerRig {
   SpscQueue<HapticSample> q{100000};
   std::unique_ptr<TripleBuffer<LocalModel>> tb = std::make_unique<TripleBuffer<LocalModel>>();
   std::unique_ptr<Servo> servo;
+  Rates rates;  // the servo's; a runner gets its own
   RunnerRig(int slow_read, int64_t busy_ns) : dev(slow_read, busy_ns) {
     test::publish_floor(tb.get());
-    servo = std::make_unique<Servo>(ServoParams{}, &dev, &q, tb.get());
+    servo = std::make_unique<Servo>(ServoParams{}, rates, &dev, &q, tb.get());
+  }
+  // the rates with the servo at rate_hz (servo and runner read the same Rates)
+  const Rates& at(double rate_hz) {
+    rates.servo_hz = rate_hz;
+    return rates;
   }
 };
 
-ServoRunnerConfig config(double rate_hz, int spin_us, int64_t ticks) {
+ServoRunnerConfig config(int spin_us, int64_t ticks) {
   ServoRunnerConfig c;
-  c.rate_hz = rate_hz;
   c.spin_us = spin_us;
   c.rt.fifo_priority = 0;  // normal scheduling: a test must not need privileges
   c.max_ticks = ticks;
@@ -195,7 +200,7 @@ TEST(ServoRunner, TheLoopWithTheAdaptiveWindowAllocatesNothing) {
   // every thread counted from after start() (the thread and its set-up exist) until the loop has ended: the loop,
   // the adaptive window's updates and the switch counts after the loop
   RunnerRig rig(-1, 0);
-  ServoRunner runner(rig.servo.get(), config(2000.0, ServoRunnerConfig::kAdaptiveSpin, 1200));
+  ServoRunner runner(rig.servo.get(), rig.at(2000.0), config(ServoRunnerConfig::kAdaptiveSpin, 1200));
   runner.start(monotonic_ns() + 2'000'000);
   int64_t allocs = 0;
   {
@@ -216,7 +221,7 @@ TEST(ServoRunner, TicksThatRunLongerThanTheStallThresholdAreCountedAsStalls) {
   // every read busy-waits 1.5 ms at 1 kHz: every tick overruns by at least one period, and its compute
   // (>= 1.5 ms) marks each overrun a stall whatever else the machine does (the wakes after them are on time)
   RunnerRig rig(SlowReadDevice::kEveryRead, 1'500'000);
-  ServoRunner runner(rig.servo.get(), config(1000.0, 100, 100));
+  ServoRunner runner(rig.servo.get(), rig.at(1000.0), config(100, 100));
   runner.start(monotonic_ns() + 2'000'000);
   runner.join();
   const ServoTiming& t = runner.timing();
@@ -233,7 +238,7 @@ TEST(ServoRunner, RecordsWhatTheMachineTookOverTheRun) {
   // the figures are read before and after the loop: each is known (>= 0), and a loop that sleeps 1 ms-long
   // periods gave up its CPU voluntarily at least once
   RunnerRig rig(-1, 0);
-  ServoRunner runner(rig.servo.get(), config(1000.0, 0, 200));
+  ServoRunner runner(rig.servo.get(), rig.at(1000.0), config(0, 200));
   runner.start(monotonic_ns() + 2'000'000);
   runner.join();
   const ServoTiming& t = runner.timing();

@@ -202,7 +202,8 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     p.friction.dynamic_coefficient = 0.7 * mu;
     p.friction.trail_drop_m = 1e-4;
     p.jump_limit_N_per_tick = jump;
-    Servo servo(p, &dev, &q, tb.get());
+    const Rates rates;  // 1 kHz
+    Servo servo(p, rates, &dev, &q, tb.get());
     HapticSample sink;
     int64_t allocs = 0;
     {

@@ -25,6 +25,8 @@
 namespace palpate {
 namespace {
 
+const Rates kRates;  // the servo's (1 kHz): tick numbers of link events
+
 std::string unique(const std::string& base) { return base + "-" + std::to_string(getpid()); }
 
 palpate_shim_specs specs() {
@@ -145,7 +147,7 @@ TEST(ShmDevice, DisconnectsWhenTheDeviceStopsAndReconnectsWhenItResumes) {
   ShmParams p;
   p.name = name;
   p.watchdog_s = 0.05;
-  auto d = ShmDevice::connect(p, DeviceSpecs{});
+  auto d = ShmDevice::connect(p, DeviceSpecs{}, kRates);
   ASSERT_TRUE(d) << d.error().message;
   ShmDevice& shm = *d.value();
   DevicePose pose;
@@ -251,7 +253,7 @@ TEST(ShmDevice, TornPoseIsAMissingReadingNotTheLastGoodPose) {
   int64_t tick = 0;
   {
     FakeDevice dev(sg);
-    auto d = ShmDevice::connect(p, DeviceSpecs{});
+    auto d = ShmDevice::connect(p, DeviceSpecs{}, kRates);
     ShmSegment::unlink(name);  // the mappings stay valid; nothing is left in /dev/shm whatever happens below
     ASSERT_TRUE(d) << d.error().message;
     shm = std::move(d).value();
@@ -278,7 +280,7 @@ TEST(ShmDevice, FrozenPoseIsStaleAfterTheWatchdog) {
   int64_t tick = 0;
   {
     FakeDevice dev(sg);
-    auto d = ShmDevice::connect(p, DeviceSpecs{});
+    auto d = ShmDevice::connect(p, DeviceSpecs{}, kRates);
     ShmSegment::unlink(name);  // the mappings stay valid; nothing is left in /dev/shm whatever happens below
     ASSERT_TRUE(d) << d.error().message;
     shm = std::move(d).value();
@@ -334,7 +336,7 @@ TEST(ShmDevice, TenThousandTicksAllocateNothing) {
   FakeDevice dev(seg.value().get());
   ShmParams p;
   p.name = name;
-  auto d = ShmDevice::connect(p, DeviceSpecs{});
+  auto d = ShmDevice::connect(p, DeviceSpecs{}, kRates);
   ASSERT_TRUE(d) << d.error().message;
   DevicePose pose;
   test::AllocationGuard guard;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "render/gl_context.h"
+#include "render/gl_context_factory.h"
 #include "render/renderer.h"
 
 namespace palpate {

@@ -1,4 +1,5 @@
 #include "render/gl_context.h"
+#include "render/gl_context_factory.h"
 
 #include <gtest/gtest.h>
 

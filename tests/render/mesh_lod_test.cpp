@@ -9,6 +9,7 @@
 
 #include "core/aabb.h"
 #include "core/mesh_io.h"
+#include "render/gl_context_factory.h"
 #include "core/tri_mesh.h"
 #include "render/renderer.h"
 #include "render_test_util.h"

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "render/gl_context.h"
+#include "render/gl_context_factory.h"
 
 namespace palpate {
 namespace {

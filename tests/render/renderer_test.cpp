@@ -11,6 +11,7 @@
 
 #include "core/aabb.h"
 #include "core/mesh_io.h"
+#include "render/gl_context_factory.h"
 #include "render_test_util.h"
 
 namespace palpate {

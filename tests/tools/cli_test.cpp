@@ -296,9 +296,44 @@ TEST(Cli, NoRenderLeavesNoFramesFolder) {
   const CliRun bare = palpate("record scenes/cube_press.json --duration 0.05 -q --no-render --out " + out);
   ASSERT_EQ(bare.code, 0) << bare.out;
   EXPECT_FALSE(fs::exists(out + "/frames")) << "frames/ left by a run that drew nothing";
+  EXPECT_EQ(bare.out.find("frames/"), std::string::npos) << "a frames/ folder printed that does not exist: " << bare.out;
+  EXPECT_NE(drawn.out.find("frames   " + out + "/frames/ (3 PNG)"), std::string::npos) << drawn.out;
   const auto summary = nlohmann::json::parse(read_file(out + "/summary.json"));
   EXPECT_TRUE(summary["outputs"]["frames"].is_null()) << summary["outputs"].dump();
   EXPECT_TRUE(fs::exists(out + "/haptic.csv"));
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+// `palpate scene` prints the record command as it can be pasted: the program as it was invoked, not a bare
+// "palpate" that is not on PATH.
+TEST(Cli, SceneCommandPrintsARecordCommandThatRunsAsPasted) {
+  const std::string out = tmp("scene_paste");
+  fs::create_directories(out);
+  const std::string scene = out + "/s.json";
+  const CliRun made = palpate("scene scenes/bunny.obj --out " + scene);
+  ASSERT_EQ(made.code, 0) << made.out;
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  const std::string program = std::string(bin ? bin : "build/bin") + "/palpate";
+  const std::string line = "record   " + program + " record " + scene;
+  ASSERT_NE(made.out.find(line), std::string::npos) << made.out;
+  // pasted as printed (with a short run and no outputs to speak of)
+  const CliRun pasted = test::shell(program + " record " + scene + " --duration 0.05 -q --no-render --out " + out + "/rec");
+  EXPECT_EQ(pasted.code, 0) << pasted.out;
+}
+
+// `bench scale --help` shows its flag plainly (no "{false}" default after it) and how long the benchmark takes.
+TEST(Cli, BenchHelpSaysHowLongAndShowsNoStrayDefaults) {
+  const CliRun scale = palpate("bench scale --help");
+  EXPECT_NE(scale.out.find("--no-full"), std::string::npos) << scale.out;
+  EXPECT_EQ(scale.out.find("{false}"), std::string::npos) << scale.out;
+  EXPECT_NE(scale.out.find("about 1.6 min"), std::string::npos) << scale.out;
+  EXPECT_NE(palpate("bench model --help").out.find("about 1.5 min"), std::string::npos);
+  EXPECT_NE(palpate("bench png --help").out.find("about 47 s"), std::string::npos);
 }
 
 }  // namespace

@@ -86,7 +86,8 @@ TEST(CutServo, ReportsTheBladeAndResistsItsMotionInsideTheMaterialOnly) {
   p.blade_length_m = s.blade_length_m;
   p.cut_resistance_Ns_per_m = 5.0;
   p.ramp_s = 0.0;
-  Servo servo(p, &dev, &q, tb.get());
+  const Rates rates;  // 1 kHz
+  Servo servo(p, rates, &dev, &q, tb.get());
   bool saw_outside = false, saw_inside = false;
   for (int i = 0; i < 450; ++i) {
     servo.tick(i, i * 1e-3);
@@ -128,8 +129,8 @@ TEST(CutRecord, CuttingTheBlockThroughSeparatesItDeterministically) {
 TEST(CutRecord, VerticesCountedPerFrameAreTheCutMeshsAsItGrows) {
   const Scene s = block_cut_scene(0.013);
   const Model model = load_model(s).value();
-  auto device = make_device(s, "", s.servo_rate_hz).value();
-  Session session(s, model, Rates{s.servo_rate_hz, kDefaultFrameRate_hz}, device.get());
+  auto device = make_device(s, "").value();
+  Session session(s, model, device.get());
   const FrameStats& st = session.stage().stats();
   int64_t counted = 0, stepped = 0, sum = 0;
   std::size_t largest = 0;

@@ -8,6 +8,7 @@
 #include "core/aabb.h"
 #include "core/tri_mesh.h"
 #include "render/gl_context.h"
+#include "render/gl_context_factory.h"
 #include "render/renderer.h"
 #include "support/fixtures.h"
 #include "support/pressed_box.h"

@@ -48,17 +48,18 @@ struct WallRun {
 
 // 4 s of the closed loop at rate_hz; capped: the coupling servo_params_for() gives, else the scene's as asked.
 WallRun run_wall(double rate_hz, bool capped) {
-  const Scene scene = wall_scene();
-  auto device_r = make_device(scene, "scripted", rate_hz);
+  Scene scene = wall_scene();
+  scene.rates.servo_hz = rate_hz;
+  auto device_r = make_device(scene, "scripted");
   EXPECT_TRUE(device_r);
   Device& device = *device_r.value();
-  ServoParams sp = servo_params_for(scene, device.specs(), rate_hz);
-  const CouplingLimit limit = coupling_limit(scene, device.specs(), rate_hz);
+  ServoParams sp = servo_params_for(scene, device.specs());
+  const CouplingLimit limit = coupling_limit(scene, device.specs());
   if (!capped) sp.coupling_N_per_m = scene.device.coupling_N_per_m;
   SpscQueue<HapticSample> samples(64);
   auto floor = std::make_unique<TripleBuffer<LocalModel>>();
   test::publish_floor(floor.get(), 0.1);
-  Servo servo(sp, &device, &samples, floor.get());
+  Servo servo(sp, scene.rates, &device, &samples, floor.get());
 
   WallRun r;
   r.coupling_N_per_m = sp.coupling_N_per_m;
@@ -67,7 +68,7 @@ WallRun run_wall(double rate_hz, bool capped) {
   Vec3 prev_pos = Vec3::Zero(), prev_force = Vec3::Zero();
   HapticSample sink;
   run_lockstep(
-      Rates{rate_hz, 60.0}, 4.0, [](int64_t, double) {},
+      scene.rates, 4.0, [](int64_t, double) {},
       [&](int64_t i, double t) {
         servo.tick(i, t);
         while (samples.try_pop(&sink)) {
@@ -86,31 +87,37 @@ WallRun run_wall(double rate_hz, bool capped) {
   return r;
 }
 
+// The scene at rate_hz.
+Scene at_rate(Scene scene, double rate_hz) {
+  scene.rates.servo_hz = rate_hz;
+  return scene;
+}
+
 TEST(PassivityBound, CapFollowsTheRateAndTheDevicesDamping) {
   const Scene scene = wall_scene();
   DeviceSpecs specs;
   specs.max_stiffness_N_per_m = 1e5;
   specs.damping_Ns_per_m = 2.0;
-  const CouplingLimit at1k = coupling_limit(scene, specs, 1000.0);
+  const CouplingLimit at1k = coupling_limit(at_rate(scene, 1000.0), specs);
   EXPECT_DOUBLE_EQ(at1k.passivity_max_N_per_m, CouplingLimit::kPassivityShare * 2.0 * 2.0 / 1e-3);
   EXPECT_DOUBLE_EQ(at1k.stiffness_N_per_m, at1k.passivity_max_N_per_m);
   EXPECT_STREQ(at1k.bound, "passivity 2b/T");
   // ten times the rate: ten times the bound, and the scene's own 10000 N/m is allowed
-  const CouplingLimit at10k = coupling_limit(scene, specs, 10000.0);
+  const CouplingLimit at10k = coupling_limit(at_rate(scene, 10000.0), specs);
   EXPECT_DOUBLE_EQ(at10k.passivity_max_N_per_m, 10.0 * at1k.passivity_max_N_per_m);
   EXPECT_DOUBLE_EQ(at10k.stiffness_N_per_m, kWall_N_per_m);
   EXPECT_STREQ(at10k.bound, "scene coupling_N_per_m");
   // more device damping, more stiffness; the stiffness limits still apply
   specs.damping_Ns_per_m = 4.0;
-  EXPECT_DOUBLE_EQ(coupling_limit(scene, specs, 1000.0).stiffness_N_per_m, 2.0 * at1k.stiffness_N_per_m);
+  EXPECT_DOUBLE_EQ(coupling_limit(at_rate(scene, 1000.0), specs).stiffness_N_per_m, 2.0 * at1k.stiffness_N_per_m);
   specs.max_stiffness_N_per_m = 3000.0;
-  EXPECT_STREQ(coupling_limit(scene, specs, 1000.0).bound, "device max_stiffness_N_per_m");
+  EXPECT_STREQ(coupling_limit(at_rate(scene, 1000.0), specs).bound, "device max_stiffness_N_per_m");
   Scene low = scene;
   low.device.max_stiffness_N_per_m = 2500.0;
-  EXPECT_DOUBLE_EQ(coupling_limit(low, specs, 1000.0).stiffness_N_per_m, 2500.0);
-  EXPECT_STREQ(coupling_limit(low, specs, 1000.0).bound, "scene device.max_stiffness_N_per_m");
+  EXPECT_DOUBLE_EQ(coupling_limit(at_rate(low, 1000.0), specs).stiffness_N_per_m, 2500.0);
+  EXPECT_STREQ(coupling_limit(at_rate(low, 1000.0), specs).bound, "scene device.max_stiffness_N_per_m");
   // the scripted device's damping is the hand's; other drivers take device.damping_Ns_per_m
-  auto scripted = make_device(scene, "scripted", 1000.0);
+  auto scripted = make_device(scene, "scripted");
   ASSERT_TRUE(scripted);
   EXPECT_DOUBLE_EQ(scripted.value()->specs().damping_Ns_per_m, scene.hand.damping_Ns_per_m);
 }

@@ -1,8 +1,11 @@
-// One set of rates for the whole session: the lockstep clock's order, the servo's period and the device's own
-// stiffness limit, and recordings at 500 Hz and 2 kHz that follow the same hand as at 1 kHz.
+// One set of rates for the whole session (Scene::rates): the lockstep clock's order, the device's own stiffness
+// limit, and recordings at 500 Hz to 4 kHz that follow the same hand, filter the tool's velocity with the same
+// cut-off and write their video at the frame rate, as at 1 kHz.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <sstream>
 
@@ -59,18 +62,95 @@ TEST(Lockstep, FramesRunAtTheirBoundaryBeforeTheTickAtThatTime) {
   EXPECT_EQ(fast[position(fast, 'f', 1) - 1], (Call{'t', 33, 16500}));
 }
 
-TEST(Rates, ServoPeriodFollowsTheRateAndTheDevicesStiffnessLimitCapsTheCoupling) {
-  const Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+TEST(Rates, TheDevicesStiffnessLimitCapsTheCouplingAtAnyRate) {
+  Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
   DeviceSpecs soft;
   soft.max_stiffness_N_per_m = 200.0;  // below the scene's coupling of 300 N/m
-  const ServoParams a = servo_params_for(scene, soft, 2000.0);
-  EXPECT_DOUBLE_EQ(a.period_s, 5e-4);
-  EXPECT_DOUBLE_EQ(a.coupling_N_per_m, 200.0);
+  scene.rates.servo_hz = 2000.0;
+  EXPECT_DOUBLE_EQ(servo_params_for(scene, soft).coupling_N_per_m, 200.0);
   DeviceSpecs stiff;
   stiff.max_stiffness_N_per_m = 5000.0;
-  const ServoParams b = servo_params_for(scene, stiff, 500.0);
-  EXPECT_DOUBLE_EQ(b.period_s, 2e-3);
-  EXPECT_DOUBLE_EQ(b.coupling_N_per_m, std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m));
+  scene.rates.servo_hz = 500.0;
+  EXPECT_DOUBLE_EQ(servo_params_for(scene, stiff).coupling_N_per_m,
+                   std::min(scene.device.coupling_N_per_m, scene.device.max_stiffness_N_per_m));
+}
+
+// A handle swinging along x at frequency_hz with amplitude_m: the servo's velocity estimate sees a known sinusoid.
+class SwingDevice final : public Device {
+ public:
+  SwingDevice(double frequency_hz, double amplitude_m) : omega_(2.0 * std::numbers::pi * frequency_hz), a_(amplitude_m) {}
+  const DeviceSpecs& specs() const noexcept override { return specs_; }
+  bool read(double t_s, DevicePose* out) noexcept override {
+    out->pos_m = Vec3(a_ * std::sin(omega_ * t_s), 0.0, 0.0);
+    return true;
+  }
+  void write_force(const Vec3&) noexcept override {}
+
+ private:
+  DeviceSpecs specs_;
+  double omega_, a_;
+};
+
+// Gain of the servo's velocity estimate at frequency_hz with the servo at rate_hz: the amplitude of the estimate
+// (fitted over 20 whole periods after 0.2 s of settling) over the true velocity's, a * omega.
+double velocity_gain(double rate_hz, double frequency_hz) {
+  constexpr double kAmplitude_m = 1e-3;
+  Rates rates;
+  rates.servo_hz = rate_hz;
+  SwingDevice dev(frequency_hz, kAmplitude_m);
+  SpscQueue<HapticSample> q(16);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();  // an empty patch: the tool is always free
+  Servo servo(ServoParams{}, rates, &dev, &q, tb.get());
+  const double omega = 2.0 * std::numbers::pi * frequency_hz;
+  const double t_fit_s = 0.2, span_s = 20.0 / frequency_hz;
+  double s_sin = 0.0, s_cos = 0.0;
+  int64_t n = 0;
+  HapticSample sink;
+  for (int64_t i = 0; i < rates.ticks(t_fit_s + span_s); ++i) {
+    const double t = static_cast<double>(i) / rates.servo_hz;
+    servo.tick(i, t);
+    while (q.try_pop(&sink)) {
+    }
+    if (t < t_fit_s) continue;
+    // the estimate of the velocity half a tick back (a first difference), projected on sin and cos
+    const double v = servo.tool_velocity_m_per_s().x();
+    s_sin += v * std::sin(omega * t);
+    s_cos += v * std::cos(omega * t);
+    ++n;
+  }
+  return 2.0 * std::hypot(s_sin, s_cos) / static_cast<double>(n) / (kAmplitude_m * omega);
+}
+
+TEST(Rates, TheVelocityFiltersCutOffIsTheSameAtEveryRate) {
+  // the weight a tick at 1 kHz is the 0.3 the filter had as a per-tick constant: 1 kHz runs are unchanged
+  EXPECT_EQ(low_pass_weight(kVelocityCutoff_hz, Rates{}.servo_period_s()), 0.3);
+  // a one-pole low-pass passes 1/sqrt(2) at its cut-off, and half the cut-off's frequency ~ 0.89, at every rate
+  // (a fixed 0.3 a tick gives 0.45 at 500 Hz and 0.97 at 4 kHz at 56.8 Hz)
+  for (double rate : {500.0, 1000.0, 2000.0, 4000.0}) {
+    const double at_cutoff = velocity_gain(rate, kVelocityCutoff_hz);
+    EXPECT_NEAR(at_cutoff, std::sqrt(0.5), 0.02) << rate << " Hz";
+    EXPECT_NEAR(velocity_gain(rate, 0.5 * kVelocityCutoff_hz), 1.0 / std::sqrt(1.25), 0.02) << rate << " Hz";
+    RecordProperty("velocity_gain_at_cutoff_" + std::to_string(static_cast<int>(rate)), std::to_string(at_cutoff));
+  }
+}
+
+TEST(Rates, TheVideoIsWrittenAtTheFrameRateWhateverTheServoRate) {
+  const Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  for (double rate : {500.0, 1000.0, 2000.0, 4000.0}) {
+    RecordOptions opt;
+    opt.out_dir = test::fresh_dir("rate_video_" + std::to_string(static_cast<int>(rate)));
+    opt.quiet = true;
+    opt.duration_s = 0.1;
+    opt.servo_rate_hz = rate;
+    opt.video_path = (fs::path(opt.out_dir) / "v.mp4").string();
+    auto r = record_scene(scene, opt);
+    ASSERT_TRUE(r) << r.error().message;
+    const auto j = nlohmann::json::parse(r.value().summary_json);
+    ASSERT_TRUE(j["video"]["enabled"].get<bool>()) << j["video"].dump();
+    EXPECT_EQ(j["video"]["frame_rate_hz"].get<int>(), 60) << rate << " Hz";
+    EXPECT_EQ(j["video"]["frames"].get<int>(), 6) << rate << " Hz";
+    EXPECT_EQ(j["servo_ticks"].get<int64_t>(), std::llround(0.1 * rate));
+  }
 }
 
 struct Track {
@@ -105,10 +185,10 @@ Track record_at(double rate_hz) {
   return tr;
 }
 
-TEST(Rates, RecordingsAt500HzAnd2kHzTickAtTheirRateAndFollowTheSameHand) {
+TEST(Rates, RecordingsAt500HzTo4kHzTickAtTheirRateAndFollowTheSameHandAndForce) {
   const Track ref = record_at(1000.0);
   ASSERT_EQ(ref.t_s.size(), 1500u);
-  for (double rate : {500.0, 2000.0}) {
+  for (double rate : {500.0, 2000.0, 4000.0}) {
     const Track tr = record_at(rate);
     const auto n = static_cast<std::size_t>(1.5 * rate);
     ASSERT_EQ(tr.t_s.size(), n) << rate;
@@ -146,7 +226,8 @@ SessionRun run_session(double rate_hz) {
   scene.device.coupling_N_per_m = 0.0;
   scene.device.ramp_s = 0.0;
   const Model model = load_model(scene).value();
-  auto device = make_device(scene, "", rate_hz);
+  scene.rates.servo_hz = rate_hz;
+  auto device = make_device(scene, "");
   EXPECT_TRUE(device) << device.error().message;
   const fs::path dir = test::fresh_dir("session_rate_" + std::to_string(static_cast<int>(rate_hz)));
   fs::create_directories(dir);
@@ -158,8 +239,8 @@ SessionRun run_session(double rate_hz) {
   out.log = &log;
   SessionRun r;
   {
-    Session session(scene, model, Rates{rate_hz, 60.0}, device.value().get(), out);
-    r.period_s = session.servo_params().period_s;
+    Session session(scene, model, device.value().get(), out);
+    r.period_s = session.rates().servo_period_s();
     session.run_lockstep(scene.duration_s, [](int64_t, double) {});
   }
   const Status closed = log.close();
@@ -232,8 +313,8 @@ TEST(Rates, SweepsSecondVerdictCountsOnlyTheLoopsOwnOverruns) {
 
 TEST(Rates, SceneServoRateIsUsedAndTheCommandLineOverridesIt) {
   Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
-  EXPECT_DOUBLE_EQ(scene.servo_rate_hz, 1000.0);  // no "servo" object: the default
-  scene.servo_rate_hz = 2000.0;
+  EXPECT_DOUBLE_EQ(scene.rates.servo_hz, 1000.0);  // no "servo" object: the default
+  scene.rates.servo_hz = 2000.0;
   scene.duration_s = 0.1;
   RecordOptions opt;
   opt.quiet = true;

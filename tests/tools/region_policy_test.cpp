@@ -13,6 +13,7 @@
 
 #include "core/tri_mesh.h"
 #include "tools/session/frame_stage.h"
+#include "tools/session/region_policy_factory.h"
 
 namespace palpate {
 namespace {

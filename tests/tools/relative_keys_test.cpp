@@ -37,7 +37,7 @@ Scene relative_scene(const std::string& mesh_json, const std::string& path) {
 TEST(RelativeKeys, PosRelAndSurfaceResolveAgainstTheLoadedModel) {
   // a 100 x 60 x 40 mm box: pos_rel is a point of its box, surface snaps onto the top along the approach
   Scene s = relative_scene(R"("box_m": [0.1, 0.06, 0.04])", "rel.json");
-  EXPECT_FALSE(make_device(s, "", 1000.0)) << "unresolved keys are never played as zeros";
+  EXPECT_FALSE(make_device(s, "")) << "unresolved keys are never played as zeros";
   const Model model = load_model(s).value();
   ASSERT_TRUE(resolve_relative_keys(model, &s));
   EXPECT_TRUE(s.trajectory[0].pos_m.isApprox(Vec3(0.0, 0.0, -0.02 + 1.3 * 0.04), 1e-12));

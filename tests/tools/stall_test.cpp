@@ -29,10 +29,9 @@ Swing run(bool passivity) {
   DeviceSpecs specs;
   ScriptedDevice dev(specs, scene.hand, scene.trajectory);
   // the servo the scene asks for on this device (the coupling at its 700 N/m limit), with or without the guard
-  const Rates rates{1000.0, 60.0};
-  ServoParams p = servo_params_for(scene, specs, rates.servo_hz);
+  ServoParams p = servo_params_for(scene, specs);
   p.passivity = passivity;
-  Session session(scene, model, rates, &dev, p);
+  Session session(scene, model, &dev, p);
   const Servo& servo = session.servo();
   Swing s;
   auto track = [](double* swing, double lo, double hi) { *swing = std::max(*swing, hi - lo); };

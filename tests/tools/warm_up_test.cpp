@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "render/gl_context_factory.h"
 #include "render/png_writer.h"
 #include "render/renderer.h"
 #include "support/fixtures.h"

@@ -35,7 +35,7 @@ void BM_ServoTickInContact(benchmark::State& state) {
   // the default servo without its ramp, at 1 kHz; one frame publishes the patch around the tool
   ServoParams p;
   p.ramp_s = 0;
-  Session session(scene, model, Rates{}, &dev, p);
+  Session session(scene, model, &dev, p);
   session.frame(0, false);
   Servo& servo = session.servo();
   dev.pos_m = Vec3(0.015, -0.01, 0.03);

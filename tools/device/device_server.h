@@ -27,7 +27,7 @@ struct DeviceServerOptions {
   std::vector<Keyframe> trajectory;  ///< non-empty, increasing times
   double max_force_N = 3.3;          ///< device force limit
   double workspace_half_m = 0.5;     ///< device workspace
-  double rate_hz = 1000.0;           ///< device clock
+  double rate_hz = kDefaultServoRate_hz;  ///< device clock
   double duration_s = 0.0;           ///< stop after this long (0: until a signal)
   double sim_watchdog_ms = 10.0;     ///< sim silent this long -> release the force
   double release_ms = 100.0;         ///< force ramp to zero (and back in) time

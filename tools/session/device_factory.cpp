@@ -70,9 +70,9 @@ Result<DeviceChoice> device_choice(const Scene& scene, const std::string& spec) 
 
 }  // namespace
 
-std::optional<DeviceDriver> device_driver(const Scene& scene, const std::string& spec) {
+Result<DeviceDriver> device_driver(const Scene& scene, const std::string& spec) {
   auto c = device_choice(scene, spec);
-  if (!c) return std::nullopt;
+  if (!c) return c.error();
   return c.value().driver;
 }
 
@@ -85,7 +85,7 @@ std::string plugin_config(const Scene& scene) {
   return c;
 }
 
-Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, double rate_hz) {
+Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec) {
   auto choice = device_choice(scene, spec);
   if (!choice) return choice.error();
   const DeviceDriver driver = choice.value().driver;
@@ -94,7 +94,6 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
   specs.max_force_N = scene.device.max_force_N;
   specs.max_stiffness_N_per_m = scene.device.max_stiffness_N_per_m;
   specs.workspace_half_m = scene.device.workspace_half_m;
-  specs.rate_hz = rate_hz;
   // the scripted handle is held by the emulated hand: its damping is the hand's
   specs.damping_Ns_per_m = driver == DeviceDriver::kScripted ? scene.hand.damping_Ns_per_m : scene.device.damping_Ns_per_m;
   // model-relative keys are resolved where the model is loaded (resolve_relative_keys); never played as zeros
@@ -115,8 +114,7 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
       p.name = target;
       p.watchdog_s = scene.device.watchdog_ms * 1e-3;
       p.max_speed_m_per_s = scene.device.max_speed_m_per_s;
-      p.servo_rate_hz = rate_hz;
-      auto d = ShmDevice::connect(p, specs);
+      auto d = ShmDevice::connect(p, specs, scene.rates);
       if (!d) return d.error();
       return std::unique_ptr<Device>(std::move(d).value());
     }
@@ -161,7 +159,8 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
   return f.commit();
 }
 
-CouplingLimit coupling_limit(const Scene& scene, const DeviceSpecs& device, double rate_hz) {
+CouplingLimit coupling_limit(const Scene& scene, const DeviceSpecs& device) {
+  const double rate_hz = scene.rates.servo_hz;
   CouplingLimit c;
   c.scene_N_per_m = scene.device.coupling_N_per_m;
   c.scene_max_N_per_m = scene.device.max_stiffness_N_per_m;
@@ -184,12 +183,12 @@ CouplingLimit coupling_limit(const Scene& scene, const DeviceSpecs& device, doub
   return c;
 }
 
-ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, double rate_hz) {
+ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device) {
   ServoParams sp;
   sp.mode = scene.mode;
   // the coupling never renders more stiffness than the device can display stably, by the scene's word, its own,
   // or the passivity bound at this rate
-  sp.coupling_N_per_m = coupling_limit(scene, device, rate_hz).stiffness_N_per_m;
+  sp.coupling_N_per_m = coupling_limit(scene, device).stiffness_N_per_m;
   sp.coupling_damping_Ns_per_m = scene.device.coupling_damping_Ns_per_m;
   sp.passivity = scene.device.passivity;
   sp.ramp_s = scene.device.ramp_s;
@@ -202,7 +201,6 @@ ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, doub
   sp.jump_limit_N_per_tick = scene.device.jump_limit_N_per_tick;
   // after breakaway the friction force comes down to the sliding level no faster than the jump limit
   if (sp.coupling_N_per_m > 0.0) sp.friction.trail_drop_m = sp.jump_limit_N_per_tick / sp.coupling_N_per_m;
-  sp.period_s = 1.0 / rate_hz;
   return sp;
 }
 

@@ -17,11 +17,12 @@ namespace palpate {
 
 /// Creates the device named by `spec`: "scripted", "shm:NAME", "plugin:PATH.so", "replay:PATH" (a haptic.csv or
 /// a recording folder), or empty for the scene's device.driver (+ device.link). Errors name the driver and the problem.
-Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, double rate_hz);
+/// The device reads scene.rates: the scene must outlive it.
+Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec);
 
-/// The driver of a spec (shm for "shm:x"; the scene's driver when spec is empty); nothing for an unknown driver
-/// (make_device names it).
-std::optional<DeviceDriver> device_driver(const Scene& scene, const std::string& spec);
+/// The driver of a spec (shm for "shm:x"; the scene's driver when spec is empty); an unknown driver is an error
+/// naming it.
+Result<DeviceDriver> device_driver(const Scene& scene, const std::string& spec);
 
 /// Writes <out_dir>/device_events.csv (tick,t_s,event,silent_ms) via a temporary name when the driver keeps
 /// link events, and prints one line per event to stderr unless quiet. Errors name the file.
@@ -30,7 +31,7 @@ Status write_device_events(const Device& device, const std::string& out_dir, boo
 /// The config string handed to a plugin's open(): scene path, hand and keyframes as C99 hex floats.
 std::string plugin_config(const Scene& scene);
 
-/// The coupling stiffness a servo at rate_hz may render, and which limit set it.
+/// The coupling stiffness a servo at the scene's servo rate may render, and which limit set it.
 ///
 /// Colgate & Brown (1994): a virtual wall of stiffness K sampled every T seconds with a zero-order hold on a
 /// device whose own viscous damping is b is passive when b > K T / 2, i.e. K < 2 b / T (the hold returns energy
@@ -53,12 +54,12 @@ struct CouplingLimit {
   const char* bound = "";
 };
 
-/// The coupling limit of a scene on a device at rate_hz (see CouplingLimit).
-CouplingLimit coupling_limit(const Scene& scene, const DeviceSpecs& device, double rate_hz);
+/// The coupling limit of a scene on a device at scene.rates.servo_hz (see CouplingLimit).
+CouplingLimit coupling_limit(const Scene& scene, const DeviceSpecs& device);
 
-/// The servo as a scene asks for it at rate_hz: the coupling capped by coupling_limit() (the scene's and the
-/// device's stiffness limits and the passivity bound at this rate), passivity, ramp, grab and blade settings,
-/// period 1 / rate_hz. Every driver of the pipeline (record, benchmarks, tests) starts from this.
-ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device, double rate_hz);
+/// The servo as a scene asks for it: the coupling capped by coupling_limit() (the scene's and the device's
+/// stiffness limits and the passivity bound at the scene's servo rate), passivity, ramp, grab and blade settings.
+/// Every driver of the pipeline (record, benchmarks, tests) starts from this.
+ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device);
 
 }  // namespace palpate

@@ -8,6 +8,7 @@
 #include "haptics/cpu_steal.h"
 #include "sim/deformer.h"
 #include "sim/rest.h"
+#include "tools/session/region_policy_factory.h"
 
 namespace palpate {
 namespace {
@@ -22,6 +23,7 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
                        TripleBuffer<LocalModel>* local_model, Renderer* renderer, PngWriter* writer, HapticLog* log)
     : scene_(scene),
       model_(model),
+      rest_{&model.rest, &model.grid, &model.bindings},
       samples_(samples),
       local_model_(local_model),
       renderer_(renderer),
@@ -31,26 +33,20 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
       vertices_m_(model.rest.vertices_m) {
   latest_.tool_pos_m = scene.trajectory.front().pos_m;
   latest_.proxy_pos_m = latest_.tool_pos_m;
-  stats_.sim_ms.reserve(static_cast<std::size_t>(scene.duration_s * 60.0) + 8);
+  stats_.sim_ms.reserve(static_cast<std::size_t>(scene.rates.frames(scene.duration_s)) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
   stats_.profile.reserve(stats_.sim_ms.capacity());
   region_ = make_region_policy(scene, model, &stats_);
   if (region_->lattice()) region_changed();
   // a lattice built up front gets its solver's factorisation too, before the first frame's deadline (the same
   // one the first step would make)
-  if (region_->prepared_ahead() && region_->lattice()) prepare_step(*region_->mutable_lattice(), step_opts_, step_dt_s_, &ws_);
+  if (region_->prepared_ahead() && region_->lattice())
+    prepare_step(*region_->mutable_lattice(), step_opts_, scene.rates.frame_period_s(), &ws_);
   // a mesh finer than the image is drawn clustered to about a pixel's edge (render.lod_min_edge_px); not in cut
   // mode, whose blade changes the triangles on every frame it cuts
   if (renderer_ && scene.mode != InteractionMode::kCut)
     lod_ = screen_lod(model.rest.vertices_m, region_->triangles(),
                       [r = renderer_](const Vec3& p) { return r->project(p); }, scene.render.lod_min_edge_px);
-}
-
-void FrameStage::set_step_dt(double dt_s) {
-  const bool changed = dt_s != step_dt_s_;
-  step_dt_s_ = dt_s;
-  if (changed && region_->prepared_ahead() && region_->lattice())
-    prepare_step(*region_->mutable_lattice(), step_opts_, step_dt_s_, &ws_);
 }
 
 void FrameStage::use_budget(BudgetClock* clock) {
@@ -87,12 +83,10 @@ void FrameStage::region_changed() {
 
 void FrameStage::place_region() {
   // a sphere's centre is outside the surface: the region is built around the surface point under it
-  Vec3 at = contact_.proxy_pos_m;
-  if (scene_.device.sphere_tool) {
-    const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-    at.setZero();
-    for (int c = 0; c < 3; ++c) at += contact_.contact_bary[c] * vertices_m_[tri[c]];
-  }
+  const Vec3 at = scene_.device.sphere_tool
+                      ? surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)],
+                                      contact_.contact_bary)
+                      : contact_.proxy_pos_m;
   if (region_->place(at, {&vertices_m_, &normals_})) {
     region_changed();
     compliance_next_frame_ = true;
@@ -102,9 +96,8 @@ void FrameStage::place_region() {
 void FrameStage::follow_contact() {
   if (!contact_this_frame_ || contact_.contact_tri < 0) return;
   // the material point under the contact, at rest: its cell is where the contact force goes
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-  Vec3 p = Vec3::Zero();
-  for (int c = 0; c < 3; ++c) p += contact_.contact_bary[c] * model_.rest.vertices_m[tri[c]];
+  const Vec3 p = surface_point(model_.rest.vertices_m,
+                               model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)], contact_.contact_bary);
   if (region_->follow(p, {&vertices_m_, &normals_})) {
     region_changed();
     compliance_next_frame_ = true;
@@ -122,10 +115,10 @@ bool FrameStage::step_lattice_frame() {
   const double c0 = cpu_clock_.now_ms();
   // the solver's matrix first (what the step would do first anyway; the rungs differ only in iterations), so the
   // budget knows what the frame has spent before choosing the iterations, and the profile tells the two apart
-  prepare_step(lat, frame_opts_ ? *frame_opts_ : step_opts_, step_dt_s_, &ws_);
+  prepare_step(lat, frame_opts_ ? *frame_opts_ : step_opts_, scene_.rates.frame_period_s(), &ws_);
   lap(FramePart::kFactor);
   const StepOptions& opts = budget_ ? budget_->step_begin() : step_opts_;
-  const StepReport rep = step_lattice(&lat, opts, step_dt_s_, f_ext_N_, &ws_);
+  const StepReport rep = step_lattice(&lat, opts, scene_.rates.frame_period_s(), f_ext_N_, &ws_);
   if (budget_) budget_->step_end();
   stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
@@ -147,91 +140,14 @@ bool FrameStage::step_lattice_frame() {
   return true;
 }
 
-PointWeights FrameStage::contact_weights(int32_t tri_id, const Vec3& bary) const {
-  const Lattice& lat = *region_->lattice();
-  PointWeights w;
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(tri_id)];
-  for (int c = 0; c < 3; ++c) {
-    const VertexBinding& b = model_.bindings[static_cast<std::size_t>(tri[c])];
-    const int32_t slot = lat.slot_of_cell[b.cell];
-    if (slot < 0) continue;
-    const auto tw = trilinear_weights(b.local);
-    for (int k = 0; k < 8; ++k) {
-      w.node[w.count] = lat.cell_nodes[slot][k];
-      w.weight[w.count] = bary[c] * tw[k];
-      ++w.count;
-    }
-  }
-  return w;
-}
-
-PointWeights FrameStage::patch_weights(const HapticSample& s) const {
-  const Lattice& lat = *region_->lattice();
-  const double radius = scene_.device.tool_radius_m;
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(s.contact_tri)];
-  const Vec3& a0 = model_.rest.vertices_m[tri[0]];
-  const Vec3& a1 = model_.rest.vertices_m[tri[1]];
-  const Vec3& a2 = model_.rest.vertices_m[tri[2]];
-  const Vec3 n = (a1 - a0).cross(a2 - a0).normalized();
-  PointWeights w;
-  if (!n.allFinite()) return w;
-  // the patch is centred under the sphere's centre (its foot on the contact face's rest plane), not on the
-  // servo's nearest surface point, which wanders over a patch the sphere has pressed into its own shape
-  const double height = (s.proxy_pos_m - a0).dot(n);
-  const Vec3 centre = s.proxy_pos_m - height * n;
-  // depth of the sphere's lowest point below the rest surface, and the contact radius it gives
-  const double depth = std::clamp(radius - height, 0.0, radius);
-  const double a = std::sqrt(radius * depth);
-  // the rings' orientation from a world axis, not the triangle: the same patch whichever triangle at a shared
-  // vertex or edge holds the contact point this frame
-  const Vec3 axis = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  const Vec3 t1 = (axis - axis.dot(n) * n).normalized(), t2 = n.cross(t1);
-  const int level = lat.level;
-  const double cell = lat.cell_m;
-  // a hair inside the surface, so a sample on a face that lies on a cell plane lands in the solid cell
-  const Vec3 in = -1e-3 * cell * n;
-  double total = 0.0;
-  auto sample = [&](const Vec3& p, double weight) {
-    const int32_t slot = lat.slot_of_cell[model_.grid.linear_index(model_.grid.cell_of(p, level), level)];
-    if (slot < 0 || !(weight > 0.0)) return;
-    const auto& nodes = lat.cell_nodes[static_cast<std::size_t>(slot)];
-    const Vec3 local = ((p - lat.rest_m[nodes[0]]) / cell).cwiseMax(0.0).cwiseMin(1.0);
-    const auto tw = trilinear_weights(local);
-    for (int k = 0; k < 8; ++k)
-      if (!w.add(nodes[k], weight * tw[k])) return;
-    total += weight;
-  };
-  // rings of samples, kRings annuli of equal width, each sample carrying pressure x its share of the area
-  constexpr int kRings = 6;
-  const double h = a / (kRings + 0.5);
-  sample(centre + in, 0.25 * h * h * 3.14159265358979323846);
-  for (int k = 1; k <= kRings && a > 0.0; ++k) {
-    const double rho = k * h;
-    const int count = 6 * k;
-    const double share = 2.0 * 3.14159265358979323846 * rho * h / count;
-    const double pressure = std::sqrt(std::max(0.0, 1.0 - rho * rho / (a * a)));
-    for (int j = 0; j < count; ++j) {
-      const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5 * (k % 2)) / count;
-      sample(centre + in + rho * (std::cos(phi) * t1 + std::sin(phi) * t2), share * pressure);
-    }
-  }
-  if (!(total > 0.0)) return contact_weights(s.contact_tri, s.contact_bary);
-  for (int i = 0; i < w.count; ++i) w.weight[i] /= total;
-  return w;
-}
-
-Vec3 FrameStage::object_force(const Vec3& reaction_N) const {
-  if (!scene_.device.sphere_tool || contact_.contact_tri < 0) return reaction_N;
-  // a frictionless sphere pushes along the normal of the face under it (at rest: the tilt of the deformed facets
-  // would swing a large sphere's centre sideways and back every frame)
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)];
-  const Vec3& a0 = model_.rest.vertices_m[tri[0]];
-  const Vec3 n = (model_.rest.vertices_m[tri[1]] - a0).cross(model_.rest.vertices_m[tri[2]] - a0).normalized();
-  return n.allFinite() ? Vec3(n.dot(reaction_N) * n) : reaction_N;
-}
-
-PointWeights FrameStage::force_weights(const HapticSample& s) const {
-  return scene_.device.sphere_tool ? patch_weights(s) : contact_weights(s.contact_tri, s.contact_bary);
+ToolContact FrameStage::tool_contact(const HapticSample& s) const {
+  ToolContact c;
+  c.tri = s.contact_tri;
+  c.bary = s.contact_bary;
+  c.centre_m = s.proxy_pos_m;
+  c.sphere = scene_.device.sphere_tool;
+  c.radius_m = scene_.device.tool_radius_m;
+  return c;
 }
 
 int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
@@ -239,8 +155,9 @@ int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
   if (!contact_this_frame_ || frame_samples_ == 0) return 0;
   // the frame's mean device force, reacted on the material point P_s: -F spread over the cell nodes of the
   // contact triangle's vertices by barycentric and trilinear weights (a sphere tool: over its contact patch)
-  const Vec3 f_obj = object_force(-force_sum_N_ / static_cast<double>(frame_samples_));
-  const PointWeights w = force_weights(contact_);
+  const ToolContact c = tool_contact(contact_);
+  const Vec3 f_obj = object_force(rest_, c, -force_sum_N_ / static_cast<double>(frame_samples_));
+  const PointWeights w = contact_load_weights(*region_->lattice(), rest_, c);
   for (int i = 0; i < w.count; ++i) (*f_ext)[w.node[i]] += w.weight[i] * f_obj;
   int loaded = 0;
   for (const Vec3& f : *f_ext) loaded += f.squaredNorm() > 0.0 ? 1 : 0;
@@ -257,20 +174,17 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   }
   if (!region_->lattice() || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
   const Lattice& lat = *region_->lattice();
-  const PointWeights w = force_weights(latest_);
-  if (w.count == 0) return;
-  Mat3 c;
-  if (!compliance_.compute(lat, w, false, &c)) return;
-  Vec3 p = Vec3::Zero(), v = Vec3::Zero();
-  const auto& tri = model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)];
-  for (int k = 0; k < 3; ++k) p += latest_.contact_bary[k] * vertices_m_[tri[k]];
-  for (int i = 0; i < w.count; ++i) v += w.weight[i] * lat.v_m_per_s[w.node[i]];
+  const PointWeights w = contact_load_weights(lat, rest_, tool_contact(latest_));
+  const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)],
+                               latest_.contact_bary);
+  ContactResponse r;
+  if (!contact_response(lat, w, p, frame_force_obj_N_, &compliance_, &r)) return;
   m->has_contact_model = true;
-  m->contact_p0_m = p;
-  m->contact_v0_m_per_s = v;
-  m->contact_f0_N = frame_force_obj_N_;
-  m->compliance_m_per_N = c;
-  m->model_radius_m = lat.cell_m;
+  m->contact_p0_m = r.p0_m;
+  m->contact_v0_m_per_s = r.v0_m_per_s;
+  m->contact_f0_N = r.f0_N;
+  m->compliance_m_per_N = r.compliance_m_per_N;
+  m->model_radius_m = r.radius_m;
   ++stats_.contact_models;
 }
 
@@ -350,9 +264,9 @@ void FrameStage::warm_up() {
     Lattice copy = *region_->lattice();
     const std::vector<Vec3> none;
     const StepOptions& opts = budget_->ladder().front().opts;
-    prepare_step(copy, opts, step_dt_s_, &ws_);
+    prepare_step(copy, opts, scene_.rates.frame_period_s(), &ws_);
     const double t0 = budget_->clock()->now_ms();
-    step_lattice(&copy, opts, step_dt_s_, none, &ws_);
+    step_lattice(&copy, opts, scene_.rates.frame_period_s(), none, &ws_);
     budget_->seed_step(0, budget_->clock()->now_ms() - t0);
   }
   if (!renderer_) return;
@@ -412,8 +326,9 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   if (!region_->lattice() && contact_this_frame_) place_region();
   profile_.springs_cut = static_cast<int>(stats_.springs_cut - cut_before);
   lap(FramePart::kCut);
-  frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0 ? object_force(-force_sum_N_ / static_cast<double>(frame_samples_))
-                                                                  : Vec3::Zero();
+  frame_force_obj_N_ = contact_this_frame_ && frame_samples_ > 0
+                           ? object_force(rest_, tool_contact(contact_), -force_sum_N_ / static_cast<double>(frame_samples_))
+                           : Vec3::Zero();
   bool moved = false;
   if (region_->lattice()) {
     follow_contact();

@@ -1,5 +1,5 @@
 #pragma once
-/// FrameStage: the 60 Hz work — drain servo samples, load and step the lattice, deform the mesh,
+/// FrameStage: the per-frame work (scene.rates.frame_hz) — drain servo samples, load and step the lattice, deform the mesh,
 /// publish the surface patch for the servo, render and queue the PNG.
 
 #include <chrono>
@@ -13,6 +13,8 @@
 #include "core/triple_buffer.h"
 #include "core/vertex_triangles.h"
 #include "sim/contact_compliance.h"
+#include "sim/contact_load.h"
+#include "sim/contact_response.h"
 #include "haptics/haptic_sample.h"
 #include "haptics/local_model.h"
 #include "render/gl_context.h"
@@ -50,8 +52,6 @@ class FrameStage {
   /// Also publishes every frame's pixels, samples and figures to a live view (may be null; must outlive the
   /// stage); it never waits for the view's readers.
   void set_live(LiveFeed* live) { live_ = live; }
-  /// Sets the lattice step per frame (default 1/60 s; a reference run steps at the servo rate).
-  void set_step_dt(double dt_s);
   /// Keeps the scene's lattice.budget_ms with the frame's sim cost read from `clock` (must outlive the stage):
   /// each frame steps at the most accurate setting of the ladder predicted to hold the budget. No effect when
   /// the scene sets no budget or its integrator has nothing to trade.
@@ -98,20 +98,9 @@ class FrameStage {
   bool step_lattice_frame();
   // the frame's contact force on the lattice nodes; returns how many nodes it went to
   int apply_contact_force(std::vector<Vec3>* f_ext) const;
-  // lattice nodes and weights of the material point (tri, bary) (empty when it is outside the lattice)
-  PointWeights contact_weights(int32_t tri, const Vec3& bary) const;
-  // where the contact force of sample s goes: the point (tri, bary) for a point tool; for a sphere tool the
-  // nodes under its contact patch (see patch_weights)
-  PointWeights force_weights(const HapticSample& s) const;
-  // the force the object receives for the device's mean reaction: all of it for a point tool; for a sphere tool its
-  // component along the rest normal of the face under the sphere (frictionless contact)
-  Vec3 object_force(const Vec3& reaction_N) const;
-  // sphere tool: the contact patch under the sphere centred at s.proxy_pos_m, at rest: a disc of radius
-  // a = sqrt(R delta) (delta: how deep the sphere's lowest point is below the rest surface) around the material
-  // point under it, loaded with Hertz's pressure sqrt(1 - rho^2 / a^2), sampled on rings and spread to the
-  // nodes of the lattice cells holding the samples by trilinear weights
-  PointWeights patch_weights(const HapticSample& s) const;
-  // the object's linearised response at the current contact, for the servo between frames
+  // the contact of sample s as the contact load reads it (sim/contact_load.h), with the scene's tool
+  ToolContact tool_contact(const HapticSample& s) const;
+  // the object's linearised response at the current contact (sim/contact_response.h), for the servo between frames
   void fill_contact_model(LocalModel* m);
   void publish_patch();
   void render(int64_t index, bool block);
@@ -120,6 +109,7 @@ class FrameStage {
 
   const Scene& scene_;
   const Model& model_;
+  const RestObject rest_;            // the model at rest, as the contact load reads it
   SpscQueue<HapticSample>* samples_;
   TripleBuffer<LocalModel>* local_model_;
   Renderer* renderer_;
@@ -149,7 +139,6 @@ class FrameStage {
   bool compliance_next_frame_ = false;  // the region was placed or moved this frame: no contact model until the next
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
   double t_s_ = 0.0;                 // scene time of the current frame
-  double step_dt_s_ = 1.0 / 60.0;    // lattice step per frame
   HapticSample latest_;              // newest sample drained
   HapticSample contact_;             // newest sample in contact this frame
   bool contact_this_frame_ = false;

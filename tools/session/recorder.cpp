@@ -20,11 +20,13 @@
 #include "haptics/latency_histogram.h"
 #include "haptics/replay_device.h"
 #include "haptics/servo_runner.h"
+#include "render/gl_context_factory.h"
 #include "sim/frame_budget.h"
 #include "tools/session/contact_report.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/live_feed.h"
 #include "tools/session/model.h"
+#include "tools/session/record_plan.h"
 #include "tools/session/relative_keys.h"
 #include "tools/session/session.h"
 #include "tools/session/summary.h"
@@ -102,13 +104,11 @@ class Progress {
   double last_ = -1.0;
 };
 
-// Everything a recording opens before it runs, inputs first: a bad mesh, device or video path leaves no output
-// folder behind. Not movable (the log); filled in place by open_recording.
+// Everything a recording opens before it runs, inputs first: a bad mesh or device leaves no output folder behind.
+// Not movable (the log, the scene the device reads its rates from); filled in place by open_recording.
 struct Recording {
-  Scene scene;                     // with the command line's duration and the keyframes resolved
-  bool lockstep = true;
-  bool rate_given = false;         // --servo-rate, else the scene's servo.rate_hz
-  Rates rates;
+  const RecordPlan* plan = nullptr;
+  Scene scene;                     // the plan's, the keyframes resolved against the model
   double startup_s = 0.0;          // loading the model
   std::optional<Model> model;
   std::unique_ptr<Device> device;
@@ -121,11 +121,10 @@ struct Recording {
   HapticLog log;
 };
 
-Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording* rec) {
-  rec->scene = scene_in;
+Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recording* rec) {
+  rec->plan = &plan;
+  rec->scene = plan.scene;
   Scene& scene = rec->scene;
-  if (opt.duration_s > 0.0) scene.duration_s = opt.duration_s;
-  rec->lockstep = (opt.override_mode ? opt.mode : scene.run_mode) == RunMode::kLockstep;
 
   // inputs first: a bad mesh leaves no output folder behind
   const auto load0 = std::chrono::steady_clock::now();
@@ -137,19 +136,14 @@ Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
-  rec->rate_given = opt.servo_rate_hz > 0.0;
-  rec->rates = Rates{rec->rate_given ? opt.servo_rate_hz : scene.servo_rate_hz, kDefaultFrameRate_hz};
-  auto device_r = make_device(scene, opt.device, rec->rates.servo_hz);
+  auto device_r = make_device(scene, opt.device);
   if (!device_r) return device_r.error();
   rec->device = std::move(device_r).value();
-  // an explicit video path that can never be written fails before any output exists
-  if (!opt.video_path.empty() && !opt.video_optional)
-    if (auto st = check_output_target(opt.video_path, "video"); !st) return st.error();
-  if (auto st = check_video_beside_frames(opt.video_path, (fs::path(opt.out_dir) / "frames").string()); !st)
-    return st.error();
-  if (auto st = prepare_output(opt.out_dir, opt.render, &rec->frames_dir); !st) return st.error();
+  // a video path inside frames/ is never written (the frames folder is the recording's own)
+  if (auto st = check_video_beside_frames(plan.video_path, plan.frames_dir); !st) return st.error();
+  if (auto st = prepare_output(plan.out_dir, opt.render, &rec->frames_dir); !st) return st.error();
 
-  rec->png.threads = opt.png_threads > 0 ? opt.png_threads : rec->lockstep ? kLockstepPngThreads : 1;
+  rec->png.threads = opt.png_threads > 0 ? opt.png_threads : plan.lockstep ? kLockstepPngThreads : 1;
   rec->png.codec = opt.png_codec;
   rec->png.keep_alpha = opt.png_keep_alpha;
   if (opt.render) {
@@ -167,12 +161,12 @@ Status open_recording(const Scene& scene_in, const RecordOptions& opt, Recording
     // the servo's core is not contended by a second encoder
     rec->writer = std::make_unique<PngWriter>(rec->frames_dir, scene.render.width, scene.render.height, 6, rec->png);
   }
-  auto video_r = open_recording_video(opt.render ? opt.video_path : "", opt.video_optional, scene.render.width,
-                                      scene.render.height, static_cast<int>(std::lround(rec->rates.frame_hz)));
+  auto video_r = open_recording_video(plan.video == VideoPolicy::kDuring ? plan.video_path : "", plan.video_optional,
+                                      scene.render.width, scene.render.height, scene.rates.video_fps());
   if (!video_r) return video_r.error();
   rec->video = std::move(video_r).value();
 
-  rec->csv_path = (fs::path(opt.out_dir) / "haptic.csv").string();
+  rec->csv_path = plan.haptic_csv_path;
   return rec->log.open(rec->csv_path);
 }
 
@@ -196,12 +190,11 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
   std::string mem_refused;
   const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);
   ServoRunnerConfig cfg;
-  cfg.rate_hz = rates.servo_hz;
   cfg.spin_us = opt.spin_us >= 0 ? opt.spin_us : ServoRunnerConfig::kAdaptiveSpin;
   cfg.rt.fifo_priority = opt.fifo_priority;
   cfg.rt.cpu = opt.servo_cpu;
   cfg.max_ticks = rates.ticks(duration_s);  // the servo ends on time by itself
-  ServoRunner runner(&session.servo(), cfg);
+  ServoRunner runner(&session.servo(), rates, cfg);
   // the renderer's one-time set-up before the clock starts, not in frame 0's period (it made frame 1 late)
   session.warm_up();
   const int64_t t0_ns = monotonic_ns() + 5'000'000;
@@ -243,14 +236,19 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
                                       std::chrono::steady_clock::time_point wall0, Progress& progress,
                                       const RecordOptions& opt) {
   const Scene& scene = rec.scene;
+  const RecordPlan& plan = *rec.plan;
   const int64_t frames = session.rates().frames(scene.duration_s);
   progress.update(scene.duration_s, frames, frames, true);
   progress.done();
   if (rec.writer) rec.writer->finish();
-  const Status video_status = finish_recording_video(&rec.video);
+  Status video_status = finish_recording_video(&rec.video);
+  // a realtime run's default video, from the frames just written (its encoder never ran beside the servo)
+  if (plan.video == VideoPolicy::kAfterRun && rec.writer && rec.writer->write_errors() == 0)
+    make_video_after_run(plan.video_path, rec.frames_dir, rec.writer->frames_written(),
+                         session.stage().stats().written_frames, scene.rates.video_fps(), &rec.video);
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const Status log_status = rec.log.close();
-  const Status events_status = write_device_events(*rec.device, opt.out_dir, opt.quiet);
+  const Status events_status = write_device_events(*rec.device, plan.out_dir, opt.quiet);
   const ServoCounters& sc = session.servo().counters();
   // a recording that never touched says how close the tool came (from the log just written)
   std::string no_contact;
@@ -263,8 +261,8 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   in.session = &session;
   in.device = rec.device.get();
   in.run = &run;
-  in.lockstep = rec.lockstep;
-  in.rate_given = rec.rate_given;
+  in.lockstep = plan.lockstep;
+  in.rate_given = plan.rate_given;
   in.startup_s = rec.startup_s;
   in.wall_s = wall_s;
   in.gl = rec.gl.get();
@@ -282,11 +280,12 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
 
   const FrameStats& fst = session.stage().stats();
   RecordResult res;
-  res.summary_path = (fs::path(opt.out_dir) / "summary.json").string();
+  res.summary_path = plan.summary_path;
   res.summary_json = recording_summary(in).dump(2) + "\n";
   res.frames_written = rec.writer ? rec.writer->frames_written() : 0;
-  if (rec.video.writer && rec.video.error.empty()) res.video_path = rec.video.path;
-  res.state_hash = rec.lockstep ? session.stage().state_hash() : "";
+  if ((rec.video.writer || !rec.video.made_after_run.is_null()) && rec.video.error.empty())
+    res.video_path = rec.video.path;
+  res.state_hash = plan.lockstep ? session.stage().state_hash() : "";
   res.servo_timing = run.timing;
   res.frame_latency = run.frame_latency;
   res.frames_late = run.frames_late;
@@ -326,13 +325,20 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
 }  // namespace
 
 Result<RecordResult> record_scene(const Scene& scene, const RecordOptions& opt) {
+  auto plan = plan_record(scene, opt);
+  if (!plan) return plan.error();
+  if (auto st = check_plan_outputs(plan.value()); !st) return st.error();
+  return record_planned(plan.value(), opt);
+}
+
+Result<RecordResult> record_planned(const RecordPlan& plan, const RecordOptions& opt) {
   auto rec = std::make_unique<Recording>();
-  if (auto st = open_recording(scene, opt, rec.get()); !st) return st.error();
+  if (auto st = open_recording(plan, opt, rec.get()); !st) return st.error();
   const SessionOutputs outputs{rec->renderer.get(), rec->writer.get(), &rec->log, rec->video.writer.get(), opt.live};
-  Session session(rec->scene, *rec->model, rec->rates, rec->device.get(), outputs);
+  Session session(rec->scene, *rec->model, rec->device.get(), outputs);
   Progress progress(opt.quiet, rec->scene.name, rec->scene.duration_s);
   const auto wall0 = std::chrono::steady_clock::now();
-  const RunFigures run = rec->lockstep ? drive_lockstep(session, rec->scene.duration_s, progress)
+  const RunFigures run = plan.lockstep ? drive_lockstep(session, rec->scene.duration_s, progress)
                                        : drive_realtime(session, rec->scene.duration_s, opt, progress);
   return finish_recording(*rec, session, run, wall0, progress, opt);
 }

@@ -13,9 +13,8 @@
 namespace palpate {
 
 class LiveFeed;
+struct RecordPlan;
 
-/// Sim/render frames per (scene-)second.
-inline constexpr double kDefaultFrameRate_hz = 60.0;
 /// PNG encoder threads of a lockstep recording (realtime recordings use one).
 inline constexpr int kLockstepPngThreads = 2;
 
@@ -29,6 +28,7 @@ struct RecordOptions {
   bool render = true;            ///< false: no GL, no frames (sim and haptics only)
   bool full_redraw = false;      ///< draw the whole mesh every frame (no cached static layer; same pixels)
   std::string device;            ///< device override ("scripted", ...); empty = the scene's driver
+  bool realtime_flags = false;   ///< --spin-us or --priority given (said when the run is lockstep)
   double servo_rate_hz = 0.0;    ///< > 0 overrides the scene's servo.rate_hz: servo ticks per second (lockstep: per
                                  ///< scene-second); device, servo period, passivity guard and bound, and velocity
                                  ///< estimate all follow it
@@ -60,8 +60,12 @@ struct RecordResult {
   std::string no_contact;        ///< when no force was ever sent: why ("no contact in 4.0 s: ..."), else empty
 };
 
-/// Runs the recording. Errors (unwritable output, GL failure, write failures) name the culprit;
-/// files already written stay whole.
+/// Runs a planned recording (record_plan.h: plan_record, then check_plan_outputs). Errors (GL failure, write
+/// failures) name the culprit; files already written stay whole.
+Result<RecordResult> record_planned(const RecordPlan& plan, const RecordOptions& options);
+
+/// Plans, checks and runs the recording of `scene` with `options`: nothing in the output folder is touched when
+/// the plan or its outputs are refused.
 Result<RecordResult> record_scene(const Scene& scene, const RecordOptions& options);
 
 }  // namespace palpate

@@ -3,7 +3,7 @@
 /// interaction. Touch and pull use a LocalRegion (local_region.h): a block of cells placed around the first
 /// contact and moved when the contact leaves it. Cut uses a CutRegion (cut_region.h): one lattice over the whole
 /// object, built up front and never moved, whose springs and mesh the blade cuts. The frame stage picks one from
-/// the scene's interaction mode (make_region_policy) and calls it wherever the modes differ.
+/// the scene's interaction mode (make_region_policy, region_policy_factory.h) and calls it wherever the modes differ.
 
 #include <array>
 #include <cstdint>
@@ -93,9 +93,5 @@ class RegionPolicy {
   RegionPolicy() = default;
   std::optional<Lattice> lattice_;
 };
-
-/// The region of the scene's interaction mode: a CutRegion for cut, else a LocalRegion. scene, model and stats
-/// must outlive it.
-std::unique_ptr<RegionPolicy> make_region_policy(const Scene& scene, const Model& model, FrameStats* stats);
 
 }  // namespace palpate

@@ -48,13 +48,12 @@ inline constexpr std::size_t kSessionSampleQueue = 8192;
 /// Thread: construct, run_lockstep, frame and finish on the sim thread; servo() ticks on the servo thread.
 class Session {
  public:
-  /// The servo as the scene asks for it on `device` at rates.servo_hz (servo_params_for: coupling capped by the
-  /// device's and the passivity limits, period 1 / servo_hz); the lattice stepped 1 / frame_hz per frame.
-  /// scene, model and device must outlive the session.
-  Session(const Scene& scene, const Model& model, const Rates& rates, Device* device, const SessionOutputs& outputs = {});
-  /// As above with explicit servo parameters (a benchmark comparing force models, a test without the scene's caps);
-  /// params.period_s should be rates.servo_period_s().
-  Session(const Scene& scene, const Model& model, const Rates& rates, Device* device, const ServoParams& params,
+  /// The servo as the scene asks for it on `device` at scene.rates.servo_hz (servo_params_for: coupling capped by
+  /// the device's and the passivity limits); the lattice stepped 1 / scene.rates.frame_hz per frame. Every part
+  /// reads scene.rates. scene, model and device must outlive the session.
+  Session(const Scene& scene, const Model& model, Device* device, const SessionOutputs& outputs = {});
+  /// As above with explicit servo parameters (a benchmark comparing force models, a test without the scene's caps).
+  Session(const Scene& scene, const Model& model, Device* device, const ServoParams& params,
           const SessionOutputs& outputs = {});
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
@@ -81,11 +80,12 @@ class Session {
   /// Draws the current state once, written nowhere (FrameStage::warm_up): before a realtime clock starts.
   void warm_up() { stage_.warm_up(); }
   /// Scene time of frame `index`.
-  double frame_time_s(int64_t index) const { return static_cast<double>(index) * rates_.frame_period_s(); }
+  double frame_time_s(int64_t index) const { return static_cast<double>(index) * rates().frame_period_s(); }
   /// Drains and logs the samples left after the last frame (the servo must have stopped).
   void finish() { stage_.drain_remaining(); }
 
-  const Rates& rates() const { return rates_; }
+  /// The run's rates (the scene's).
+  const Rates& rates() const { return scene_.rates; }
   const ServoParams& servo_params() const { return params_; }
   Servo& servo() { return servo_; }
   const Servo& servo() const { return servo_; }
@@ -97,7 +97,7 @@ class Session {
   const LatencyHistogram& lockstep_compute() const { return compute_; }
 
  private:
-  Rates rates_;
+  const Scene& scene_;
   ServoParams params_;
   SpscQueue<HapticSample> samples_;
   std::unique_ptr<TripleBuffer<LocalModel>> local_model_;  // large: on the heap
@@ -109,7 +109,7 @@ class Session {
 template <class AfterFrame, class AfterTick>
 void Session::run_lockstep(double duration_s, AfterFrame&& after_frame, AfterTick&& after_tick) {
   palpate::run_lockstep(
-      rates_, duration_s,
+      rates(), duration_s,
       [&](int64_t f, double t) {
         stage_.frame(f, t, true);
         after_frame(f, t);

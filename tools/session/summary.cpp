@@ -74,7 +74,7 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   const ServoParams& sp = session.servo_params();
   const ServoTiming& timing = in.run->timing;
   const double rate_hz = session.rates().servo_hz;
-  const CouplingLimit coupling = coupling_limit(scene, in.device->specs(), rate_hz);
+  const CouplingLimit coupling = coupling_limit(scene, in.device->specs());
   const PngWriter* writer = in.writer;
 
   nlohmann::json j;

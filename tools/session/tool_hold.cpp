@@ -39,14 +39,13 @@ class ClampedDevice final : public Device {
 }  // namespace
 
 Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const ToolHoldOptions& o) {
-  const Rates rates{1000.0, 60.0};
+  const Rates& rates = scene.rates;
   DeviceSpecs specs;
   specs.max_force_N = scene.device.max_force_N;
   specs.max_stiffness_N_per_m = scene.device.max_stiffness_N_per_m;
   specs.workspace_half_m = scene.device.workspace_half_m;
-  specs.rate_hz = rates.servo_hz;
   ClampedDevice dev(specs, o.approach_s > 0.0 ? o.start_pos_m : o.device_pos_m, o.device_pos_m, o.approach_s);
-  Session session(scene, model, rates, &dev);
+  Session session(scene, model, &dev);
   const FrameStage& stage = session.stage();
   const Servo& servo = session.servo();
   ToolHoldResult r;
@@ -62,7 +61,7 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
     const double t0 = thread_cpu_ms();
     session.frame_at(f, static_cast<double>(f) / rates.frame_hz, false);
     sim_ms.push_back(thread_cpu_ms() - t0);
-    // the servo ticks due before the next frame (16 or 17 at 1 kHz and 60 Hz)
+    // the servo ticks due before the next frame (16 or 17 at 1 kHz and 60 Hz: the scene's rates)
     const int64_t until = static_cast<int64_t>(std::ceil((f + 1) * rates.servo_hz / rates.frame_hz - 1e-9));
     Vec3 sum = Vec3::Zero();
     int64_t ticks = 0;

@@ -2,8 +2,10 @@
 /// The video beside a recording: opened before the first frame, finished after the last, reported in
 /// summary.json's "video" object.
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -18,7 +20,27 @@ struct RecordingVideo {
   bool optional = false;                ///< failures are warnings (video on by default), else errors
   std::unique_ptr<VideoWriter> writer;  ///< null when off or when opening failed
   std::string error;                    ///< the open or encode failure, empty when none
+  nlohmann::json made_after_run;        ///< summary.json "video" of a video made from the frames after the run
 };
+
+/// What encode_png_frames wrote.
+struct FramesVideo {
+  std::string path;     ///< the MP4
+  std::string encoder;  ///< FFmpeg encoder used
+  int64_t frames = 0;   ///< frames encoded (one per PNG)
+  int64_t bytes = 0;    ///< file size
+};
+
+/// Encodes the PNG files `files` (all of one size, in order) into out_path at frame_rate_hz, file i shown from
+/// scene frame scene_index[i] on (empty: frame i), so skipped frames hold the previous one. Errors name the file.
+Result<FramesVideo> encode_png_frames(const std::vector<std::string>& files, const std::vector<int64_t>& scene_index,
+                                     const std::string& out_path, int frame_rate_hz);
+
+/// A realtime run's default video, made after the run from frames_dir/frame_00000.png.. (`count` files, file i
+/// showing scene frame scene_index[i]) at frame_rate_hz: fills video->path and made_after_run, or on failure prints
+/// a warning and keeps it in video->error (the default video is optional).
+void make_video_after_run(const std::string& path, const std::string& frames_dir, int count,
+                          const std::vector<int64_t>& scene_index, int frame_rate_hz, RecordingVideo* video);
 
 /// Frame copies the encoder may fall behind by before a realtime recording drops video frames.
 inline constexpr int kVideoQueueFrames = 8;

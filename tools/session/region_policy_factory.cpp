@@ -1,4 +1,4 @@
-#include "tools/session/region_policy.h"
+#include "tools/session/region_policy_factory.h"
 
 #include "tools/session/cut_region.h"
 #include "tools/session/local_region.h"
