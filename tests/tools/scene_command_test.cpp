@@ -294,7 +294,9 @@ TEST(SceneCommand, EveryModeMeetsACubeOfEightVertices) {
     const auto j = scene_then_record(cube, std::string("cube_") + mode, std::string("--mode ") + mode, 2.4);
     EXPECT_GT(j["max_force_N"].get<double>(), 0.0);
     EXPECT_EQ(j["nan_events"].get<int>(), 0);
-    if (std::string(mode) == "cut") EXPECT_GT(j["cut"]["springs_cut"].get<int>(), 0);
+    if (std::string(mode) == "cut") {
+      EXPECT_GT(j["cut"]["springs_cut"].get<int>(), 0);
+    }
   }
 }
 
