@@ -27,9 +27,6 @@ inline constexpr int kMaxGridLevels = 8;
 /// Deepest element nesting of an XML mesh file (Collada .dae and other XML formats), checked by a scan before
 /// the reader sees it: assimp's readers recurse once per level, and 20000 levels overflow the stack.
 inline constexpr int kMaxXmlNesting = 256;
-/// Smallest largest-extent of a mesh file's model, in its own units: assimp merges vertices closer than 1e-5
-/// while reading, so a smaller model has lost its shape (refused as degenerate, with its size).
-inline constexpr double kMinMeshSpan = 1e-3;
 /// A mesh file's vertex farther from the bulk of the model than this many times the median vertex's distance
 /// from its centre is refused as a stray (it would make the bounding box its own).
 inline constexpr double kMaxOutlierRatio = 1000.0;

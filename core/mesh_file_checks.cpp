@@ -162,11 +162,11 @@ std::string ply_ascii_lists_fit(const std::string& path, const std::vector<PlyEl
   return {};
 }
 
-// Bytes of an OFF or PLY header read to check its counts; a longer header is refused.
+// Bytes of a PLY header read to check its counts; a longer header is refused.
 constexpr std::size_t kHeaderScanBytes = 65536;
 
-// Element counts from an OFF or PLY header that the file's bytes cannot hold, else empty. assimp reserves
-// memory for declared counts before reading them (assimp-testmodels' invalid/OutOfMemory.off costs 16 GB).
+// Element counts from a PLY header that the file's bytes cannot hold, else empty (the reader checks them again as
+// it reads; this check stays in front of it for the fuzz target of the checks alone).
 std::string implausible_counts(const std::string& path, double size_bytes) {
   std::ifstream file(path, std::ios::binary);
   std::string head(kHeaderScanBytes, '\0');
@@ -178,35 +178,8 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
   std::istringstream in(head);
   std::string word;
   in >> word;
-  // assimp reads a .off file as OFF whatever its first word: a keyword holding "OFF" ("OFF", "COFF", "NOFF",
-  // "nOFF" with a dimension after it, also "OFF99"), or none at all, the counts coming first
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const bool keyword = word.find("OFF") != std::string::npos;
-  if (keyword || ext == ".off") {
-    // OFF: vertex and face counts follow the keyword and any '#' comments; at least "0 0 0\n" per vertex
-    double nv = 0, nf = 0;
-    if (!keyword) {
-      in.clear();
-      in.seekg(0);
-    } else if (word.find("nOFF") != std::string::npos) {
-      double dimension = 0;
-      if (!(in >> dimension)) return {};  // assimp reports the malformed header itself
-    }
-    while (in >> std::ws && in.peek() == '#') std::getline(in, word);
-    // counts that are not where the first kHeaderScanBytes can show them are not trusted (assimp would
-    // reserve whatever they say)
-    if (!(in >> nv >> nf)) {
-      if (head.size() < kHeaderScanBytes) return {};  // assimp reports the malformed header itself
-      return "OFF header: no vertex and face counts in the first " + std::to_string(kHeaderScanBytes) + " bytes";
-    }
-    if (6 * nv + 2 * nf <= size_bytes) return {};
-    std::ostringstream msg;
-    // %g style: whole counts as digits, an absurd 1e300 as 1e+300 rather than 301 digits
-    msg << std::setprecision(15) << "header declares " << nv << " vertices and " << nf
-        << " faces, more than the " << size_bytes << "-byte file can hold";
-    return msg.str();
-  }
   // a .ply file is read as PLY whatever its first word ("plyply" hung assimp's reader on a header with no end)
   if (word != "ply" && ext != ".ply") return {};
   // the first line that is the word end_header (assimp's reader skips a line it does not know, such as
@@ -379,86 +352,12 @@ Status check_mesh_file(const std::string& path) {
   const int64_t size = size_r.value();
   const std::string implausible = implausible_counts(path, static_cast<double>(size));
   if (!implausible.empty()) return make_error(who, implausible);
-  // assimp reads a .off file as OFF: every face line must list the indices it declares, within the vertex list
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".off")
-    if (const std::string face = off_face_problem(path); !face.empty()) return make_error(who, face);
   // assimp's XML readers (Collada and others) recurse once per nesting level: a deep file would overflow the stack
   int64_t deep_line = 0;
   if (const int depth = xml_nesting(path, kMaxXmlNesting, &deep_line); depth > kMaxXmlNesting)
     return make_error(who, "XML elements nested deeper than the limit of ", std::to_string(kMaxXmlNesting),
                       " levels (line ", std::to_string(deep_line), ")");
   return Ok{};
-}
-
-std::string off_face_problem(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream text;
-  text << file.rdbuf();
-  std::string all = text.str();
-  // CRLF and CR-only line ends read as LF, one line end each (an empty line is a line of its own)
-  std::string unified;
-  unified.reserve(all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    if (all[i] == '\r' && i + 1 < all.size() && all[i + 1] == '\n') continue;
-    unified += all[i] == '\r' ? '\n' : all[i];
-  }
-  all = std::move(unified);
-  std::istringstream lines(all);
-  std::string line;
-  // the next line that is neither blank nor a comment
-  bool body = false;         // past the counts: assimp takes a blank or comment line there for a vertex or a face
-  bool gap_in_body = false;
-  auto next_line = [&]() {
-    while (std::getline(lines, line)) {
-      const std::size_t hash = line.find('#');
-      const std::size_t first = line.find_first_not_of(" \t");
-      if (body && (first == std::string::npos || first == hash)) gap_in_body = true;
-      if (hash != std::string::npos) line.erase(hash);
-      if (line.find_first_not_of(" \t") != std::string::npos) return true;
-    }
-    return false;
-  };
-  if (!next_line()) return {};
-  std::istringstream first(line);
-  std::string keyword;
-  first >> keyword;
-  long long nv = -1, nf = -1;
-  if (!(first >> nv)) {  // counts on their own line
-    if (!next_line()) return {};
-    std::istringstream counts(line);
-    counts >> nv;
-    counts >> nf;
-  } else {
-    first >> nf;
-  }
-  // assimp reads counts split over lines, then its vertex and face lines out of step (past the file's end)
-  if (nv < 0 || nf < 0) return "OFF header: no vertex and face counts on one line";
-  body = true;
-  for (long long v = 0; v < nv; ++v) {
-    if (!next_line()) return {};
-    std::istringstream vertex(line);
-    double x = 0, y = 0, z = 0;
-    if (gap_in_body) return "a blank or comment line inside the vertex and face lists (before vertex " + std::to_string(v) + ")";
-    if (!(vertex >> x >> y >> z)) return "vertex " + std::to_string(v) + ": fewer than 3 coordinates on its line";
-  }
-  for (long long f = 0; f < nf && next_line(); ++f) {
-    if (gap_in_body) return "a blank or comment line inside the vertex and face lists (before face " + std::to_string(f) + ")";
-    std::istringstream face(line);
-    long long n = 0, index = 0, listed = 0;
-    // a face of no indices (or no count) crashes assimp's reader
-    if (!(face >> n) || n < 1) return "face " + std::to_string(f) + " declares no vertex indices";
-    for (; listed < n && face >> index; ++listed)
-      if (index < 0 || index >= nv)
-        return "face " + std::to_string(f) + " vertex index " + std::to_string(index) +
-               " is beyond the vertex list (size " + std::to_string(nv) + ")";
-    // assimp's reader would read the missing indices past the end of the file (a crash)
-    if (listed < n)
-      return "face " + std::to_string(f) + " declares " + std::to_string(n) + " vertex indices, its line lists " +
-             std::to_string(listed);
-  }
-  return {};
 }
 
 }  // namespace palpate

@@ -5,6 +5,10 @@
 #include "core/limits.h"
 #include "core/mesh_file_checks.h"
 #include "core/mesh_reader_child.h"
+#include "core/off_reader.h"
+#include "core/ply_reader.h"
+#include "core/stl_reader.h"
+#include "core/text_lines.h"
 
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
@@ -36,21 +40,6 @@
 namespace palpate {
 
 namespace {
-
-// exact position key: the bit patterns of the three coordinates (+0.0 and -0.0 made equal beforehand)
-struct PositionKey {
-  uint64_t x, y, z;
-  bool operator==(const PositionKey&) const = default;
-};
-
-struct PositionKeyHash {
-  std::size_t operator()(const PositionKey& k) const {
-    uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
-    h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2));
-    h ^= (k.z + 0x94D049BB133111EBull + (h << 6) + (h >> 2));
-    return static_cast<std::size_t>(h);
-  }
-};
 
 // errors assimp logs while reading, per thread; the stream is owned by assimp's global logger
 thread_local std::vector<std::string> t_assimp_errors;
@@ -112,7 +101,7 @@ std::string check_faces(aiScene* scene) {
   return {};
 }
 
-// merges the scene's meshes into one list of triangles, welding vertices at identical positions
+// merges the scene's meshes into one list of triangles (welded afterwards, with the files the project reads itself)
 class SceneMerger {
  public:
   explicit SceneMerger(TriMesh* out) : out_(out) {}
@@ -141,7 +130,8 @@ class SceneMerger {
         error_ = std::string(nan ? "NaN coordinate" : "infinite coordinate (beyond the float range the reader keeps)") +
                  " at vertex " + std::to_string(v);
       }
-      ids[v] = weld(Vec3(p.x, p.y, p.z));
+      ids[v] = static_cast<int32_t>(out_->vertices_m.size());
+      out_->vertices_m.emplace_back(p.x, p.y, p.z);
     }
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
@@ -166,17 +156,7 @@ class SceneMerger {
     }
   }
 
-  int32_t weld(Vec3 p) {
-    p = p + Vec3::Zero();  // turns -0.0 into +0.0
-    const PositionKey key{std::bit_cast<uint64_t>(p.x()), std::bit_cast<uint64_t>(p.y()),
-                          std::bit_cast<uint64_t>(p.z())};
-    const auto [it, inserted] = index_.try_emplace(key, static_cast<int32_t>(out_->vertices_m.size()));
-    if (inserted) out_->vertices_m.push_back(p);
-    return it->second;
-  }
-
   TriMesh* out_;
-  std::unordered_map<PositionKey, int32_t, PositionKeyHash> index_;
   std::string error_;
 
  public:
@@ -221,7 +201,8 @@ std::string far_outlier(const TriMesh& mesh) {
   for (std::size_t i = 0; i < n; ++i) v[i] = (mesh.vertices_m[i] - centre).norm();
   std::vector<double> sorted = v;
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2), sorted.end());
-  const double bulk = std::max(sorted[n / 2], kMinMeshSpan);
+  const double bulk = sorted[n / 2];
+  if (!(bulk > 0.0)) return {};  // half the vertices at one point: no bulk to measure against
   std::size_t worst = 0, count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!(v[i] <= kMaxOutlierRatio * bulk)) ++count;
@@ -237,15 +218,45 @@ std::string far_outlier(const TriMesh& mesh) {
   return text;
 }
 
-// the reader and the conversion to a TriMesh (what runs in the child when isolated)
-Result<TriMesh> read_mesh(const std::string& path) {
+// welds, drops degenerates; "no triangles" when none is left
+Result<TriMesh> finish_mesh(TriMesh mesh, const std::string& who) {
+  if (!mesh.vertices_m.empty()) {
+    const double span = Aabb::of(mesh.vertices_m).extent().maxCoeff();
+    weld_vertices(&mesh, kWeldTolerance * span);
+  }
+  if (const std::string far = far_outlier(mesh); !far.empty()) return make_error(who, far);
+  drop_degenerates(&mesh);
+  if (mesh.triangles.empty()) return make_error(who, "no triangles");
+  return mesh;
+}
+
+// The formats read here rather than by assimp: by extension, else by the file's first word.
+enum class OwnFormat { kNone, kOff, kPly, kStl };
+
+OwnFormat own_format(const std::string& path, std::string_view head) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".off") return OwnFormat::kOff;
+  if (ext == ".ply") return OwnFormat::kPly;
+  if (ext == ".stl") return OwnFormat::kStl;
+  std::vector<std::string_view> words;
+  TextLines lines(head);
+  std::string_view line;
+  if (lines.next(&line)) split_words(line, &words);
+  if (!words.empty() && is_off_keyword(words[0])) return OwnFormat::kOff;
+  if (!words.empty() && words[0] == "ply") return OwnFormat::kPly;
+  return OwnFormat::kNone;
+}
+
+// assimp's reading and the conversion of its scene to one TriMesh (vertices not yet welded)
+Result<TriMesh> read_with_assimp(const std::string& path) {
   const std::string who = "mesh '" + path + "': ";
   TriMesh mesh;
   t_assimp_errors.clear();
   try {
     Assimp::Importer importer;
-    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_ValidateDataStructure;
+    // vertices are welded afterwards with a tolerance that follows the model's size (assimp's join uses 1e-5 units)
+    const unsigned flags = aiProcess_Triangulate | aiProcess_ValidateDataStructure;
     // read first, post-processed once each mesh's primitive types say what its faces are (see below)
     const aiScene* scene = importer.ReadFile(path, 0);
     if (scene != nullptr) {
@@ -260,33 +271,52 @@ Result<TriMesh> read_mesh(const std::string& path) {
     }
     // a reader that skipped or fixed faces read a damaged surface: refuse it rather than guess
     const std::string repaired = face_repair_error();
-    if (!repaired.empty()) {
-      // assimp's OFF reader clamps the index and names no face: find the face for the message
-      if (repaired.find("OFF:") != std::string::npos)
-        if (const std::string face = off_face_problem(path); !face.empty()) return make_error(who, face);
-      return make_error(who, "malformed faces (assimp: ", repaired, ")");
-    }
+    if (!repaired.empty()) return make_error(who, "malformed faces (assimp: ", repaired, ")");
     SceneMerger merger(&mesh);
     if (scene->mRootNode != nullptr) merger.add_node(*scene, *scene->mRootNode, aiMatrix4x4());
     if (!merger.error().empty()) return make_error(who, merger.error());
   } catch (const std::exception& e) {
     return make_error(who, "assimp failed: ", e.what());
   }
-  // assimp merges vertices closer than 1e-5 while reading: a model not much larger than that has lost its shape
-  if (!mesh.vertices_m.empty()) {
-    const Aabb box = Aabb::of(mesh.vertices_m);
-    const double span = box.extent().maxCoeff();
-    if (span < kMinMeshSpan) {
-      char text[160];
-      std::snprintf(text, sizeof text, "degenerate: the model spans only %.6g units, less than %g (the reader merges "
-                    "vertices closer than 1e-05; scale the file up)", span, kMinMeshSpan);
-      return make_error(who, text);
-    }
-  }
-  if (const std::string far = far_outlier(mesh); !far.empty()) return make_error(who, far);
-  drop_degenerates(&mesh);
-  if (mesh.triangles.empty()) return make_error(who, "no triangles");
   return mesh;
+}
+
+// The reader and the conversion to a TriMesh (what runs in the child when isolated): OFF, PLY and STL by the
+// project's readers, anything else by assimp; then every vertex finite, vertices welded within a millionth of
+// the model's largest extent, degenerate triangles and unused vertices dropped.
+Result<TriMesh> read_mesh(const std::string& path) {
+  const std::string who = "mesh '" + path + "': ";
+  std::string bytes;
+  {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return make_error(who, "cannot open the file");
+    std::string head(256, '\0');
+    file.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
+    const OwnFormat format = own_format(path, head);
+    if (format == OwnFormat::kNone) {
+      file.close();
+      auto r = read_with_assimp(path);
+      if (!r) return r;
+      return finish_mesh(std::move(r).value(), who);
+    }
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec || size > static_cast<uintmax_t>(kMaxMeshFileBytes)) return make_error(who, "cannot read the file's size");
+    bytes.resize(static_cast<std::size_t>(size));
+    file.clear();
+    file.seekg(0);
+    file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    bytes.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
+    Result<TriMesh> r = format == OwnFormat::kOff ? read_off(bytes) : format == OwnFormat::kPly ? read_ply(bytes) : read_stl(bytes);
+    if (!r) return make_error(who, r.error().message);
+    for (std::size_t v = 0; v < r.value().vertices_m.size(); ++v) {
+      const Vec3& p = r.value().vertices_m[v];
+      if (!p.allFinite())
+        return make_error(who, p.hasNaN() ? "NaN coordinate" : "infinite coordinate", " at vertex ", std::to_string(v));
+    }
+    return finish_mesh(std::move(r).value(), who);
+  }
 }
 
 std::atomic<MeshReaderIsolation> g_default_isolation{MeshReaderIsolation::child_process};

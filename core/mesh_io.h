@@ -23,6 +23,10 @@ enum class MeshReaderIsolation {
 /// The process-wide default isolation: child_process unless set_default_mesh_reader_isolation changed it.
 MeshReaderIsolation default_mesh_reader_isolation();
 
+/// Vertices closer than this fraction of the model's largest extent are welded into one (per coordinate), so a model
+/// welds alike at any scale: a 1 um part in metres as a 100 mm one in millimetres.
+inline constexpr double kWeldTolerance = 1e-6;
+
 /// How load_mesh reads the file.
 struct MeshReadOptions {
   MeshReaderIsolation isolation = default_mesh_reader_isolation();

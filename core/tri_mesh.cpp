@@ -3,6 +3,8 @@
 #include "core/pair_key.h"
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <unordered_map>
 
 namespace palpate {
@@ -40,6 +42,157 @@ TriMesh subdivide_midpoint(const TriMesh& mesh) {
     out.triangles.push_back({ab, bc, ca});
   }
   return out;
+}
+
+namespace {
+
+// twice the signed area of the 2D triangle (a, b, c)
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+// whether p lies inside or on the counter-clockwise triangle (a, b, c)
+bool inside(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return cross2(a, b, p) >= 0.0 && cross2(b, c, p) >= 0.0 && cross2(c, a, p) >= 0.0;
+}
+
+struct CellKey {
+  int64_t x, y, z;
+  bool operator==(const CellKey&) const = default;
+};
+
+struct CellKeyHash {
+  std::size_t operator()(const CellKey& k) const {
+    uint64_t h = static_cast<uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<uint64_t>(k.y) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+    h ^= static_cast<uint64_t>(k.z) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h);
+  }
+};
+
+}  // namespace
+
+void append_polygon(const std::vector<Vec3>& vertices_m, std::span<const int32_t> polygon,
+                    std::vector<std::array<int32_t, 3>>* triangles) {
+  const std::size_t n = polygon.size();
+  if (n < 3) return;
+  if (n == 3) {
+    triangles->push_back({polygon[0], polygon[1], polygon[2]});
+    return;
+  }
+  auto fan = [&] {
+    for (std::size_t i = 1; i + 1 < n; ++i) triangles->push_back({polygon[0], polygon[i], polygon[i + 1]});
+  };
+  // Newell's normal: the polygon's area vector, whatever its shape
+  Vec3 normal = Vec3::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& a = vertices_m[static_cast<std::size_t>(polygon[i])];
+    const Vec3& b = vertices_m[static_cast<std::size_t>(polygon[(i + 1) % n])];
+    normal += a.cross(b);
+  }
+  int drop = 0;
+  normal.cwiseAbs().maxCoeff(&drop);
+  if (normal[drop] == 0.0 || n > 1024) {
+    fan();
+    return;
+  }
+  // projected on the plane of the two other axes, counter-clockwise (the sign of the dropped axis flips it)
+  const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+  const double sign = normal[drop] > 0.0 ? 1.0 : -1.0;
+  std::vector<Eigen::Vector2d> p(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& q = vertices_m[static_cast<std::size_t>(polygon[i])];
+    p[i] = Eigen::Vector2d(q[u], sign * q[v]);
+  }
+  bool convex = true;
+  for (std::size_t i = 0; i < n && convex; ++i) convex = cross2(p[i], p[(i + 1) % n], p[(i + 2) % n]) >= 0.0;
+  if (convex) {
+    fan();
+    return;
+  }
+  // ear clipping: a corner whose triangle turns left and holds no other corner is cut off, until three are left
+  std::vector<std::size_t> left(n);
+  for (std::size_t i = 0; i < n; ++i) left[i] = i;
+  std::vector<std::array<int32_t, 3>> ears;
+  while (left.size() > 3) {
+    const std::size_t m = left.size();
+    bool cut = false;
+    for (std::size_t i = 0; i < m && !cut; ++i) {
+      const std::size_t a = left[(i + m - 1) % m], b = left[i], c = left[(i + 1) % m];
+      if (cross2(p[a], p[b], p[c]) <= 0.0) continue;
+      bool empty = true;
+      for (std::size_t k : left)
+        if (k != a && k != b && k != c && inside(p[k], p[a], p[b], p[c])) {
+          empty = false;
+          break;
+        }
+      if (!empty) continue;
+      ears.push_back({polygon[a], polygon[b], polygon[c]});
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(i));
+      cut = true;
+    }
+    if (!cut) {  // self-intersecting or collinear corners: no ear; the fan keeps every corner in some triangle
+      fan();
+      return;
+    }
+  }
+  triangles->insert(triangles->end(), ears.begin(), ears.end());
+  triangles->push_back({polygon[left[0]], polygon[left[1]], polygon[left[2]]});
+}
+
+std::size_t weld_vertices(TriMesh* mesh, double tolerance_m) {
+  const double tol = std::isfinite(tolerance_m) && tolerance_m > 0.0 ? tolerance_m : 0.0;
+  const double cell = tol > 0.0 ? 2.0 * tol : 1.0;
+  std::vector<Vec3>& v = mesh->vertices_m;
+  std::vector<int32_t> remap(v.size());
+  std::vector<Vec3> kept;
+  kept.reserve(v.size());
+  std::unordered_multimap<CellKey, int32_t, CellKeyHash> cells;
+  cells.reserve(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Vec3 p = v[i] + Vec3::Zero();  // -0.0 -> +0.0
+    CellKey key{};
+    const bool finite = p.allFinite();
+    if (tol == 0.0 || !finite) {
+      // exact: the bit patterns themselves are the key
+      key = {static_cast<int64_t>(std::bit_cast<uint64_t>(p.x())), static_cast<int64_t>(std::bit_cast<uint64_t>(p.y())),
+             static_cast<int64_t>(std::bit_cast<uint64_t>(p.z()))};
+      int32_t found = -1;
+      auto [b, e] = cells.equal_range(key);
+      for (auto it = b; it != e && finite; ++it) found = it->second;
+      if (found < 0) {
+        found = static_cast<int32_t>(kept.size());
+        kept.push_back(p);
+        cells.emplace(key, found);
+      }
+      remap[i] = found;
+      continue;
+    }
+    const Eigen::Vector3d c = (p / cell).array().floor();
+    key = {static_cast<int64_t>(c.x()), static_cast<int64_t>(c.y()), static_cast<int64_t>(c.z())};
+    int32_t found = -1;
+    for (int dx = -1; dx <= 1 && found < 0; ++dx)
+      for (int dy = -1; dy <= 1 && found < 0; ++dy)
+        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
+          auto [b, e] = cells.equal_range({key.x + dx, key.y + dy, key.z + dz});
+          for (auto it = b; it != e; ++it)
+            if ((kept[static_cast<std::size_t>(it->second)] - p).cwiseAbs().maxCoeff() <= tol) {
+              found = it->second;
+              break;
+            }
+        }
+    if (found < 0) {
+      found = static_cast<int32_t>(kept.size());
+      kept.push_back(p);
+      cells.emplace(key, found);
+    }
+    remap[i] = found;
+  }
+  for (auto& t : mesh->triangles)
+    for (int32_t& id : t) id = remap[static_cast<std::size_t>(id)];
+  const std::size_t merged = v.size() - kept.size();
+  v = std::move(kept);
+  return merged;
 }
 
 }  // namespace palpate

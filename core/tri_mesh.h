@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/types.h"
@@ -26,5 +27,16 @@ void compute_vertex_normals(const std::vector<Vec3>& vertices_m,
 /// Midpoint subdivision: every triangle becomes four, new vertices at edge midpoints (shared between neighbours).
 /// Vertices: n_v + n_edges; triangles: 4 n_t. Used to make large meshes from small ones (benchmarks, tests).
 TriMesh subdivide_midpoint(const TriMesh& mesh);
+
+/// Appends the triangles of one polygon (vertex ids into vertices_m, in order around it) to *triangles, wound as
+/// the polygon: a triangle as it is, a convex polygon as a fan, a concave one (up to 1024 corners) by clipping ears
+/// in the plane its Newell normal faces (a fan when that fails or for more corners). Fewer than 3 ids add nothing.
+void append_polygon(const std::vector<Vec3>& vertices_m, std::span<const int32_t> polygon,
+                    std::vector<std::array<int32_t, 3>>* triangles);
+
+/// Merges vertices closer than tolerance_m (per coordinate: within a cube of that half-side) into the first of
+/// them, renumbering the triangles; the order of the vertices kept is their first appearance. tolerance_m = 0
+/// merges only identical positions (+0 and -0 alike). Returns the number of vertices merged away.
+std::size_t weld_vertices(TriMesh* mesh, double tolerance_m);
 
 }  // namespace palpate

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -42,6 +43,20 @@ std::string dir_name(const Vec3& d) {
 }
 
 double round_um(double x_m) { return std::round(x_m * 1e6) / 1e6; }
+
+// most characters of a scene's name (as the scene reader allows)
+constexpr std::size_t kMaxSceneName = 64;
+
+// '<stem>_<mode>' made a name the scene reader takes: A-Z a-z 0-9 . _ - only (others become '_'), not starting with
+// '.', the stem shortened so the whole fits kMaxSceneName
+std::string scene_name(const std::string& stem, const std::string& mode) {
+  std::string out;
+  for (char c : stem) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-') ? c : '_';
+  if (out.empty() || out.front() == '.') out = "model" + out;
+  const std::string suffix = "_" + mode;
+  if (out.size() + suffix.size() > kMaxSceneName) out.resize(kMaxSceneName - suffix.size());
+  return out + suffix;
+}
 
 // one line per value: {"a": 1, "b": [1, 2]}
 std::string inline_json(const nlohmann::ordered_json& v) {
@@ -175,6 +190,13 @@ Result<Vec3> parse_direction(const std::string& option, const std::string& text)
 
 Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   GeneratedScene g;
+  // the command line's range check lets NaN through: every number is checked here again
+  if (!std::isfinite(rq.depth_mm) || rq.depth_mm < 0.0 || (rq.depth_mm > 0.0 && (rq.depth_mm < 0.5 || rq.depth_mm > 50.0)))
+    return make_error("--depth-mm ", std::to_string(rq.depth_mm), ": not a number in [0.5, 50]");
+  if (rq.level < 0 || rq.level > 8) return make_error("--level ", std::to_string(rq.level), ": not in [1, 8]");
+  if (rq.at_raw && !rq.at_raw->allFinite()) return make_error("--at: not three finite numbers");
+  if (rq.from && !(rq.from->allFinite() && std::abs(rq.from->norm() - 1.0) < 1e-9))
+    return make_error("--from: not a unit direction");
   auto raw_r = load_mesh(rq.mesh_path);
   if (!raw_r) return raw_r.error();
   const TriMesh& raw = raw_r.value();
@@ -262,7 +284,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
 
   nlohmann::ordered_json j;
   const std::string stem = fs::path(rq.mesh_path).stem().string();
-  j["name"] = stem + "_" + mode_name(rq.mode);
+  j["name"] = scene_name(stem, mode_name(rq.mode));
   // the mesh path as the scene resolves it: relative to the scene's folder when the mesh is below it
   const fs::path mesh_abs = fs::weakly_canonical(fs::absolute(rq.mesh_path));
   const fs::path dir_abs = fs::weakly_canonical(fs::absolute(rq.scene_dir.empty() ? "." : rq.scene_dir));
@@ -307,6 +329,14 @@ int run_scene(SceneRequest rq, const std::string& out_path) {
   const std::string out =
       out_path.empty() ? fs::path(rq.mesh_path).stem().string() + "_" + mode_name(rq.mode) + ".json" : out_path;
   rq.scene_dir = fs::path(out).parent_path().string();
+  // the scene is never written over the model it is made for
+  std::error_code ec;
+  if (fs::weakly_canonical(fs::absolute(out), ec) == fs::weakly_canonical(fs::absolute(rq.mesh_path), ec) ||
+      (fs::exists(out, ec) && fs::equivalent(out, rq.mesh_path, ec))) {
+    std::fprintf(stderr, "palpate: --out '%s' is the mesh file itself: the scene would replace the model it points at\n",
+                 out.c_str());
+    return 1;
+  }
   auto g = generate_scene(rq);
   if (!g) {
     std::fprintf(stderr, "palpate: %s\n", g.error().message.c_str());

@@ -1,6 +1,7 @@
 #include "tools/scene_target.h"
 
 #include <algorithm>
+#include <utility>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -74,8 +75,16 @@ std::optional<SurfaceHit> surface_from(const Model& model, const Aabb& box, cons
     if (hit.normal.dot(from) < 0.3) return false;
     const auto& t = mesh.triangles[static_cast<std::size_t>(hit.triangle)];
     const Vec3 &a = mesh.vertices_m[t[0]], &b = mesh.vertices_m[t[1]], &c = mesh.vertices_m[t[2]];
-    const double inradius_m = (b - a).cross(c - a).norm() / ((b - a).norm() + (c - b).norm() + (a - c).norm());
+    const double twice_area_m2 = (b - a).cross(c - a).norm();
+    const double inradius_m = twice_area_m2 / ((b - a).norm() + (c - b).norm() + (a - c).norm());
     const double side_m = std::min(3e-4, 0.5 * inradius_m);
+    // inside its triangle, off its edges: a tool moving exactly along the edge two triangles share (the diagonal
+    // of a CAD model's square face, through its centre) can slip between them and a blade never meet the surface
+    for (const auto& [p, q] : {std::pair{&a, &b}, std::pair{&b, &c}, std::pair{&c, &a}}) {
+      const double edge_m = (*q - *p).norm();
+      const double to_edge_m = edge_m > 0.0 ? (*q - *p).cross(hit.point_m - *p).norm() / edge_m : 0.0;
+      if (to_edge_m < std::min(5e-4, 0.25 * inradius_m)) return false;
+    }
     for (const Vec3& dir : {u, Vec3(-u), v, Vec3(-v)}) {
       const auto h = first_ray_hit(model, through + side_m * dir + reach_m * from, -from, 2.0 * reach_m, true);
       if (!h || std::abs(h->distance_m - hit.distance_m) > 1e-3) return false;

@@ -22,7 +22,8 @@ char guess_up_axis(const Aabb& raw_box, const std::string& path, std::string* wh
 /// among many small ones (a floor under lettering, a building's wall) can be left out and the tool pass through.
 bool feelable(const Model& model, const SurfaceHit& hit, double grab_radius_m);
 
-/// The first front-facing surface a tool coming from `from` (unit, world) meets and can feel: on the ray through
+/// The first front-facing surface a tool coming from `from` (unit, world) meets and can feel, inside its triangle
+/// (at least min(0.5 mm, a quarter of its inradius) from every edge, so never on an edge two triangles share): on the ray through
 /// the box centre, then on rings of parallel rays around it, then through the centroids of the faces turned to
 /// `from`, nearest the centre line first. *offset tells whether the ray missed the centre. Empty when none is found.
 std::optional<SurfaceHit> surface_from(const Model& model, const Aabb& box, const Vec3& from, double grab_radius_m,

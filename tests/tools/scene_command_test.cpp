@@ -7,12 +7,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
 #include "core/mesh_io.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 #include "tools/scene_command.h"
 #include "tools/session/model.h"
 
@@ -181,6 +183,121 @@ TEST(SceneCommand, BadOptionsAndOutputsAreRefusedNamingThem) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
   EXPECT_EQ(files, 1);
+}
+
+TEST(SceneCommand, TheScenesNameIsOneTheReaderTakesAndTheMeshIsNeverOverwritten) {
+  const std::string dir = test::fresh_dir("scene_names");
+  fs::create_directories(dir);
+  const std::string box = box_obj(dir);
+  // a file name of characters a scene name may not hold, and a long one
+  const std::string odd = dir + "/poly2x^2+y^2-0.062500.obj";
+  const std::string long_name = dir + "/" + std::string(80, 'm') + ".obj";
+  for (const std::string& copy : {odd, long_name}) {
+    fs::copy_file(box, copy, fs::copy_options::overwrite_existing);
+    const std::string scene = dir + "/named.json";
+    const CliRun r = palpate("scene '" + copy + "' --mode cut --out " + scene);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = read_json(scene);
+    const std::string name = j["name"].get<std::string>();
+    EXPECT_LE(name.size(), 64u) << name;
+    EXPECT_EQ(name.substr(name.size() - 4), "_cut") << name;
+    auto loaded = load_scene(scene);
+    ASSERT_TRUE(loaded) << loaded.error().message;
+  }
+  EXPECT_EQ(read_json(dir + "/named.json")["name"], std::string(60, 'm') + "_cut");
+  const CliRun odd_run = palpate("scene '" + odd + "' --out " + dir + "/odd.json");
+  ASSERT_EQ(odd_run.code, 0) << odd_run.out;
+  EXPECT_EQ(read_json(dir + "/odd.json")["name"], "poly2x_2_y_2-0.062500_touch");
+
+  // --out naming the mesh itself (or a link to it) is refused and the mesh kept
+  const std::string before = test::read_file(box);
+  for (const std::string& out : {box, dir + "/../" + fs::path(dir).filename().string() + "/box.obj"}) {
+    const CliRun r = palpate("scene " + box + " --out " + out);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("is the mesh file itself"), std::string::npos) << r.out;
+  }
+  fs::create_symlink(box, dir + "/link.obj");
+  EXPECT_EQ(palpate("scene " + box + " --out " + dir + "/link.obj").code, 1);
+  EXPECT_EQ(test::read_file(box), before);
+}
+
+TEST(SceneCommand, NumbersThatAreNotFiniteAreRefused) {
+  const std::string bunny = test::source_path("scenes/bunny.obj");
+  const std::string dir = test::fresh_dir("scene_nan");
+  fs::create_directories(dir);
+  for (const char* bad : {"nan", "-nan", "inf", "1e999", "0.1"}) {
+    const CliRun r = palpate("scene " + bunny + " --depth-mm " + bad + " --out " + dir + "/s.json");
+    EXPECT_NE(r.code, 0) << bad << ": " << r.out;
+    EXPECT_NE(r.out.find("--depth-mm"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(dir + "/s.json")) << bad;
+  }
+  SceneRequest rq;
+  rq.mesh_path = bunny;
+  rq.depth_mm = std::nan("");
+  ASSERT_FALSE(generate_scene(rq));
+  EXPECT_NE(generate_scene(rq).error().message.find("--depth-mm nan: not a number in [0.5, 50]"), std::string::npos);
+  rq.depth_mm = 0.0;
+  rq.at_raw = Vec3(0, std::numeric_limits<double>::infinity(), 0);
+  EXPECT_FALSE(generate_scene(rq));
+}
+
+// A flat CAD plate 100 x 5 x 60 lying on its edge in the file: the up axis is its thin one, so the tool comes down
+// on its 100 x 60 face, not on its 5 mm rim (the wrong axis passes a contact test but touches the rim)
+TEST(SceneCommand, AFlatPlateIsTouchedOnItsFace) {
+  const std::string dir = test::fresh_dir("scene_plate");
+  fs::create_directories(dir);
+  const TriMesh m = make_box_mesh(Vec3(100.0, 5.0, 60.0), 4);
+  std::string text;
+  for (const Vec3& v : m.vertices_m) text += "v " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+  for (const auto& t : m.triangles)
+    text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  const std::string path = dir + "/plate.obj";
+  write(path, text);
+  {
+    SceneRequest rq;
+    rq.mesh_path = path;
+    auto g = generate_scene(rq);
+    ASSERT_TRUE(g) << g.error().message;
+    EXPECT_EQ(g.value().json["mesh"]["up_axis"], "y");
+    // normalised: 100 mm along x, the 5 mm thickness along world z, 60 mm along world y
+    EXPECT_NEAR(g.value().surface_point_m.z(), 0.0025, 1e-6);
+    EXPECT_TRUE(g.value().approach.isApprox(Vec3(0, 0, -1), 1e-9));
+    // the face under the tool is the plate's broad face: its neighbourhood spans far more than the rim's 5 mm
+    EXPECT_LT(std::abs(g.value().surface_point_m.x()), 0.04);
+    EXPECT_LT(std::abs(g.value().surface_point_m.y()), 0.025);
+  }
+  // and the record presses into it
+  const auto j = scene_then_record(dir + "/plate.obj", "plate", "--mode touch", 2.0);
+  EXPECT_GT(j["max_force_N"].get<double>(), 0.0);
+}
+
+// A cube of 8 vertices and 6 quads (assimp's cube.ply): each face splits along a diagonal through its centre, so
+// a tool coming down through the centre moves along the edge the two triangles share; the scene's point is taken
+// inside a triangle and every mode meets the surface (the cut used to cut springs without the blade ever touching)
+TEST(SceneCommand, EveryModeMeetsACubeOfEightVertices) {
+  const std::string dir = test::fresh_dir("scene_cube");
+  fs::create_directories(dir);
+  const std::string cube = dir + "/cube.ply";
+  write(cube, "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 6\nproperty list uchar int vertex_indices\nend_header\n"
+              "0 0 0\n0 0 1\n0 1 1\n0 1 0\n1 0 0\n1 0 1\n1 1 1\n1 1 0\n"
+              "4 0 1 2 3\n4 7 6 5 4\n4 0 4 5 1\n4 1 5 6 2\n4 2 6 7 3\n4 3 7 4 0\n");
+  SceneRequest rq;
+  rq.mesh_path = cube;
+  auto g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  // on the top face, off its centre (where a diagonal runs)
+  EXPECT_NEAR(g.value().surface_point_m.z(), 0.05, 1e-9);
+  EXPECT_GT(g.value().surface_point_m.head<2>().norm(), 1e-3);
+  for (const char* mode : {"touch", "pull", "cut"}) {
+    SCOPED_TRACE(mode);
+    const auto j = scene_then_record(cube, std::string("cube_") + mode, std::string("--mode ") + mode, 2.4);
+    EXPECT_GT(j["max_force_N"].get<double>(), 0.0);
+    EXPECT_EQ(j["nan_events"].get<int>(), 0);
+    if (std::string(mode) == "cut") {
+      EXPECT_GT(j["cut"]["springs_cut"].get<int>(), 0);
+    }
+  }
 }
 
 }  // namespace
