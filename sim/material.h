@@ -21,6 +21,15 @@
 /// uniformly stressed hexahedron, so a homogeneous block under uniaxial stress deforms uniformly and
 /// F = E A d / L holds to round-off at small strain.
 ///
+/// Volumetric model (material.model "volumetric", any nu in [0, 0.49]): the springs are calibrated as above for
+/// the asked shear modulus mu = E / (2 (1 + nu)) (the spring lattice's own Young's modulus 5/2 mu), which gives
+/// lambda_s = mu; each cell adds the volume energy (1/2) lambda_v l^3 (J - 1)^2 with J = det F of the cell's
+/// centre deformation gradient (sim/volume_term.h) and lambda_v = lambda - mu, lambda = E nu / ((1 + nu)(1 - 2 nu)):
+/// at small strain J - 1 = tr eps, so the cell's stiffness is C = 2 mu I + lambda I (x) I, the isotropic solid of
+/// (E, nu). One quadrature point per cell for the volume (reduced integration of the volumetric term) leaves
+/// nothing to lock as nu -> 1/2: the springs hold the cell's hourglass modes. lambda_v < 0 for nu < 1/4 (down to
+/// -mu at nu = 0): the cell's bulk modulus lambda + 2/3 mu stays positive.
+///
 /// Damping: every spring gets one relative-velocity coefficient c (the integrators take one per lattice), and the
 /// force c (v_b - v_a) of the paper's eq. 4 acts on the whole relative velocity, not only along the spring. Under a
 /// uniform velocity gradient G it dissipates (1/l^3) sum c L^2 |G n|^2 per volume; with per-cell shares c/4, c/2, c
@@ -54,7 +63,8 @@ struct LatticeCalibration {
   double edge_N_per_m = 0.0;      ///< k_e each cell adds to each of its 12 edges: 7 E l / 50
   double diagonal_N_per_m = 0.0;  ///< k_s each cell adds to each face and body diagonal: 3 E l / 25
   double damping_Ns_per_m = 0.0;  ///< c of every spring: 2/45 beta E l
-  double poisson_represented = kLatticePoissonRatio;  ///< nu of the lattice (always 1/4)
+  double volume_Pa = 0.0;         ///< lambda_v of each cell's volume term (0: springs only)
+  double poisson_represented = kLatticePoissonRatio;  ///< nu of the lattice (1/4 with springs only)
   std::string warning;            ///< non-empty when the asked nu differs from the represented one
 };
 

@@ -335,6 +335,10 @@ int main(int argc, char** argv) {
   bmat->add_option("--references", mo.references, "Which references: compression, cantilever, hertz")->delimiter(',')
       ->capture_default_str();
   bmat->add_option("--integrator", mo_integrator, "Integrator that steps every run to rest")->capture_default_str();
+  bmat->add_option("--poisson", mo.poisson_ratios, "Poisson ratios of the material.model 'volumetric' rows (none: "
+                   "--poisson '')")->delimiter(',')->check(palpate::finite_range(0.0, 0.49))->capture_default_str();
+  bmat->add_option("--poisson-level", mo.poisson_level, "Level of those rows' cantilever and Hertz")
+      ->check(CLI::Range(4, 7))->capture_default_str();
   bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
   bmat->add_option("--plot", mo.plot_path, "Plot force error against ms per frame (log-log) as PNG");
 

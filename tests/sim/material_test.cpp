@@ -12,6 +12,7 @@
 #include "sim/reference_cases.h"
 #include "sim/settle.h"
 #include "sim/static_solve.h"
+#include "sim/volume_term.h"
 #include "support/fixtures.h"
 
 namespace palpate {
@@ -227,6 +228,83 @@ TEST(StaticSolve, FreeRigidMotionIsAnErrorNotANaN) {
   auto r = solve_static(&lat, std::vector<uint8_t>(3 * lat.num_nodes(), 0), {});
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("hold enough DOFs to remove rigid motion"), std::string::npos) << r.error().message;
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+MaterialSpec volumetric(double nu) {
+  MaterialSpec m = silicone(nu);
+  m.model = MaterialModel::kVolumetric;
+  return m;
+}
+
+TEST(MaterialVolumetric, SpringsCarryTheShearModulusAndCellsTheRestOfLambda) {
+  const double e = 1e5, nu = 0.45, l = 0.005;
+  const LatticeCalibration c = calibrate_lattice(volumetric(nu), l);
+  const double mu = e / (2 * (1 + nu)), lambda = e * nu / ((1 + nu) * (1 - 2 * nu));
+  // the springs are the nu = 1/4 lattice of Young's modulus 5/2 mu (whose own shear modulus is mu)
+  EXPECT_DOUBLE_EQ(c.edge_N_per_m, 7.0 * 2.5 * mu * l / 50.0);
+  EXPECT_DOUBLE_EQ(c.volume_Pa, lambda - mu);
+  EXPECT_EQ(c.poisson_represented, nu);
+  EXPECT_TRUE(c.warning.empty()) << c.warning;
+  // at nu = 1/4 the volumetric model is the springs alone
+  const LatticeCalibration q = calibrate_lattice(volumetric(0.25), l);
+  EXPECT_DOUBLE_EQ(q.edge_N_per_m, calibrate_lattice(silicone(), l).edge_N_per_m);
+  EXPECT_NEAR(q.volume_Pa, 0.0, 1e-9 * e);
+}
+
+// The cell's volume force is minus the gradient of its energy, on a cell stretched, sheared and turned.
+TEST(MaterialVolumetric, VolumeForceIsMinusTheEnergyGradient) {
+  auto lat = box_lattice(volumetric(0.45), 0.02, 2, {1, 1, 1}).value();
+  const Mat3 f = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix() *
+                 (Mat3() << 1.1, 0.05, 0.0, 0.02, 0.93, 0.04, -0.03, 0.0, 0.97).finished();
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) lat.x_m[i] = f * lat.rest_m[i] + Vec3(0.001 * i, 0, -0.0005 * i * i);
+  std::vector<Vec3> force(lat.num_nodes(), Vec3::Zero());
+  add_volume_forces(lat, lat.x_m, &force);
+  const double h = 1e-8;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      std::vector<Vec3> xp = lat.x_m, xm = lat.x_m;
+      xp[i][a] += h;
+      xm[i][a] -= h;
+      const double grad = (volume_energy_J(lat, xp) - volume_energy_J(lat, xm)) / (2 * h);
+      EXPECT_NEAR(force[i][a], -grad, 1e-6 * force[i].norm() + 1e-9) << "node " << i << " axis " << a;
+    }
+  // and a rigid motion stores nothing
+  const Mat3 r = Eigen::AngleAxisd(1.1, Vec3(0, 1, 1).normalized()).toRotationMatrix();
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) lat.x_m[i] = r * lat.rest_m[i] + Vec3(0.3, 0, 0);
+  EXPECT_NEAR(volume_energy_J(lat, lat.x_m), 0.0, 1e-20);
+}
+
+// Uniaxial compression run to rest by implicit Euler at nu from 0 to 0.49: shortening E A d / L and lateral
+// strain nu times the axial, as the isotropic solid (uniform strain is exact in the lattice plus volume term).
+TEST(MaterialVolumetric, CompressionGivesTheAskedPoissonRatio) {
+  for (double nu : {0.0, 0.45, 0.49}) {
+    const ReferenceCheck r = check_compression(volumetric(nu), 3, 1e-4).value();
+    EXPECT_NEAR(r.rel_error, 0.0, 1e-3) << "nu " << nu;
+    EXPECT_NEAR(r.poisson_effective, nu, 1e-3) << "nu " << nu;
+  }
+}
+
+// The run's rest is the static solve's (volume forces in both), and local/global refuses the term rather than drop it.
+TEST(MaterialVolumetric, RunToRestAgreesWithTheStaticSolve) {
+  const ReferenceCase c = cantilever_case(volumetric(0.45), 4).value();
+  Lattice stat = c.lattice;
+  ASSERT_TRUE(solve_static(&stat, c.held_dof, c.f_ext_N));
+  Lattice dyn = c.lattice;
+  SettleOptions o;
+  o.rest_rel = 1e-7;
+  ASSERT_TRUE(settle(&dyn, c.f_ext_N, o));
+  EXPECT_NEAR(cantilever_deflection_m(c, dyn) / cantilever_deflection_m(c, stat), 1.0, 1e-5);
+  Lattice lg = c.lattice;
+  IntegratorWorkspace ws;
+  StepOptions so;
+  so.kind = IntegratorKind::kLocalGlobal;
+  EXPECT_FALSE(step_lattice(&lg, so, 1.0 / 60.0, c.f_ext_N, &ws).solver_ok);
 }
 
 }  // namespace
