@@ -61,6 +61,16 @@ void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::ve
   } else {
     cell_c_.clear();
   }
+  // the cells' Neo-Hookean terms: h^2 times their tangent blocks
+  neo_h2_ = h_s * h_s;
+  if (lat.neo_mu_Pa != 0.0) {
+    neo_hookean_cells(lat, x_m, &neo_);
+    for (std::size_t k = 0; k < neo_.size(); ++k)
+      for (int a = 0; a < 8; ++a)
+        node_block_[static_cast<std::size_t>(lat.cell_nodes[k][a])] += neo_h2_ * neo_hookean_block(lat, neo_[k], a, a);
+  } else {
+    neo_.clear();
+  }
   // block-Jacobi preconditioner: each free node's 3x3 diagonal block inverted (symmetric positive definite)
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     node_block_inv_[i] = lat.fixed[i] ? Mat3::Zero() : Mat3(node_block_[i].inverse());
@@ -85,6 +95,11 @@ void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& 
     for (int a = 0; a < 8; ++a) dot_cp += c[static_cast<std::size_t>(a)].dot(p[static_cast<std::size_t>(nodes[a])]);
     dot_cp *= cell_w_[k];
     for (int a = 0; a < 8; ++a) y[static_cast<std::size_t>(nodes[a])] += dot_cp * c[static_cast<std::size_t>(a)];
+  }
+  if (!neo_.empty()) {
+    neo_y_.assign(lat.num_nodes(), Vec3::Zero());
+    add_neo_hookean_product(lat, neo_, p, &neo_y_);
+    for (std::size_t i = 0; i < lat.num_nodes(); ++i) y[i] += neo_h2_ * neo_y_[i];
   }
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     if (lat.fixed[i]) y[i].setZero();

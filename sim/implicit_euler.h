@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim/lattice.h"
+#include "sim/neo_hookean_term.h"
 
 namespace palpate {
 
@@ -50,6 +51,9 @@ class ImplicitEulerSolver {
   std::vector<Mat3> node_block_;         // diagonal block m I + sum of its springs' blocks (n)
   std::vector<Mat3> node_block_inv_;     // its inverse: the preconditioner, zero for fixed nodes (n)
   std::vector<std::array<Vec3, 8>> cell_c_;  // volume term: cof(F) g_a of each cell's corners (n_c x 8; sim/volume_term.h)
+  std::vector<NeoHookeanCell> neo_;      // Neo-Hookean term: each cell's tangent state (n_c; sim/neo_hookean_term.h)
+  double neo_h2_ = 0.0;                  // h^2, the factor on that term's tangent
+  mutable std::vector<Vec3> neo_y_;      // scratch for its product (n; sized once per lattice)
   std::vector<double> cell_w_;           // h^2 l^3 psi''(J) per cell: its Gauss-Newton blocks are cell_w_ c_a c_b^T (n_c)
   std::vector<Vec3> rhs_, delta_, r_, z_, p_, jp_;  // CG vectors, zero at fixed nodes (n)
   std::vector<Vec3> last_dv_m_per_s_;    // velocity change of the previous step: the first solve's warm start (n)

@@ -15,6 +15,14 @@ LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m
     springs_E_Pa = 2.5 * mu;
     c.volume_Pa = lambda - mu;
     c.poisson_represented = nu;
+  } else if (material.model == MaterialModel::kNeoHookean) {
+    // a share of mu in the springs (their lambda is that share too), the rest in the cells' Neo-Hookean term
+    const double nu = material.poisson_ratio, e = material.young_modulus_Pa, s = kNeoHookeanSpringShare;
+    const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    springs_E_Pa = 2.5 * s * mu;
+    c.neo_mu_Pa = (1.0 - s) * mu;
+    c.neo_lambda_Pa = lambda - s * mu;
+    c.poisson_represented = nu;
   }
   const double e_l = springs_E_Pa * cell_m;
   c.edge_N_per_m = 7.0 * e_l / 50.0;

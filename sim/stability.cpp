@@ -45,6 +45,11 @@ StabilityBound stability_bound(const Lattice& lat, double safety) {
   if (lat.volume_Pa != 0.0)
     for (const auto& nodes : lat.cell_nodes)
       for (int32_t node : nodes) ksum[static_cast<std::size_t>(node)] += 0.75 * std::abs(lat.volume_Pa) * lat.cell_m;
+  // the cells' Neo-Hookean terms at rest (stiffness 2 mu I + lambda I x I): bounded the same way by 2 mu + |lambda|
+  if (lat.neo_mu_Pa != 0.0)
+    for (const auto& nodes : lat.cell_nodes)
+      for (int32_t node : nodes)
+        ksum[static_cast<std::size_t>(node)] += 0.75 * (2.0 * lat.neo_mu_Pa + std::abs(lat.neo_lambda_Pa)) * lat.cell_m;
   double w2 = 0.0, g = 0.0;
   StabilityBound b;
   for (std::size_t i = 0; i < n; ++i) {

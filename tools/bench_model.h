@@ -23,6 +23,7 @@ struct BenchModelOptions {
   double stiffness_damping_s = 0.02;                 ///< Rayleigh beta: how fast each run comes to rest
   IntegratorKind integrator = IntegratorKind::kImplicitEuler;  ///< what steps every run to rest
   std::vector<double> poisson_ratios{0.0, 0.25, 0.4, 0.45, 0.49};  ///< material.model "volumetric" rows, one set per nu
+  std::vector<double> large_strain_poisson_ratios;   ///< material.model "neo_hookean", 30 % compression (none by default)
   int poisson_level = 6;                             ///< level of those rows' cantilever and Hertz (compression: 4)
   std::string json_path;                             ///< write the rows as JSON here when not empty
   std::string plot_path;                             ///< log-log plot of force error against ms per frame (PNG)

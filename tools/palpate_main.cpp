@@ -337,6 +337,9 @@ int main(int argc, char** argv) {
   bmat->add_option("--integrator", mo_integrator, "Integrator that steps every run to rest")->capture_default_str();
   bmat->add_option("--poisson", mo.poisson_ratios, "Poisson ratios of the material.model 'volumetric' rows (none: "
                    "--poisson '')")->delimiter(',')->check(palpate::finite_range(0.0, 0.49))->capture_default_str();
+  bmat->add_option("--large-strain", mo.large_strain_poisson_ratios, "Poisson ratios of the 30 % compression rows "
+                   "(material.model 'neo_hookean'; none by default: the runs do not come to rest yet)")->delimiter(',')
+      ->check(palpate::finite_range(0.0, 0.49))->capture_default_str();
   bmat->add_option("--poisson-level", mo.poisson_level, "Level of those rows' cantilever and Hertz")
       ->check(CLI::Range(4, 7))->capture_default_str();
   bmat->add_option("--json", mo.json_path, "Write the rows as JSON");
