@@ -216,6 +216,10 @@ void read_material(ObjectReader& top, const Json& lattice_json, Scene* s, std::s
   r.number("poisson_ratio", &m.poisson_ratio, -0.999, 0.4999);
   r.number("density_kg_per_m3", &m.density_kg_per_m3, 1.0, 1e5);
   r.number("stiffness_damping_s", &m.stiffness_damping_s, 0.0, 10.0);
+  r.name("model", &m.model);
+  if (err->empty() && m.model != MaterialModel::kSprings && (m.poisson_ratio < 0.0 || m.poisson_ratio > 0.49))
+    r.fail(r.path("poisson_ratio"), std::to_string(m.poisson_ratio) + " is outside [0, 0.49], the range material.model '" +
+                                    name_of(m.model) + "' represents");
   r.finish();
   std::string raw;
   for (const char* key : {"node_mass_kg", "stiffness_N_per_m", "damping_Ns_per_m"})
@@ -372,6 +376,17 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   if (err.empty() && s.dynamic_friction > s.static_friction)
     err = "interaction.dynamic_friction " + fmt_num(s.dynamic_friction) + " exceeds interaction.static_friction " +
           fmt_num(s.static_friction) + " (sliding friction is at most sticking friction)";
+  // the volume term acts on whole cells: the local/global solver's constant matrix does not hold it, and a cut
+  // (which removes springs) would leave it holding the cut cells together
+  if (err.empty() && s.lattice.material.enabled && s.lattice.material.model != MaterialModel::kSprings) {
+    const std::string model = name_of(s.lattice.material.model);
+    if (s.lattice.integrator == IntegratorKind::kLocalGlobal)
+      err = "material.model: '" + model + "' is not supported by lattice.integrator 'local_global' (its prefactored "
+            "matrix holds springs only); use implicit_euler, symplectic_euler, explicit_euler or rk4";
+    else if (s.mode == InteractionMode::kCut)
+      err = "material.model: '" + model + "' is not supported with interaction.mode 'cut' (the cells' term would "
+            "hold the cut together); use material.model 'springs'";
+  }
   if (!err.empty()) return make_error(who, err);
   if (s.name.empty()) s.name = safe_name(std::filesystem::path(path).stem().string());
   // a relative mesh path is relative to the scene file's folder

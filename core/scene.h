@@ -28,7 +28,8 @@ struct MeshSpec {
 struct MaterialSpec {
   bool enabled = false;                 ///< true when the scene has a "material" object
   double young_modulus_Pa = 1e5;        ///< E
-  double poisson_ratio = 0.25;          ///< nu asked for; the lattice represents exactly 0.25 (sim/material.h)
+  double poisson_ratio = 0.25;          ///< nu asked for; represented by kVolumetric, springs alone give 0.25
+  MaterialModel model = MaterialModel::kSprings;  ///< central springs only, or springs plus a per-cell volume term
   double density_kg_per_m3 = 1000.0;    ///< rho
   double stiffness_damping_s = 0.0;     ///< Rayleigh beta: a mode of angular frequency w gets damping ratio beta w / 2
 };

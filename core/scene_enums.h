@@ -12,6 +12,10 @@ namespace palpate {
 
 /// Which integrator steps the lattice.
 enum class IntegratorKind { kExplicitEuler, kSymplecticEuler, kImplicitEuler, kLocalGlobal, kRk4 };
+/// How a material lattice turns E and nu into forces (scene key material.model; sim/material.h): central springs
+/// only (nu = 1/4 whatever is asked), springs for the shear modulus plus a per-cell volume term for the asked nu, or
+/// a per-cell Neo-Hookean solid (large strain) with a fifth of the stiffness left to the springs.
+enum class MaterialModel { kSprings, kVolumetric, kNeoHookean };
 /// How the tool interacts with the model.
 enum class InteractionMode { kTouch, kPull, kCut };
 /// Which clock drives a recording.
@@ -60,6 +64,10 @@ constexpr NameTable<IntegratorKind, 5> names(IntegratorKind) {
             {IntegratorKind::kImplicitEuler, "implicit_euler"},
             {IntegratorKind::kLocalGlobal, "local_global"},
             {IntegratorKind::kRk4, "rk4"}}}};
+}
+constexpr NameTable<MaterialModel, 3> names(MaterialModel) {
+  return {{{{MaterialModel::kSprings, "springs"}, {MaterialModel::kVolumetric, "volumetric"},
+            {MaterialModel::kNeoHookean, "neo_hookean"}}}};
 }
 constexpr NameTable<InteractionMode, 3> names(InteractionMode) {
   return {{{{InteractionMode::kTouch, "touch"}, {InteractionMode::kPull, "pull"}, {InteractionMode::kCut, "cut"}}}};

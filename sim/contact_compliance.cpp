@@ -1,5 +1,8 @@
 #include "sim/contact_compliance.h"
 
+#include "sim/neo_hookean_term.h"
+#include "sim/volume_term.h"
+
 #include <algorithm>
 #include <limits>
 #include <vector>
@@ -38,6 +41,9 @@ struct ContactCompliance::Impl {
   std::size_t nodes = 0, springs = 0;
   bool ok = false;
 
+  std::vector<std::array<Vec3, 8>> cell_c;  // volume term: cof(F) g_a per cell corner (sim/volume_term.h)
+  std::vector<double> cell_w;               // and its weight per cell
+  std::vector<NeoHookeanCell> neo;          // Neo-Hookean term: each cell's tangent state
   bool factor(const Lattice& lat);
 };
 
@@ -65,6 +71,40 @@ bool ContactCompliance::Impl::factor(const Lattice& lat) {
       off.push_back({fa, fb, -k});
       off.push_back({fb, fa, -k});
     }
+  }
+  // the cells' volume terms (lambda_v > 0: the nearly incompressible solid's bulk stiffness; a negative term, nu < 1/4,
+  // is left out, which keeps K positive definite and errs stiff): Gauss-Newton blocks lambda_v l^3 c_a c_b^T
+  if (lat.volume_Pa > 0.0) {
+    volume_gradients(lat, lat.x_m, &cell_c, &cell_w);
+    for (std::size_t cell = 0; cell < cell_c.size(); ++cell)
+      for (int a = 0; a < 8; ++a) {
+        const int32_t fa = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][a])];
+        if (fa < 0) continue;
+        for (int b = 0; b < 8; ++b) {
+          const int32_t fb = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][b])];
+          if (fb < 0) continue;
+          // block (row fb, column fa)
+          const Mat3 k = cell_w[cell] * cell_c[cell][b] * cell_c[cell][a].transpose();
+          if (fa == fb) diag[static_cast<std::size_t>(fa)] += k;
+          else off.push_back({fa, fb, k});
+        }
+      }
+  }
+  // the cells' Neo-Hookean terms: their tangent blocks at the current configuration
+  if (lat.neo_mu_Pa != 0.0) {
+    neo_hookean_cells(lat, lat.x_m, &neo);
+    for (std::size_t cell = 0; cell < neo.size(); ++cell)
+      for (int a = 0; a < 8; ++a) {
+        const int32_t fa = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][a])];
+        if (fa < 0) continue;
+        for (int b = 0; b < 8; ++b) {
+          const int32_t fb = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][b])];
+          if (fb < 0) continue;
+          const Mat3 k = neo_hookean_block(lat, neo[cell], b, a);  // block (row fb, column fa)
+          if (fa == fb) diag[static_cast<std::size_t>(fa)] += k;
+          else off.push_back({fa, fb, k});
+        }
+      }
   }
   // fill-reducing ordering of the node graph (both triangles, pattern only)
   std::sort(off.begin(), off.end(), [](const OffBlock& a, const OffBlock& b) { return a.col != b.col ? a.col < b.col : a.row < b.row; });

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/neo_hookean_term.h"
+#include "sim/volume_term.h"
+
 namespace palpate {
 namespace {
 
@@ -50,6 +53,8 @@ void compute_forces(const Lattice& lat, const std::vector<Vec3>& x_m, const std:
     (*f_N)[s.a] += f;
     (*f_N)[s.b] -= f;
   }
+  add_volume_forces(lat, x_m, f_N);
+  add_neo_hookean_forces(lat, x_m, f_N);
   for (std::size_t i = 0; i < n; ++i)
     if (lat.fixed[i]) (*f_N)[i].setZero();
 }
@@ -60,6 +65,7 @@ double lattice_energy_J(const Lattice& lat) {
     const double stretch = (lat.x_m[s.b] - lat.x_m[s.a]).norm() - s.rest_m;
     e += 0.5 * s.k_N_per_m * stretch * stretch;
   }
+  e += volume_energy_J(lat, lat.x_m) + neo_hookean_energy_J(lat, lat.x_m);
   for (std::size_t i = 0; i < lat.num_nodes(); ++i) {
     e += 0.5 * lat.mass_kg[i] * lat.v_m_per_s[i].squaredNorm();
     e -= lat.mass_kg[i] * lat.gravity_m_per_s2.dot(lat.x_m[i] - lat.rest_m[i]);

@@ -16,13 +16,13 @@ Vec3 spring_force_on_a(const Spring& s, const Vec3& d);
 /// which keeps K_s positive semi-definite. A zero-length spring gives k I (the rest-direction limit, isotropic).
 Mat3 spring_stiffness_block(const Spring& s, const Vec3& d, bool clamp_compression);
 
-/// f = sum of spring, damping, gravity and external forces per node (eq. 7) at state (x, v).
+/// f = sum of spring, cell volume (sim/volume_term.h), damping, gravity and external forces per node (eq. 7) at (x, v).
 /// f_ext may be empty (no external force). A zero-length spring exerts no force (no NaN). Fixed nodes get 0.
 /// Gravity costs nothing when it is zero.
 void compute_forces(const Lattice& lat, const std::vector<Vec3>& x_m, const std::vector<Vec3>& v_m_per_s,
                     const std::vector<Vec3>& f_ext_N, std::vector<Vec3>* f_N);
 
-/// Potential energy of springs and gravity plus kinetic energy, in J.
+/// Potential energy of springs, cell volume terms and gravity plus kinetic energy, in J.
 double lattice_energy_J(const Lattice& lat);
 
 /// Kinetic energy of the free nodes, in J.

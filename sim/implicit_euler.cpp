@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/forces.h"
+#include "sim/volume_term.h"
 
 namespace palpate {
 namespace {
@@ -47,6 +48,29 @@ void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::ve
     node_block_[s.a] += b;
     node_block_[s.b] += b;
   }
+  // the cells' volume terms: h^2 lambda_v l^3 c_a c_b^T (Gauss-Newton: the (J - 1) d^2 J part is left out)
+  if (lat.volume_Pa != 0.0) {
+    volume_gradients(lat, x_m, &cell_c_, &cell_w_);
+    for (std::size_t k = 0; k < cell_c_.size(); ++k) {
+      cell_w_[k] *= h_s * h_s;
+      for (int a = 0; a < 8; ++a) {
+        const Vec3& c = cell_c_[k][static_cast<std::size_t>(a)];
+        node_block_[static_cast<std::size_t>(lat.cell_nodes[k][a])] += cell_w_[k] * c * c.transpose();
+      }
+    }
+  } else {
+    cell_c_.clear();
+  }
+  // the cells' Neo-Hookean terms: h^2 times their tangent blocks
+  neo_h2_ = h_s * h_s;
+  if (lat.neo_mu_Pa != 0.0) {
+    neo_hookean_cells(lat, x_m, &neo_);
+    for (std::size_t k = 0; k < neo_.size(); ++k)
+      for (int a = 0; a < 8; ++a)
+        node_block_[static_cast<std::size_t>(lat.cell_nodes[k][a])] += neo_h2_ * neo_hookean_block(lat, neo_[k], a, a);
+  } else {
+    neo_.clear();
+  }
   // block-Jacobi preconditioner: each free node's 3x3 diagonal block inverted (symmetric positive definite)
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     node_block_inv_[i] = lat.fixed[i] ? Mat3::Zero() : Mat3(node_block_[i].inverse());
@@ -62,6 +86,20 @@ void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& 
     const Vec3 d = spring_block_[k] * (p[s.a] - p[s.b]);
     y[s.a] += d;
     y[s.b] -= d;
+  }
+  for (std::size_t k = 0; k < cell_c_.size(); ++k) {
+    // the cell's rank-one block: w c (c . p)
+    const auto& nodes = lat.cell_nodes[k];
+    const auto& c = cell_c_[k];
+    double dot_cp = 0.0;
+    for (int a = 0; a < 8; ++a) dot_cp += c[static_cast<std::size_t>(a)].dot(p[static_cast<std::size_t>(nodes[a])]);
+    dot_cp *= cell_w_[k];
+    for (int a = 0; a < 8; ++a) y[static_cast<std::size_t>(nodes[a])] += dot_cp * c[static_cast<std::size_t>(a)];
+  }
+  if (!neo_.empty()) {
+    neo_y_.assign(lat.num_nodes(), Vec3::Zero());
+    add_neo_hookean_product(lat, neo_, p, &neo_y_);
+    for (std::size_t i = 0; i < lat.num_nodes(); ++i) y[i] += neo_h2_ * neo_y_[i];
   }
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     if (lat.fixed[i]) y[i].setZero();

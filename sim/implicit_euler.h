@@ -3,13 +3,15 @@
 /// system J = M + h D + h^2 K, K the spring stiffness kept positive semi-definite under compression, solved
 /// matrix-free by conjugate gradients with a 3x3 block-Jacobi preconditioner, warm-started from the previous
 /// update. J is kept as one symmetric 3x3 block per spring plus one per node, so a product J p is one sweep over
-/// the springs; the mass term keeps J well conditioned at frame-size steps (condition number bounded by
+/// the springs (and, with a volume term, over the cells: each adds the rank-one Gauss-Newton block of its (J - 1)^2); the mass term keeps J well conditioned at frame-size steps (condition number bounded by
 /// 1 + h^2 w_max^2 + h g, independent of the lattice size), so the iteration count does not grow with n.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "sim/lattice.h"
+#include "sim/neo_hookean_term.h"
 
 namespace palpate {
 
@@ -48,6 +50,11 @@ class ImplicitEulerSolver {
   std::vector<Mat3> spring_block_;       // h c I + h^2 K_s of each spring (n_s)
   std::vector<Mat3> node_block_;         // diagonal block m I + sum of its springs' blocks (n)
   std::vector<Mat3> node_block_inv_;     // its inverse: the preconditioner, zero for fixed nodes (n)
+  std::vector<std::array<Vec3, 8>> cell_c_;  // volume term: cof(F) g_a of each cell's corners (n_c x 8; sim/volume_term.h)
+  std::vector<NeoHookeanCell> neo_;      // Neo-Hookean term: each cell's tangent state (n_c; sim/neo_hookean_term.h)
+  double neo_h2_ = 0.0;                  // h^2, the factor on that term's tangent
+  mutable std::vector<Vec3> neo_y_;      // scratch for its product (n; sized once per lattice)
+  std::vector<double> cell_w_;           // h^2 l^3 psi''(J) per cell: its Gauss-Newton blocks are cell_w_ c_a c_b^T (n_c)
   std::vector<Vec3> rhs_, delta_, r_, z_, p_, jp_;  // CG vectors, zero at fixed nodes (n)
   std::vector<Vec3> last_dv_m_per_s_;    // velocity change of the previous step: the first solve's warm start (n)
   std::vector<Vec3> x0_m_, v0_m_per_s_, x_m_, v_m_per_s_, f_N_;  // (n)

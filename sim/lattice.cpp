@@ -80,6 +80,9 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
     k_shear = cal.diagonal_N_per_m;
     k_bend = 0.0;
     lat.damping_Ns_per_m = cal.damping_Ns_per_m;
+    lat.volume_Pa = cal.volume_Pa;
+    lat.neo_mu_Pa = cal.neo_mu_Pa;
+    lat.neo_lambda_Pa = cal.neo_lambda_Pa;
   }
   lat.gravity_m_per_s2 = spec.gravity_m_per_s2;
   lat.cells = cells;

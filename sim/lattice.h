@@ -29,6 +29,9 @@ struct Lattice {
   int cells_per_axis = 0;                ///< grid cells per axis at that level
   double cell_m = 0.0;                   ///< cell edge length
   double damping_Ns_per_m = 0.0;         ///< C_d per spring
+  double volume_Pa = 0.0;                ///< lambda_v of every cell's volume term (sim/volume_term.h); 0 = none
+  double neo_mu_Pa = 0.0;                ///< mu of every cell's Neo-Hookean term (sim/neo_hookean_term.h); 0 = none
+  double neo_lambda_Pa = 0.0;            ///< lambda of that term
   Vec3 gravity_m_per_s2 = Vec3::Zero();  ///< g (eq. 6)
   std::vector<int32_t> cells;            ///< grid cell index of each region cell (n_c)
   std::vector<std::array<int32_t, 8>> cell_nodes;  ///< node of each cell corner, corner = dx + 2dy + 4dz (n_c)

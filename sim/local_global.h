@@ -80,7 +80,8 @@ class DowndatableLLT
 class LocalGlobalSolver {
  public:
   /// Takes one substep h_s with `iterations` local/global iterations. f_ext_N (n, or empty) is held constant.
-  /// Returns the iterations taken, or -1 when the factorisation failed (the lattice is left unchanged).
+  /// Returns the iterations taken, or -1 when the factorisation failed or the lattice has cell volume terms
+  /// (Lattice::volume_Pa, which the matrix does not hold; the lattice is left unchanged).
   int step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int iterations);
   /// Factors (or downdates) the matrix for this lattice and substep unless it already is; false when that failed.
   bool ready(const Lattice& lat, double h_s);

@@ -7,15 +7,32 @@ namespace palpate {
 
 LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m) {
   LatticeCalibration c;
-  const double e_l = material.young_modulus_Pa * cell_m;
+  double springs_E_Pa = material.young_modulus_Pa;
+  if (material.model == MaterialModel::kVolumetric) {
+    // springs for the shear modulus, the volume term for the rest of lambda
+    const double nu = material.poisson_ratio, e = material.young_modulus_Pa;
+    const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    springs_E_Pa = 2.5 * mu;
+    c.volume_Pa = lambda - mu;
+    c.poisson_represented = nu;
+  } else if (material.model == MaterialModel::kNeoHookean) {
+    // a share of mu in the springs (their lambda is that share too), the rest in the cells' Neo-Hookean term
+    const double nu = material.poisson_ratio, e = material.young_modulus_Pa, s = kNeoHookeanSpringShare;
+    const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    springs_E_Pa = 2.5 * s * mu;
+    c.neo_mu_Pa = (1.0 - s) * mu;
+    c.neo_lambda_Pa = lambda - s * mu;
+    c.poisson_represented = nu;
+  }
+  const double e_l = springs_E_Pa * cell_m;
   c.edge_N_per_m = 7.0 * e_l / 50.0;
   c.diagonal_N_per_m = 3.0 * e_l / 25.0;
   c.damping_Ns_per_m = 2.0 / 45.0 * material.stiffness_damping_s * e_l;
-  if (std::abs(material.poisson_ratio - kLatticePoissonRatio) > 1e-9) {
+  if (material.model == MaterialModel::kSprings && std::abs(material.poisson_ratio - kLatticePoissonRatio) > 1e-9) {
     std::ostringstream s;
     s << "material.poisson_ratio " << material.poisson_ratio << " is not representable: a cubic lattice of central "
       << "springs has nu = 0.25 only (Cauchy relation); Young's modulus " << material.young_modulus_Pa
-      << " Pa is matched and the lattice's Poisson ratio is 0.25";
+      << " Pa is matched and the lattice's Poisson ratio is 0.25 (material.model 'volumetric' represents it)";
     c.warning = s.str();
   }
   return c;

@@ -21,6 +21,23 @@
 /// uniformly stressed hexahedron, so a homogeneous block under uniaxial stress deforms uniformly and
 /// F = E A d / L holds to round-off at small strain.
 ///
+/// Volumetric model (material.model "volumetric", any nu in [0, 0.49]): the springs are calibrated as above for
+/// the asked shear modulus mu = E / (2 (1 + nu)) (the spring lattice's own Young's modulus 5/2 mu), which gives
+/// lambda_s = mu; each cell adds the volume energy (1/2) lambda_v l^3 (J - 1)^2 with J = det F of the cell's
+/// centre deformation gradient (sim/volume_term.h) and lambda_v = lambda - mu, lambda = E nu / ((1 + nu)(1 - 2 nu)):
+/// at small strain J - 1 = tr eps, so the cell's stiffness is C = 2 mu I + lambda I (x) I, the isotropic solid of
+/// (E, nu). One quadrature point per cell for the volume (reduced integration of the volumetric term) leaves
+/// nothing to lock as nu -> 1/2: the springs hold the cell's hourglass modes. lambda_v < 0 for nu < 1/4 (down to
+/// -mu at nu = 0): the cell's bulk modulus lambda + 2/3 mu stays positive.
+///
+/// Neo-Hookean model (material.model "neo_hookean", nu in [0, 0.49], large strain): the springs carry a share
+/// kNeoHookeanSpringShare of the shear modulus (the nu = 1/4 calibration for Young's modulus 5/2 s mu, so their
+/// lambda is s mu too) and each cell the compressible Neo-Hookean solid psi = mu_n/2 (tr F^T F - 3) - mu_n ln J +
+/// lambda_n/2 (ln J)^2 of the rest, mu_n = (1 - s) mu, lambda_n = lambda - s mu, at its centre
+/// (sim/neo_hookean_term.h): at small strain the sum is the isotropic solid of (E, nu); at large strain all but the
+/// springs' share follows Neo-Hooke (the springs, Hookean in length, are softer in compression and stiffer in
+/// tension). The springs hold the cells' hourglass modes, which the one-point term does not see.
+///
 /// Damping: every spring gets one relative-velocity coefficient c (the integrators take one per lattice), and the
 /// force c (v_b - v_a) of the paper's eq. 4 acts on the whole relative velocity, not only along the spring. Under a
 /// uniform velocity gradient G it dissipates (1/l^3) sum c L^2 |G n|^2 per volume; with per-cell shares c/4, c/2, c
@@ -45,6 +62,9 @@ namespace palpate {
 /// The Poisson ratio a cubic lattice of central springs represents (the Cauchy relation lambda = mu).
 inline constexpr double kLatticePoissonRatio = 0.25;
 
+/// Share of the shear modulus the springs carry in the Neo-Hookean model (the rest is the cells' Neo-Hookean term).
+inline constexpr double kNeoHookeanSpringShare = 0.2;
+
 /// Least mass a material lattice's node carries, as a share of a full cell's mass (a full corner carries 1/8): a
 /// node whose cells the solid-fraction sampling finds empty would otherwise be massless.
 inline constexpr double kMinNodeMassShare = 1.0 / 64.0;
@@ -54,7 +74,10 @@ struct LatticeCalibration {
   double edge_N_per_m = 0.0;      ///< k_e each cell adds to each of its 12 edges: 7 E l / 50
   double diagonal_N_per_m = 0.0;  ///< k_s each cell adds to each face and body diagonal: 3 E l / 25
   double damping_Ns_per_m = 0.0;  ///< c of every spring: 2/45 beta E l
-  double poisson_represented = kLatticePoissonRatio;  ///< nu of the lattice (always 1/4)
+  double volume_Pa = 0.0;         ///< lambda_v of each cell's volume term (0: springs only)
+  double neo_mu_Pa = 0.0;         ///< mu of each cell's Neo-Hookean term (0: none)
+  double neo_lambda_Pa = 0.0;     ///< lambda of that term
+  double poisson_represented = kLatticePoissonRatio;  ///< nu of the lattice (1/4 with springs only)
   std::string warning;            ///< non-empty when the asked nu differs from the represented one
 };
 

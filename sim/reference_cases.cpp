@@ -154,4 +154,64 @@ Result<ReferenceCheck> check_cantilever(const MaterialSpec& material, int level,
   return out;
 }
 
+double neo_hookean_uniaxial_Pa(double mu_Pa, double lambda_Pa, double a, double* lateral) {
+  // lateral stretch: mu (b^2 - 1) + lambda ln(a b^2) rises with b; bisection between 1e-3 and 1e3
+  double lo = 1e-3, hi = 1e3;
+  for (int it = 0; it < 200; ++it) {
+    const double b = std::sqrt(lo * hi);
+    (mu_Pa * (b * b - 1.0) + lambda_Pa * std::log(a * b * b) > 0.0 ? hi : lo) = b;
+  }
+  const double b = std::sqrt(lo * hi);
+  if (lateral != nullptr) *lateral = b;
+  return mu_Pa * (a - 1.0 / a) + lambda_Pa * std::log(a * b * b) / a;
+}
+
+Result<ReferenceCheck> check_large_compression(const MaterialSpec& material, int level, double strain,
+                                               const SettleOptions& settle_options) {
+  const double nu = material.poisson_ratio, e = material.young_modulus_Pa;
+  const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  double lateral = 1.0;
+  const double stress_Pa = -neo_hookean_uniaxial_Pa(mu, lambda, 1.0 - strain, &lateral);
+  // the small-strain case's loads scaled to this stress (compression_case pushes with E x its strain)
+  auto c = compression_case(material, level, 1e-4);
+  if (!c) return c.error();
+  ReferenceCase& rc = c.value();
+  Lattice& L = rc.lattice;
+  const double scale = stress_Pa / (e * 1e-4);
+  ReferenceCheck out;
+  std::vector<Vec3> load(rc.f_ext_N.size());
+  // squashed by dead loads a free cube would tip over (their couple grows with the tilt): held upright
+  SettleOptions upright = settle_options;
+  upright.hold_rotation = true;
+  for (int step = 1; step <= 3; ++step) {
+    for (std::size_t i = 0; i < load.size(); ++i) load[i] = rc.f_ext_N[i] * (scale * step / 3.0);
+    auto rep = settle(&L, load, upright);
+    if (!rep) return make_error("large compression, load step ", std::to_string(step), " of 3: ", rep.error().message);
+    out.settle.frames += rep.value().frames;
+    out.settle.substeps += rep.value().substeps;
+    out.settle.ms_per_frame_p50 = rep.value().ms_per_frame_p50;
+    out.settle.residual_rel = rep.value().residual_rel;
+  }
+  const double side = kCompressionSide_m, eps = 1e-9 * side;
+  double top = 0.0, bottom = 0.0, right = 0.0, left = 0.0;
+  int n_top = 0, n_bottom = 0, n_right = 0, n_left = 0;
+  for (std::size_t i = 0; i < L.num_nodes(); ++i) {
+    const Vec3& r = L.rest_m[i];
+    const Vec3 u = L.x_m[i] - r;
+    if (r.z() > side - eps) top += u.z(), ++n_top;
+    if (r.z() < eps) bottom += u.z(), ++n_bottom;
+    if (r.x() > side - eps) right += u.x(), ++n_right;
+    if (r.x() < eps) left += u.x(), ++n_left;
+  }
+  out.model = bottom / n_bottom - top / n_top;
+  out.closed_form = strain * side;
+  // the load over what the Neo-Hookean solid needs for the stretch the lattice reached
+  const double reached = 1.0 - out.model / side;
+  out.rel_error = stress_Pa / -neo_hookean_uniaxial_Pa(mu, lambda, reached, nullptr) - 1.0;
+  out.poisson_effective = (1.0 + (right / n_right - left / n_left) / side) / lateral - 1.0;
+  out.nodes = L.num_nodes();
+  out.springs = L.springs.size();
+  return out;
+}
+
 }  // namespace palpate

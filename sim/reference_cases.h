@@ -56,6 +56,19 @@ Result<ReferenceCheck> check_compression(const MaterialSpec& material, int level
 /// Brings a cantilever case to rest and compares the end face's mean deflection (load-weighted) with the closed form.
 Result<ReferenceCheck> check_cantilever(const MaterialSpec& material, int level, const SettleOptions& settle = {});
 
+/// Nominal (first Piola) axial stress of the compressible Neo-Hookean solid psi = mu/2 (tr F^T F - 3) - mu ln J +
+/// lambda/2 (ln J)^2 under uniaxial stress at axial stretch a (Pa; < 0 in compression); *lateral gets the lateral
+/// stretch b, the root of mu (b^2 - 1) + lambda ln(a b^2) = 0.
+double neo_hookean_uniaxial_Pa(double mu_Pa, double lambda_Pa, double a, double* lateral);
+
+/// Uniaxial compression of the 4 cm cube at large strain: the nominal stress the Neo-Hookean solid of `material`
+/// needs to shorten by `strain` (e.g. 0.3), as dead loads on the top and bottom faces, applied in three equal
+/// increments each run to rest. model: the shortening (m); closed_form: strain x side; rel_error: the load over the
+/// Neo-Hookean load for the stretch reached, minus 1 (> 0: too stiff); poisson_effective: the lateral stretch
+/// reached over the closed form's, minus 1.
+Result<ReferenceCheck> check_large_compression(const MaterialSpec& material, int level, double strain,
+                                               const SettleOptions& settle = {});
+
 /// The end face's load-weighted mean deflection of a cantilever case whose lattice is `lat` (m, > 0 downwards).
 double cantilever_deflection_m(const ReferenceCase& c, const Lattice& lat);
 

@@ -6,6 +6,8 @@
 #include <ctime>
 #include <string>
 
+#include <Eigen/SVD>
+
 #include "sim/static_solve.h"
 
 namespace palpate {
@@ -38,6 +40,23 @@ Result<SettleReport> settle(Lattice* lat, const std::vector<Vec3>& f_ext_N, cons
     ms.push_back(thread_cpu_ms() - t0);
     rep.frames = frame + 1;
     rep.substeps += s.substeps;
+    if (o.hold_rotation && s.finite) {
+      // the rotation R best mapping rest onto current positions (polar factor of sum m (x - c)(X - C)^T); apply R^T
+      double m = 0.0;
+      Vec3 c = Vec3::Zero(), c0 = Vec3::Zero();
+      for (std::size_t i = 0; i < n; ++i) m += lat->mass_kg[i], c += lat->mass_kg[i] * lat->x_m[i], c0 += lat->mass_kg[i] * lat->rest_m[i];
+      c /= m, c0 /= m;
+      Mat3 a = Mat3::Zero();
+      for (std::size_t i = 0; i < n; ++i) a += lat->mass_kg[i] * (lat->x_m[i] - c) * (lat->rest_m[i] - c0).transpose();
+      const Eigen::JacobiSVD<Mat3> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Mat3 r = svd.matrixU() * svd.matrixV().transpose();
+      if (r.determinant() < 0.0) r = svd.matrixU() * Vec3(1, 1, -1).asDiagonal() * svd.matrixV().transpose();
+      for (std::size_t i = 0; i < n; ++i) {
+        if (lat->fixed[i]) continue;
+        lat->x_m[i] = c + r.transpose() * (lat->x_m[i] - c);
+        lat->v_m_per_s[i] = r.transpose() * lat->v_m_per_s[i];
+      }
+    }
     if (s.diverged)
       return make_error("settle: the lattice diverged at frame ", std::to_string(frame), " (", integrator_name(o.step.kind), ")");
     double moved = 0.0, speed = 0.0, imbalance = 0.0;

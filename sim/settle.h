@@ -20,6 +20,9 @@ struct SettleOptions {
   double rest_rel = 1e-5;           ///< at rest: the largest free node's force imbalance below rest_rel x the largest
                                     ///< load on a node, and no node moving more than rest_rel x the largest
                                     ///< displacement from rest per frame
+  bool hold_rotation = false;       ///< after each frame turn the lattice back by its best-fit rotation about its
+                                    ///< centre of mass: a free body whose dead loads would tip it over when squashed
+                                    ///< (their couple grows with the tilt) held upright as by frictionless guides
   SettleOptions() { step.kind = IntegratorKind::kImplicitEuler; }
 };
 

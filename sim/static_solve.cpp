@@ -1,6 +1,7 @@
 #include "sim/static_solve.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -9,6 +10,8 @@
 #include <Eigen/SparseCore>
 
 #include "sim/forces.h"
+#include "sim/neo_hookean_term.h"
+#include "sim/volume_term.h"
 
 namespace palpate {
 
@@ -19,6 +22,8 @@ std::vector<Vec3> spring_forces_N(const Lattice& lat, const std::vector<Vec3>& x
     f[s.a] += fa;
     f[s.b] -= fa;
   }
+  add_volume_forces(lat, x_m, &f);
+  add_neo_hookean_forces(lat, x_m, &f);
   return f;
 }
 
@@ -40,6 +45,9 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
   cg.setTolerance(options.cg_tolerance);
   cg.setMaxIterations(20000);
   std::vector<Eigen::Triplet<double>> trip;
+  std::vector<std::array<Vec3, 8>> cell_c;
+  std::vector<double> cell_w;
+  std::vector<NeoHookeanCell> neo;
   Eigen::VectorXd r(free), dx(free);
   for (int it = 0; it <= options.max_iterations; ++it) {
     // residual: spring + gravity + external force on the free DOFs
@@ -68,6 +76,36 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
               if (ri >= 0 && cj >= 0) trip.emplace_back(ri, cj, sign * blk(i, j));
             }
         }
+    }
+    // the cells' volume terms: Gauss-Newton blocks w c_a c_b^T
+    if (lat->volume_Pa != 0.0) {
+      volume_gradients(*lat, lat->x_m, &cell_c, &cell_w);
+      for (std::size_t cell = 0; cell < cell_c.size(); ++cell)
+        for (int p = 0; p < 8; ++p)
+          for (int q = 0; q < 8; ++q) {
+            const Mat3 blk = cell_w[cell] * cell_c[cell][p] * cell_c[cell][q].transpose();
+            const auto np = static_cast<std::size_t>(lat->cell_nodes[cell][p]), nq = static_cast<std::size_t>(lat->cell_nodes[cell][q]);
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j) {
+                const int ri = col[3 * np + i], cj = col[3 * nq + j];
+                if (ri >= 0 && cj >= 0) trip.emplace_back(ri, cj, blk(i, j));
+              }
+          }
+    }
+    // the cells' Neo-Hookean terms: their tangent blocks
+    if (lat->neo_mu_Pa != 0.0) {
+      neo_hookean_cells(*lat, lat->x_m, &neo);
+      for (std::size_t cell = 0; cell < neo.size(); ++cell)
+        for (int p = 0; p < 8; ++p)
+          for (int q = 0; q < 8; ++q) {
+            const Mat3 blk = neo_hookean_block(*lat, neo[cell], p, q);
+            const auto np = static_cast<std::size_t>(lat->cell_nodes[cell][p]), nq = static_cast<std::size_t>(lat->cell_nodes[cell][q]);
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j) {
+                const int ri = col[3 * np + i], cj = col[3 * nq + j];
+                if (ri >= 0 && cj >= 0) trip.emplace_back(ri, cj, blk(i, j));
+              }
+          }
     }
     Eigen::SparseMatrix<double> k(free, free);
     k.setFromTriplets(trip.begin(), trip.end());

@@ -31,7 +31,7 @@ struct StaticReport {
 Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held_dof, const std::vector<Vec3>& f_ext_N,
                                   const StaticOptions& options = {});
 
-/// Net spring force on every node at positions x_m (n), including the held ones (there: minus the reaction).
+/// Net spring and cell-volume force on every node at positions x_m (n), including the held ones (there: minus the reaction).
 std::vector<Vec3> spring_forces_N(const Lattice& lat, const std::vector<Vec3>& x_m);
 
 }  // namespace palpate

@@ -140,6 +140,13 @@ void add_model(CLI::App* bench, BenchArgs& a) {
   c->add_option("--references", mo.references, "Which references: compression, cantilever, hertz")->delimiter(',')
       ->capture_default_str();
   c->add_option("--integrator", a.model_integrator, "Integrator that steps every run to rest")->capture_default_str();
+  c->add_option("--poisson", mo.poisson_ratios, "Poisson ratios of the material.model 'volumetric' rows (none: "
+                "--poisson '')")->delimiter(',')->check(finite_range(0.0, 0.49))->capture_default_str();
+  c->add_option("--large-strain", mo.large_strain_poisson_ratios, "Poisson ratios of the 30 % compression rows "
+                "(material.model 'neo_hookean'; none by default: the runs do not come to rest yet)")->delimiter(',')
+      ->check(finite_range(0.0, 0.49))->capture_default_str();
+  c->add_option("--poisson-level", mo.poisson_level, "Level of those rows' cantilever and Hertz")
+      ->check(CLI::Range(4, 7))->capture_default_str();
   c->add_option("--json", mo.json_path, "Write the rows as JSON");
   c->add_option("--plot", mo.plot_path, "Plot force error against ms per frame (log-log) as PNG");
 }

@@ -58,5 +58,30 @@ TEST(SceneMaterial, MissingUnknownAndOutOfRangeNameKeyAndValue) {
   EXPECT_NE(error_of(scene_with(R"(, "material": 5)")).find("material: must be an object"), std::string::npos);
 }
 
+// material.model: springs by default (nu 1/4 represented, the scenes' behaviour unchanged), "volumetric" for the
+// asked nu in [0, 0.49]; the integrator and mode that cannot carry the volume term are refused at load, by key.
+TEST(SceneMaterial, ModelKeyRangeAndTheIntegratorsThatCannotCarryIt) {
+  auto d = parse_scene(scene_with(R"(, "material": {"young_modulus_Pa": 1e5, "poisson_ratio": 0.45, "density_kg_per_m3": 1000})"), "m.json");
+  ASSERT_TRUE(d) << d.error().message;
+  EXPECT_EQ(d.value().lattice.material.model, MaterialModel::kSprings);
+  auto v = parse_scene(scene_with(R"(, "lattice": {"integrator": "implicit_euler"}, "material": {"young_modulus_Pa": 1e5,
+      "poisson_ratio": 0.49, "density_kg_per_m3": 1000, "model": "volumetric"})"), "m.json");
+  ASSERT_TRUE(v) << v.error().message;
+  EXPECT_EQ(v.value().lattice.material.model, MaterialModel::kVolumetric);
+  EXPECT_NE(error_of(scene_with(R"(, "material": {"young_modulus_Pa": 1e5, "poisson_ratio": 0.25,
+      "density_kg_per_m3": 1000, "model": "foam"})")).find("material.model: 'foam' is not one of: springs, volumetric"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"(, "lattice": {"integrator": "implicit_euler"}, "material": {"young_modulus_Pa": 1e5,
+      "poisson_ratio": 0.495, "density_kg_per_m3": 1000, "model": "volumetric"})"))
+                .find("material.poisson_ratio: 0.495"), std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"(, "lattice": {"integrator": "local_global"}, "material": {"young_modulus_Pa": 1e5,
+      "poisson_ratio": 0.45, "density_kg_per_m3": 1000, "model": "volumetric"})"))
+                .find("material.model: 'volumetric' is not supported by lattice.integrator 'local_global'"),
+            std::string::npos);
+  EXPECT_NE(error_of(scene_with(R"(, "lattice": {"integrator": "implicit_euler"}, "interaction": {"mode": "cut"},
+      "material": {"young_modulus_Pa": 1e5, "poisson_ratio": 0.45, "density_kg_per_m3": 1000, "model": "volumetric"})"))
+                .find("not supported with interaction.mode 'cut'"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace palpate

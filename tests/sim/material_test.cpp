@@ -12,6 +12,8 @@
 #include "sim/reference_cases.h"
 #include "sim/settle.h"
 #include "sim/static_solve.h"
+#include "sim/neo_hookean_term.h"
+#include "sim/volume_term.h"
 #include "support/fixtures.h"
 
 namespace palpate {
@@ -227,6 +229,166 @@ TEST(StaticSolve, FreeRigidMotionIsAnErrorNotANaN) {
   auto r = solve_static(&lat, std::vector<uint8_t>(3 * lat.num_nodes(), 0), {});
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("hold enough DOFs to remove rigid motion"), std::string::npos) << r.error().message;
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+MaterialSpec volumetric(double nu) {
+  MaterialSpec m = silicone(nu);
+  m.model = MaterialModel::kVolumetric;
+  return m;
+}
+
+TEST(MaterialVolumetric, SpringsCarryTheShearModulusAndCellsTheRestOfLambda) {
+  const double e = 1e5, nu = 0.45, l = 0.005;
+  const LatticeCalibration c = calibrate_lattice(volumetric(nu), l);
+  const double mu = e / (2 * (1 + nu)), lambda = e * nu / ((1 + nu) * (1 - 2 * nu));
+  // the springs are the nu = 1/4 lattice of Young's modulus 5/2 mu (whose own shear modulus is mu)
+  EXPECT_DOUBLE_EQ(c.edge_N_per_m, 7.0 * 2.5 * mu * l / 50.0);
+  EXPECT_DOUBLE_EQ(c.volume_Pa, lambda - mu);
+  EXPECT_EQ(c.poisson_represented, nu);
+  EXPECT_TRUE(c.warning.empty()) << c.warning;
+  // at nu = 1/4 the volumetric model is the springs alone
+  const LatticeCalibration q = calibrate_lattice(volumetric(0.25), l);
+  EXPECT_DOUBLE_EQ(q.edge_N_per_m, calibrate_lattice(silicone(), l).edge_N_per_m);
+  EXPECT_NEAR(q.volume_Pa, 0.0, 1e-9 * e);
+}
+
+// The cell's volume force is minus the gradient of its energy, on a cell stretched, sheared and turned.
+TEST(MaterialVolumetric, VolumeForceIsMinusTheEnergyGradient) {
+  auto lat = box_lattice(volumetric(0.45), 0.02, 2, {1, 1, 1}).value();
+  const Mat3 f = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix() *
+                 (Mat3() << 1.1, 0.05, 0.0, 0.02, 0.93, 0.04, -0.03, 0.0, 0.97).finished();
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) lat.x_m[i] = f * lat.rest_m[i] + Vec3(0.001 * i, 0, -0.0005 * i * i);
+  std::vector<Vec3> force(lat.num_nodes(), Vec3::Zero());
+  add_volume_forces(lat, lat.x_m, &force);
+  const double h = 1e-8;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      std::vector<Vec3> xp = lat.x_m, xm = lat.x_m;
+      xp[i][a] += h;
+      xm[i][a] -= h;
+      const double grad = (volume_energy_J(lat, xp) - volume_energy_J(lat, xm)) / (2 * h);
+      EXPECT_NEAR(force[i][a], -grad, 1e-6 * force[i].norm() + 1e-9) << "node " << i << " axis " << a;
+    }
+  // and a rigid motion stores nothing
+  const Mat3 r = Eigen::AngleAxisd(1.1, Vec3(0, 1, 1).normalized()).toRotationMatrix();
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) lat.x_m[i] = r * lat.rest_m[i] + Vec3(0.3, 0, 0);
+  EXPECT_NEAR(volume_energy_J(lat, lat.x_m), 0.0, 1e-20);
+}
+
+// Uniaxial compression run to rest by implicit Euler at nu from 0 to 0.49: shortening E A d / L and lateral
+// strain nu times the axial, as the isotropic solid (uniform strain is exact in the lattice plus volume term).
+TEST(MaterialVolumetric, CompressionGivesTheAskedPoissonRatio) {
+  for (double nu : {0.0, 0.45, 0.49}) {
+    const ReferenceCheck r = check_compression(volumetric(nu), 3, 1e-4).value();
+    EXPECT_NEAR(r.rel_error, 0.0, 1e-3) << "nu " << nu;
+    EXPECT_NEAR(r.poisson_effective, nu, 1e-3) << "nu " << nu;
+  }
+}
+
+// The run's rest is the static solve's (volume forces in both), and local/global refuses the term rather than drop it.
+TEST(MaterialVolumetric, RunToRestAgreesWithTheStaticSolve) {
+  const ReferenceCase c = cantilever_case(volumetric(0.45), 4).value();
+  Lattice stat = c.lattice;
+  ASSERT_TRUE(solve_static(&stat, c.held_dof, c.f_ext_N));
+  Lattice dyn = c.lattice;
+  SettleOptions o;
+  o.rest_rel = 1e-7;
+  ASSERT_TRUE(settle(&dyn, c.f_ext_N, o));
+  EXPECT_NEAR(cantilever_deflection_m(c, dyn) / cantilever_deflection_m(c, stat), 1.0, 1e-5);
+  Lattice lg = c.lattice;
+  IntegratorWorkspace ws;
+  StepOptions so;
+  so.kind = IntegratorKind::kLocalGlobal;
+  EXPECT_FALSE(step_lattice(&lg, so, 1.0 / 60.0, c.f_ext_N, &ws).solver_ok);
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+MaterialSpec neo_hookean(double nu) {
+  MaterialSpec m = silicone(nu);
+  m.model = MaterialModel::kNeoHookean;
+  return m;
+}
+
+// The closed form itself: at small strain E x strain and lateral strain nu; incompressible-like at 0.49.
+TEST(MaterialNeoHookean, UniaxialClosedFormReducesToHookeAtSmallStrain) {
+  const double e = 1e5, nu = 0.45, mu = e / (2 * (1 + nu)), lambda = e * nu / ((1 + nu) * (1 - 2 * nu));
+  double b = 0.0;
+  EXPECT_NEAR(neo_hookean_uniaxial_Pa(mu, lambda, 1.0 - 1e-6, &b) / (-e * 1e-6), 1.0, 1e-4);
+  EXPECT_NEAR((b - 1.0) / 1e-6, nu, 1e-4);
+  // 30 % shorter needs more than Hooke's 0.3 E (Neo-Hooke stiffens in compression)
+  EXPECT_GT(-neo_hookean_uniaxial_Pa(mu, lambda, 0.7, &b), 0.33 * e);
+}
+
+// Forces are minus the energy's gradient, and the tangent product is the forces' derivative, on a cell far from rest.
+TEST(MaterialNeoHookean, ForceIsMinusTheEnergyGradientAndTheTangentItsDerivative) {
+  auto lat = box_lattice(neo_hookean(0.45), 0.02, 2, {1, 1, 1}).value();
+  const Mat3 f = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix() *
+                 (Mat3() << 0.75, 0.1, 0.0, 0.02, 1.2, 0.04, -0.03, 0.0, 0.9).finished();
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) lat.x_m[i] = f * lat.rest_m[i] + Vec3(0.0002 * i, 0, -0.0001 * i);
+  const std::size_t n = lat.num_nodes();
+  std::vector<Vec3> force(n, Vec3::Zero());
+  add_neo_hookean_forces(lat, lat.x_m, &force);
+  std::vector<NeoHookeanCell> cells;
+  neo_hookean_cells(lat, lat.x_m, &cells);
+  std::vector<Vec3> dir(n), kp(n, Vec3::Zero());
+  for (std::size_t i = 0; i < n; ++i) dir[i] = Vec3(std::sin(1.0 + i), std::cos(2.0 * i), 0.3 - 0.1 * i);
+  add_neo_hookean_product(lat, cells, dir, &kp);
+  const double h = 1e-8;
+  std::vector<Vec3> xp = lat.x_m, xm = lat.x_m, fp(n, Vec3::Zero()), fm(n, Vec3::Zero());
+  for (std::size_t i = 0; i < n; ++i) xp[i] += h * dir[i], xm[i] -= h * dir[i];
+  add_neo_hookean_forces(lat, xp, &fp);
+  add_neo_hookean_forces(lat, xm, &fm);
+  double scale = 0.0;
+  for (std::size_t i = 0; i < n; ++i) scale = std::max(scale, kp[i].norm());
+  for (std::size_t i = 0; i < n; ++i) {
+    // K p = -(f(x + h p) - f(x - h p)) / 2h, and the blocks K_ba sum to the same product
+    EXPECT_LT((kp[i] + (fp[i] - fm[i]) / (2 * h)).norm(), 1e-5 * scale) << "node " << i;
+    Vec3 by_blocks = Vec3::Zero();
+    for (int a = 0; a < 8; ++a)
+      by_blocks += neo_hookean_block(lat, cells[0], static_cast<int>(i), a) * dir[static_cast<std::size_t>(lat.cell_nodes[0][a])];
+    EXPECT_LT((by_blocks - kp[static_cast<std::size_t>(lat.cell_nodes[0][i])]).norm(), 1e-9 * scale) << "node " << i;
+    for (int a = 0; a < 3; ++a) {
+      std::vector<Vec3> yp = lat.x_m, ym = lat.x_m;
+      yp[i][a] += h;
+      ym[i][a] -= h;
+      const double grad = (neo_hookean_energy_J(lat, yp) - neo_hookean_energy_J(lat, ym)) / (2 * h);
+      EXPECT_NEAR(force[i][a], -grad, 1e-5 * force[i].norm() + 1e-9) << "node " << i << " axis " << a;
+    }
+  }
+}
+
+// Small strain: the (E, nu) solid, as the volumetric model.
+TEST(MaterialNeoHookean, CompressionAtSmallStrainIsTheIsotropicSolid) {
+  const ReferenceCheck small = check_compression(neo_hookean(0.45), 3, 1e-4).value();
+  EXPECT_NEAR(small.rel_error, 0.0, 1e-3);
+  EXPECT_NEAR(small.poisson_effective, 0.45, 1e-3);
+}
+
+// 30 % compression: within 10 % of the Neo-Hookean closed form, where the springs alone (Hookean in length) are more
+// than 25 % too soft. Disabled: the run does not come to rest yet (at level 2 the first load increment stays at a
+// force imbalance of 2.06 times the largest nodal load, with implicit and with symplectic Euler alike).
+TEST(MaterialNeoHookean, DISABLED_CompressionAtLargeStrain) {  SettleOptions explicit_steps;
+  explicit_steps.step.kind = IntegratorKind::kSymplecticEuler;
+  explicit_steps.max_frames = 3000;
+  auto large = check_large_compression(neo_hookean(0.45), 2, 0.3, explicit_steps);
+  ASSERT_TRUE(large) << large.error().message;
+  EXPECT_LT(std::abs(large.value().rel_error), 0.10) << "shortening " << large.value().model << " m of "
+                                                     << large.value().closed_form;
+  EXPECT_LT(std::abs(large.value().poisson_effective), 0.10);
+  auto springs = check_large_compression(silicone(0.25), 2, 0.3);
+  ASSERT_TRUE(springs) << springs.error().message;
+  EXPECT_LT(springs.value().rel_error, -0.25) << "springs alone: shortening " << springs.value().model << " m";
 }
 
 }  // namespace

@@ -1,0 +1,45 @@
+#pragma once
+/// The per-cell Neo-Hookean term of material.model "neo_hookean" (sim/material.h): each region cell stores
+/// l^3 psi(F), psi = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2 (compressible Neo-Hookean; Bonet & Wood),
+/// F the cell's deformation gradient at its centre (sim/volume_term.h). First Piola stress
+/// P = mu (F - F^-T) + lambda ln J F^-T; corner a gets -l^3 P g_a. One quadrature point per cell: nothing locks as
+/// nu -> 1/2, and the lattice's springs (a share of the stiffness) hold the cell's hourglass modes. A cell turned
+/// inside out (J <= kMinCellJ) is pushed back by the stress at kMinCellJ. Thread: the stepping thread.
+
+#include <array>
+#include <vector>
+
+#include "sim/lattice.h"
+
+namespace palpate {
+
+/// Smallest J the Neo-Hookean stress is evaluated at (a cell squashed further keeps that stress).
+inline constexpr double kMinCellJ = 1e-2;
+
+/// One cell's state for the tangent: F^-T and ln J at the configuration it was taken at. Plain data.
+struct NeoHookeanCell {
+  Mat3 f_inv_t = Mat3::Identity();  ///< F^-T
+  double log_j = 0.0;               ///< ln J
+};
+
+/// First Piola stress of the term at F (Pa).
+Mat3 neo_hookean_stress_Pa(double mu_Pa, double lambda_Pa, const Mat3& f);
+
+/// Adds every cell's Neo-Hookean force at positions x_m to *f_N (n). Nothing when lat.neo_mu_Pa is 0.
+void add_neo_hookean_forces(const Lattice& lat, const std::vector<Vec3>& x_m, std::vector<Vec3>* f_N);
+
+/// The term's energy at positions x_m, J.
+double neo_hookean_energy_J(const Lattice& lat, const std::vector<Vec3>& x_m);
+
+/// Every cell's tangent state at positions x_m (cells).
+void neo_hookean_cells(const Lattice& lat, const std::vector<Vec3>& x_m, std::vector<NeoHookeanCell>* cells);
+
+/// y += K p over the cells: K the term's tangent stiffness (l^3 dP(dF) g_b with dF = sum_a p_a g_a^T).
+void add_neo_hookean_product(const Lattice& lat, const std::vector<NeoHookeanCell>& cells, const std::vector<Vec3>& p,
+                             std::vector<Vec3>* y);
+
+/// The tangent's 3x3 block K_ba (row node b, column node a) of one cell: l^3 [mu (g_a.g_b) I + (mu - lambda ln J)
+/// h_a h_b^T + lambda h_b h_a^T], h = F^-T g.
+Mat3 neo_hookean_block(const Lattice& lat, const NeoHookeanCell& cell, int b, int a);
+
+}  // namespace palpate
