@@ -115,7 +115,7 @@ Status check_plan_outputs(const RecordPlan& p) {
                       "', which does not exist");
   const fs::path base = existing_ancestor(fs::absolute(out, ec));
   if (base.empty() || !fs::is_directory(base, ec))
-    return make_error("output '", p.out_dir, "': '", base.string(), "' is not a folder");
+    return make_error("output '", p.out_dir, "': cannot create folder: '", base.string(), "' is not a folder");
   if (::access(base.c_str(), W_OK) != 0)
     return make_error("output '", p.out_dir, "': cannot write in '", base.string(), "'");
   if (p.video == VideoPolicy::kNone) return Ok{};
