@@ -220,11 +220,12 @@ std::string far_outlier(const TriMesh& mesh) {
 
 // welds, drops degenerates; "no triangles" when none is left
 Result<TriMesh> finish_mesh(TriMesh mesh, const std::string& who) {
+  // strays first: the weld's tolerance follows the model's size, which a stray would make its own
+  if (const std::string far = far_outlier(mesh); !far.empty()) return make_error(who, far);
   if (!mesh.vertices_m.empty()) {
     const double span = Aabb::of(mesh.vertices_m).extent().maxCoeff();
     weld_vertices(&mesh, kWeldTolerance * span);
   }
-  if (const std::string far = far_outlier(mesh); !far.empty()) return make_error(who, far);
   drop_degenerates(&mesh);
   if (mesh.triangles.empty()) return make_error(who, "no triangles");
   return mesh;

@@ -32,10 +32,10 @@ Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
   auto model = load_model(scene.value());
   if (!model) return model.error();
   const Scene& sc = scene.value();
-  const Rates rates{sc.servo_rate_hz, 60.0};
-  auto dev = make_device(sc, "scripted", rates.servo_hz);
+  const Rates& rates = sc.rates;
+  auto dev = make_device(sc, "scripted");
   if (!dev) return dev.error();
-  Session session(sc, model.value(), rates, dev.value().get());
+  Session session(sc, model.value(), dev.value().get());
   FeelRun run;
   run.name = sc.name;
   run.trace.reserve(static_cast<std::size_t>(rates.ticks(sc.duration_s)));
@@ -65,7 +65,7 @@ Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
         run.trace.push_back(t);
       });
   const ServoParams& sp = session.servo_params();
-  run.settings.period_s = sp.period_s;
+  run.settings.period_s = rates.servo_period_s();
   run.settings.coupling_N_per_m = sp.coupling_N_per_m;
   run.settings.damping_Ns_per_m = sp.coupling_damping_Ns_per_m;
   run.settings.step_threshold_N = o.step_threshold_N;

@@ -38,7 +38,8 @@ Stroke stroke(double radius, double speed_m_per_s, double trail_drop_m, int tick
   p.friction.static_coefficient = kMuS;
   p.friction.dynamic_coefficient = kMuD;
   p.friction.trail_drop_m = trail_drop_m;
-  Servo servo(p, &dev, &q, tb.get());
+  const Rates rates;  // 1 kHz
+  Servo servo(p, rates, &dev, &q, tb.get());
   Stroke s;
   HapticSample sink, prev;
   bool slipped = false;
@@ -110,7 +111,8 @@ TEST(Friction, NoCoefficientsIsFrictionless) {
   p.ramp_s = 0;
   p.passivity = false;
   p.force_model = ForceModel::kStaticSurface;
-  Servo servo(p, &dev, &q, tb.get());
+  const Rates rates;  // 1 kHz
+  Servo servo(p, rates, &dev, &q, tb.get());
   HapticSample sink;
   for (int i = 0; i < 400; ++i) {
     dev.pos_m = Vec3(i < 200 ? 0.0 : 1e-5 * (i - 200), 0.001, 0.002 - std::min(1.0, i / 100.0) * 0.004);

@@ -33,7 +33,8 @@ Steps release(double rate) {
   p.passivity = false;
   p.force_model = ForceModel::kStaticSurface;
   p.jump_limit_N_per_tick = rate;
-  Servo servo(p, &dev, &q, tb.get());
+  const Rates rates;  // 1 kHz
+  Servo servo(p, rates, &dev, &q, tb.get());
   Steps s;
   HapticSample sink;
   Vec3 prev = Vec3::Zero();
@@ -76,7 +77,8 @@ TEST(JumpLimit, GrabStartsAtTheStatedRate) {
     p.passivity = false;
     p.force_model = ForceModel::kStaticSurface;
     p.jump_limit_N_per_tick = rate;
-    Servo servo(p, &dev, &q, tb.get());
+    const Rates rates;  // 1 kHz
+    Servo servo(p, rates, &dev, &q, tb.get());
     HapticSample sink;
     double largest = 0.0;
     Vec3 prev = Vec3::Zero();

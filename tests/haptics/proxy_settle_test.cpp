@@ -93,7 +93,8 @@ Run press_and_hold(const Surface& s, const Vec3& site, const Vec3& dir, double r
   p.ramp_s = 0;
   p.passivity = false;
   p.force_model = ForceModel::kStaticSurface;
-  Servo servo(p, &dev, &q, tb.get());
+  const Rates rates;  // 1 kHz
+  Servo servo(p, rates, &dev, &q, tb.get());
   const Vec3 out = site + dir * (radius + 0.003), in = site + dir * (radius - depth);
   Run run;
   HapticSample sink, prev;
@@ -218,7 +219,8 @@ TEST(ProxySettle, SlowStrokeOverAFacetedSphereMovesOnlyAsTheDeviceDoes) {
     p.ramp_s = 0;
     p.passivity = false;
     p.force_model = ForceModel::kStaticSurface;
-    Servo servo(p, &dev, &q, tb.get());
+    const Rates rates;  // 1 kHz
+    Servo servo(p, rates, &dev, &q, tb.get());
     // in along the radius at 0.5 rad from the pole (0.1 s), then 0.8 s round toward the equator at 20 mm/s
     const double rt = big + radius - 0.001;
     auto at = [&](double th) { return Vec3(std::sin(th), 0.0, std::cos(th)); };

@@ -221,7 +221,7 @@ TEST(ShmSegment, TruncatedUnderTheMappingIsLostNotFatal) {
   ShmParams p;
   p.name = name;
   p.watchdog_s = 0.02;
-  auto d = ShmDevice::connect(p, DeviceSpecs{});
+  auto d = ShmDevice::connect(p, DeviceSpecs{}, kRates);
   ASSERT_TRUE(d) << d.error().message;
   ShmDevice& shm = *d.value();
   int64_t tick = 0;

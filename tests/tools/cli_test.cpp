@@ -219,7 +219,7 @@ TEST(Cli, BenchPngComparesEncodersOnARecordingsFramesAndChecksThemLossless) {
   // no frames, or an output that is not a file: an error naming it, before any work
   const std::string empty = tmp("png_empty");
   fs::create_directories(empty);
-  expect_error(palpate("bench png " + empty), "no frames/frame_*.png");
+  expect_error(palpate("bench png " + empty), "no frame_*.png in");
   expect_error(palpate("bench png " + rec + " --json /dev/null"), "/dev/null");
 }
 

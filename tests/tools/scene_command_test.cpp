@@ -98,8 +98,9 @@ TEST(SceneCommand, FromPicksTheFirstSurfaceOnThatSideAndDepthSetsThePress) {
   ASSERT_TRUE(g) << g.error().message;
   // the +x face of the normalised box (100 x 50 x 25 mm) through its centre, approached along -x
   EXPECT_NEAR(g.value().surface_point_m.x(), 0.05, 1e-9);
-  EXPECT_NEAR(g.value().surface_point_m.y(), 0.0, 1e-9);
-  EXPECT_NEAR(g.value().surface_point_m.z(), 0.0, 1e-9);
+  // near the face's centre, inside a triangle and off the edges the triangles share (the face is 50 x 25 mm)
+  EXPECT_NEAR(g.value().surface_point_m.y(), 0.0, 0.006);
+  EXPECT_NEAR(g.value().surface_point_m.z(), 0.0, 0.006);
   EXPECT_TRUE(g.value().approach.isApprox(Vec3(-1, 0, 0)));
   const auto& t = g.value().json["trajectory"];
   EXPECT_NEAR(t.front()["pos_m"][0].get<double>(), 0.08, 1e-6);  // starts 30 mm out
@@ -244,7 +245,7 @@ TEST(SceneCommand, NumbersThatAreNotFiniteAreRefused) {
 // A flat CAD plate 100 x 5 x 60 lying on its edge in the file: the up axis is its thin one, so the tool comes down
 // on its 100 x 60 face, not on its 5 mm rim (the wrong axis passes a contact test but touches the rim)
 TEST(SceneCommand, AFlatPlateIsTouchedOnItsFace) {
-  const std::string dir = test::fresh_dir("scene_plate");
+  const std::string dir = test::fresh_dir("plate_model");
   fs::create_directories(dir);
   const TriMesh m = make_box_mesh(Vec3(100.0, 5.0, 60.0), 4);
   std::string text;

@@ -293,7 +293,7 @@ TEST(Video, VideoPathInsideTheFramesFolderIsRefused) {
   const CliRun r = palpate("record scenes/cube_press.json --mode realtime --duration 0.2 --video '" + out +
                            "/frames/frame_00003.png' --out '" + out + "'");
   EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("palpate: --video '" + out + "/frames/frame_00003.png': inside the frames folder"),
+  EXPECT_NE(r.out.find("palpate: --video '" + out + "/frames/frame_00003.png': is where the recording writes its frames"),
             std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("[mp4 @"), std::string::npos) << "a raw libav line: " << r.out;
   EXPECT_FALSE(fs::exists(out + "/summary.json"));

@@ -28,6 +28,12 @@ constexpr int64_t kWaitPoll_ms = 10;
 // the refusal reaches it before the connection closes (a close with unread data resets it)
 constexpr std::size_t kDrainBytes = 65536;
 constexpr int64_t kDrain_ms = 1000;
+// at the connection cap, a connection that has waited this long for a request head gives its place to a new one:
+// idle and half-sent connections cannot keep a well-behaved client out
+constexpr int64_t kEvictAfter_ms = 10;
+// connections the kernel completes and holds for accept(): a burst of junk connections does not fill it, so a
+// well-behaved client's connection waits there (instead of its SYN being dropped and resent after 1 s, 3 s ...)
+constexpr int kListenBacklog = 1024;
 
 // descriptors open in this process now
 int open_descriptors() {
@@ -55,6 +61,7 @@ struct HttpServer::Conn {
   bool dead = false;
   int64_t deadline_ns = 0;                 // reading: head/idle; waiting: must answer; writing/draining: whole
   int64_t progress_ns = 0;                 // writing: last byte sent
+  int64_t reading_since_ns = 0;            // reading: when it began to wait for this request head
   ~Conn() {
     if (fd >= 0) ::close(fd);
   }
@@ -82,7 +89,7 @@ Status HttpServer::start(const std::string& host, int port) {
   sa.sin_family = AF_INET;
   sa.sin_port = htons(static_cast<uint16_t>(port));
   if (inet_pton(AF_INET, host.c_str(), &sa.sin_addr) != 1) return make_error("--serve ", where, ": not an IPv4 address");
-  if (::bind(listen_fd_, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0 || ::listen(listen_fd_, 64) != 0)
+  if (::bind(listen_fd_, reinterpret_cast<const sockaddr*>(&sa), sizeof sa) != 0 || ::listen(listen_fd_, kListenBacklog) != 0)
     return make_error("--serve ", where, ": cannot listen there: ", std::strerror(errno));
   socklen_t len = sizeof sa;
   ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len);
@@ -168,7 +175,8 @@ void HttpServer::loop() {
     pfds.clear();
     polled.clear();
     pfds.push_back({wake_[0], POLLIN, 0});
-    const bool accepting = !stop_seen && static_cast<int>(conns.size()) < cap_;
+    const bool accepting =
+        !stop_seen && (static_cast<int>(conns.size()) < cap_ || evictable(conns, now) != nullptr);
     if (accepting) pfds.push_back({listen_fd_, POLLIN, 0});
     int64_t wake_at_ns = tick_ ? next_tick_ns : now + 1000 * kMs;
     if (stop_seen) wake_at_ns = std::min(wake_at_ns, stop_at_ns);
@@ -176,6 +184,10 @@ void HttpServer::loop() {
       short events = 0;
       switch (c->state) {
         case Conn::State::kReading:
+          events = POLLIN;
+          // at the cap: awake when this one may give its place to a connection waiting to be accepted
+          if (!accepting) wake_at_ns = std::min(wake_at_ns, c->reading_since_ns + kEvictAfter_ms * kMs);
+          break;
         case Conn::State::kDraining: events = POLLIN; break;
         case Conn::State::kWriting:
           events = POLLOUT;
@@ -213,11 +225,41 @@ void HttpServer::loop() {
   open_.store(0, std::memory_order_relaxed);
 }
 
+HttpServer::Conn* HttpServer::evictable(const std::vector<std::unique_ptr<Conn>>& conns, int64_t now_ns) const {
+  // a connection draining a refusal goes first, then the one waiting longest for a request head
+  Conn* best = nullptr;
+  for (const auto& c : conns) {
+    if (c->dead) continue;
+    if (c->state == Conn::State::kDraining) return c.get();
+    if (c->state == Conn::State::kReading && now_ns - c->reading_since_ns >= kEvictAfter_ms * kMs &&
+        (!best || c->reading_since_ns < best->reading_since_ns))
+      best = c.get();
+  }
+  return best;
+}
+
 void HttpServer::accept_ready(int64_t now_ns, std::vector<std::unique_ptr<Conn>>* conns) {
-  while (static_cast<int>(conns->size()) < cap_) {
+  int live = 0;
+  for (const auto& c : *conns) live += c->dead ? 0 : 1;
+  for (;;) {
+    Conn* victim = nullptr;
+    if (live >= cap_) {
+      victim = evictable(*conns, now_ns);
+      if (!victim) return;
+    }
     auto c = std::make_unique<Conn>();
     c->fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (c->fd < 0) return;  // none waiting, or no descriptor now (the next loop tries again)
+    if (victim) {
+      // its descriptor is given back at once, so the cap holds within this loop too
+      ::close(victim->fd);
+      victim->fd = -1;
+      victim->dead = true;
+      evicted_.fetch_add(1, std::memory_order_relaxed);
+      --live;
+    }
+    ++live;
+    c->reading_since_ns = now_ns;
     const int yes = 1;
     ::setsockopt(c->fd, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
     c->deadline_ns = now_ns + limits_.head_timeout_ms * kMs;
@@ -351,6 +393,7 @@ void HttpServer::write_ready(Conn* c, int64_t now_ns) {
     return;
   }
   c->state = Conn::State::kReading;
+  c->reading_since_ns = now_ns;
   c->deadline_ns = now_ns + limits_.idle_timeout_ms * kMs;
   parse(c, now_ns);  // a request sent behind the last one
 }

@@ -67,6 +67,8 @@ class HttpServer {
   /// Requests refused (4xx/5xx from the parser) and connections closed at a deadline (any thread).
   int64_t refused() const { return refused_.load(std::memory_order_relaxed); }
   int64_t timed_out() const { return timed_out_.load(std::memory_order_relaxed); }
+  /// Connections closed at the cap to make room for a new one: those waiting longest for a request head (any thread).
+  int64_t evicted() const { return evicted_.load(std::memory_order_relaxed); }
   /// Answers waiting replies, finishes replies under way for at most the shutdown grace, closes every
   /// connection and joins the loop; idempotent.
   void stop();
@@ -75,6 +77,7 @@ class HttpServer {
   struct Conn;
   void loop();
   void accept_ready(int64_t now_ns, std::vector<std::unique_ptr<Conn>>* conns);
+  Conn* evictable(const std::vector<std::unique_ptr<Conn>>& conns, int64_t now_ns) const;
   void read_ready(Conn* c, int64_t now_ns);
   void parse(Conn* c, int64_t now_ns);
   void answer(Conn* c, int64_t now_ns, bool must);
@@ -91,7 +94,7 @@ class HttpServer {
   int cap_ = 0;
   std::atomic<bool> stopping_{false};
   std::atomic<int> open_{0};
-  std::atomic<int64_t> refused_{0}, timed_out_{0};
+  std::atomic<int64_t> refused_{0}, timed_out_{0}, evicted_{0};
   std::thread thread_;
 };
 
