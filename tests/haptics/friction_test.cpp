@@ -28,18 +28,12 @@ Stroke stroke(double radius, double speed_m_per_s, double trail_drop_m, int tick
   SpscQueue<HapticSample> q(4096);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   test::publish_floor(tb.get());
-  ServoParams p;
+  ServoParams p = test::static_surface_params(kK);
   p.tool_radius_m = radius;
-  p.coupling_N_per_m = kK;
-  p.coupling_damping_Ns_per_m = 0;
-  p.ramp_s = 0;
-  p.passivity = false;
-  p.force_model = ForceModel::kStaticSurface;
   p.friction.static_coefficient = kMuS;
   p.friction.dynamic_coefficient = kMuD;
   p.friction.trail_drop_m = trail_drop_m;
-  const Rates rates;  // 1 kHz
-  Servo servo(p, rates, &dev, &q, tb.get());
+  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
   Stroke s;
   HapticSample sink, prev;
   bool slipped = false;
@@ -105,14 +99,8 @@ TEST(Friction, NoCoefficientsIsFrictionless) {
   SpscQueue<HapticSample> q(4096);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   test::publish_floor(tb.get());
-  ServoParams p;
-  p.coupling_N_per_m = kK;
-  p.coupling_damping_Ns_per_m = 0;
-  p.ramp_s = 0;
-  p.passivity = false;
-  p.force_model = ForceModel::kStaticSurface;
-  const Rates rates;  // 1 kHz
-  Servo servo(p, rates, &dev, &q, tb.get());
+  ServoParams p = test::static_surface_params(kK);
+  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
   HapticSample sink;
   for (int i = 0; i < 400; ++i) {
     dev.pos_m = Vec3(i < 200 ? 0.0 : 1e-5 * (i - 200), 0.001, 0.002 - std::min(1.0, i / 100.0) * 0.004);

@@ -12,9 +12,6 @@
 namespace palpate {
 namespace {
 
-// the servo keeps a reference to its rates: one for every servo of these tests (1 kHz, 60 Hz)
-const Rates kTestRates{};
-
 using PathDevice = test::FixedDevice;
 using test::add_quad;
 
@@ -27,7 +24,7 @@ std::unique_ptr<Servo> make_servo(PathDevice* dev, SpscQueue<HapticSample>* q, T
   p.ramp_s = 0;
   p.passivity = false;
   p.force_model = ForceModel::kStaticSurface;
-  return std::make_unique<Servo>(p, kTestRates, dev, q, tb);
+  return std::make_unique<Servo>(p, test::kTestRates, dev, q, tb);
 }
 
 TEST(GodObject, ToolPushedThroughAThinSlabStaysOnTheEntryFace) {

@@ -26,15 +26,9 @@ Steps release(double rate) {
   SpscQueue<HapticSample> q(4096);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   test::publish_floor(tb.get());
-  ServoParams p;
-  p.coupling_N_per_m = kK;
-  p.coupling_damping_Ns_per_m = 0;
-  p.ramp_s = 0;
-  p.passivity = false;
-  p.force_model = ForceModel::kStaticSurface;
+  ServoParams p = test::static_surface_params(kK);
   p.jump_limit_N_per_tick = rate;
-  const Rates rates;  // 1 kHz
-  Servo servo(p, rates, &dev, &q, tb.get());
+  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
   Steps s;
   HapticSample sink;
   Vec3 prev = Vec3::Zero();
@@ -69,16 +63,10 @@ TEST(JumpLimit, GrabStartsAtTheStatedRate) {
     SpscQueue<HapticSample> q(4096);
     auto tb = std::make_unique<TripleBuffer<LocalModel>>();
     test::publish_floor(tb.get());
-    ServoParams p;
+    ServoParams p = test::static_surface_params(kK);
     p.mode = InteractionMode::kPull;
-    p.coupling_N_per_m = kK;
-    p.coupling_damping_Ns_per_m = 0;
-    p.ramp_s = 0;
-    p.passivity = false;
-    p.force_model = ForceModel::kStaticSurface;
     p.jump_limit_N_per_tick = rate;
-    const Rates rates;  // 1 kHz
-    Servo servo(p, rates, &dev, &q, tb.get());
+    Servo servo(p, test::kTestRates, &dev, &q, tb.get());
     HapticSample sink;
     double largest = 0.0;
     Vec3 prev = Vec3::Zero();

@@ -86,15 +86,9 @@ Run press_and_hold(const Surface& s, const Vec3& site, const Vec3& dir, double r
   SpscQueue<HapticSample> q(4096);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   publish(s, site, tb.get());
-  ServoParams p;
+  ServoParams p = test::static_surface_params(kK);
   p.tool_radius_m = radius;
-  p.coupling_N_per_m = kK;
-  p.coupling_damping_Ns_per_m = 0;
-  p.ramp_s = 0;
-  p.passivity = false;
-  p.force_model = ForceModel::kStaticSurface;
-  const Rates rates;  // 1 kHz
-  Servo servo(p, rates, &dev, &q, tb.get());
+  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
   const Vec3 out = site + dir * (radius + 0.003), in = site + dir * (radius - depth);
   Run run;
   HapticSample sink, prev;
@@ -212,15 +206,9 @@ TEST(ProxySettle, SlowStrokeOverAFacetedSphereMovesOnlyAsTheDeviceDoes) {
     SpscQueue<HapticSample> q(4096);
     auto tb = std::make_unique<TripleBuffer<LocalModel>>();
     publish(s, Vec3(0, 0, big), tb.get());
-    ServoParams p;
+    ServoParams p = test::static_surface_params(kK);
     p.tool_radius_m = radius;
-    p.coupling_N_per_m = kK;
-    p.coupling_damping_Ns_per_m = 0;
-    p.ramp_s = 0;
-    p.passivity = false;
-    p.force_model = ForceModel::kStaticSurface;
-    const Rates rates;  // 1 kHz
-    Servo servo(p, rates, &dev, &q, tb.get());
+    Servo servo(p, test::kTestRates, &dev, &q, tb.get());
     // in along the radius at 0.5 rad from the pole (0.1 s), then 0.8 s round toward the equator at 20 mm/s
     const double rt = big + radius - 0.001;
     auto at = [&](double th) { return Vec3(std::sin(th), 0.0, std::cos(th)); };

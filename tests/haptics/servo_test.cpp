@@ -16,9 +16,6 @@
 namespace palpate {
 namespace {
 
-// the servo keeps a reference to its rates: one for every servo of these tests (1 kHz, 60 Hz)
-const Rates kTestRates{};
-
 using test::FixedDevice;
 using test::publish_floor;
 
@@ -33,7 +30,7 @@ struct ServoRig {
     p.coupling_N_per_m = 300;
     p.coupling_damping_Ns_per_m = 0.0;
     p.ramp_s = 0.0;
-    servo = std::make_unique<Servo>(p, kTestRates, &dev, &q, tb.get());
+    servo = std::make_unique<Servo>(p, test::kTestRates, &dev, &q, tb.get());
     publish_floor(tb.get());
   }
   int64_t t = 0;
@@ -93,7 +90,7 @@ TEST(Servo, ForceRampsBackInAfterTheDeviceWentSilent) {
   ServoRig r(InteractionMode::kTouch);
   ServoParams p = r.p;
   p.ramp_s = 0.05;
-  r.servo = std::make_unique<Servo>(p, kTestRates, &r.dev, &r.q, r.tb.get());
+  r.servo = std::make_unique<Servo>(p, test::kTestRates, &r.dev, &r.q, r.tb.get());
   r.dev.pos_m = Vec3(0.01, 0.0, 0.01);
   r.tick();
   r.dev.pos_m = Vec3(0.01, 0.0, -0.002);
@@ -123,7 +120,7 @@ TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
   p.coupling_damping_Ns_per_m = 0;
   p.grab_radius_m = 0.01;
   p.ramp_s = 0.0;
-  r.servo = std::make_unique<Servo>(p, kTestRates, &r.dev, &r.q, r.tb.get());
+  r.servo = std::make_unique<Servo>(p, test::kTestRates, &r.dev, &r.q, r.tb.get());
   r.dev.pos_m = Vec3(0.01, 0.02, 0.005);
   r.tick();
   r.dev.buttons = 1;
@@ -165,7 +162,7 @@ TEST(Servo, FullQueueDropsAndCounts) {
   FixedDevice dev;
   SpscQueue<HapticSample> q(5);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  Servo s(ServoParams{}, kTestRates, &dev, &q, tb.get());
+  Servo s(ServoParams{}, test::kTestRates, &dev, &q, tb.get());
   for (int i = 0; i < 12; ++i) s.tick(i, i * 1e-3);
   EXPECT_EQ(s.counters().dropped_samples, 7);
   EXPECT_EQ(s.counters().ticks, 12);

@@ -4,6 +4,7 @@
 #include "core/triple_buffer.h"
 #include "haptics/device.h"
 #include "haptics/local_model.h"
+#include "haptics/servo.h"
 
 namespace palpate::test {
 
@@ -43,6 +44,21 @@ inline void publish_floor(TripleBuffer<LocalModel>* tb, double half_m = 0.05) {
   add_quad(&m, Vec3(-half_m, -half_m, 0), Vec3(half_m, -half_m, 0), Vec3(half_m, half_m, 0), Vec3(-half_m, half_m, 0));
   m.frame = 0;
   tb->publish();
+}
+
+/// The 1 kHz / 60 Hz rates every servo of the tests refers to (a servo keeps a reference to its rates).
+inline const Rates kTestRates{};
+
+/// Servo settings that render the published surface alone: coupling k_N_per_m, no damping, no ramp, no
+/// passivity guard, no object response between frames.
+inline ServoParams static_surface_params(double k_N_per_m) {
+  ServoParams p;
+  p.coupling_N_per_m = k_N_per_m;
+  p.coupling_damping_Ns_per_m = 0;
+  p.ramp_s = 0;
+  p.passivity = false;
+  p.force_model = ForceModel::kStaticSurface;
+  return p;
 }
 
 }  // namespace palpate::test
