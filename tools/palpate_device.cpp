@@ -13,7 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "tools/cli_checks.h"
+#include "tools/commands/cli_checks.h"
 
 #include "core/scene.h"
 #include "haptics/replay_device.h"

@@ -5,11 +5,11 @@
 #include <CLI/CLI.hpp>
 
 #include "core/limits.h"
-#include "tools/bench_cli.h"
-#include "tools/cli_checks.h"
-#include "tools/record_cli.h"
-#include "tools/subcommand.h"
-#include "tools/tool_cli.h"
+#include "tools/commands/bench_cli.h"
+#include "tools/commands/cli_checks.h"
+#include "tools/commands/record_cli.h"
+#include "tools/commands/subcommand.h"
+#include "tools/commands/tool_cli.h"
 
 int main(int argc, char** argv) {
   // a file-size limit (ulimit -f) fails the write that crosses it with EFBIG, reported against that file like a

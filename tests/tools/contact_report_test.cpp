@@ -14,7 +14,7 @@
 
 #include "support/cli_run.h"
 #include "support/fixtures.h"
-#include "tools/session/recorder.h"
+#include "tools/record/recorder.h"
 
 namespace palpate {
 namespace {

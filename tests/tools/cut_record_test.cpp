@@ -14,7 +14,7 @@
 #include "support/fixtures.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/model.h"
-#include "tools/session/recorder.h"
+#include "tools/record/recorder.h"
 #include "tools/session/session.h"
 
 namespace palpate {

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "tools/feel_figures.h"
+#include "tools/bench/feel_figures.h"
 
 namespace palpate {
 namespace {

@@ -10,7 +10,7 @@
 #include "core/scene.h"
 #include "render/png_io.h"
 #include "support/fixtures.h"
-#include "tools/session/recorder.h"
+#include "tools/record/recorder.h"
 
 namespace palpate {
 namespace {

@@ -28,10 +28,10 @@
 #include "support/fixtures.h"
 #include "support/http_get.h"
 #include "support/read_file.h"
-#include "tools/session/http_server.h"
-#include "tools/session/live_feed.h"
-#include "tools/session/live_server.h"
-#include "tools/session/recorder.h"
+#include "tools/live/http_server.h"
+#include "tools/live/live_feed.h"
+#include "tools/live/live_server.h"
+#include "tools/record/recorder.h"
 
 namespace palpate {
 namespace {

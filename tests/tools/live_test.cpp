@@ -24,9 +24,9 @@
 #include "support/cli_run.h"
 #include "support/http_get.h"
 #include "support/fixtures.h"
-#include "tools/session/live_feed.h"
-#include "tools/session/live_server.h"
-#include "tools/session/recorder.h"
+#include "tools/live/live_feed.h"
+#include "tools/live/live_server.h"
+#include "tools/record/recorder.h"
 
 namespace palpate {
 namespace {

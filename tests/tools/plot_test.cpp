@@ -19,7 +19,7 @@
 #include "support/cli_run.h"
 #include "support/read_file.h"
 #include "support/temp_root.h"
-#include "tools/plot.h"
+#include "tools/bench/plot.h"
 
 namespace palpate {
 namespace {

@@ -13,10 +13,10 @@
 
 #include "core/scene.h"
 #include "support/fixtures.h"
-#include "tools/bench_loop.h"
+#include "tools/bench/bench_loop.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/lockstep.h"
-#include "tools/session/recorder.h"
+#include "tools/record/recorder.h"
 #include "tools/session/session.h"
 
 namespace palpate {

@@ -12,8 +12,8 @@
 
 #include "core/scene.h"
 #include "support/fixtures.h"
-#include "tools/session/record_plan.h"
-#include "tools/session/recorder.h"
+#include "tools/record/record_plan.h"
+#include "tools/record/recorder.h"
 
 namespace palpate {
 namespace {

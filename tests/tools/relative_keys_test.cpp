@@ -8,7 +8,7 @@
 
 #include "support/fixtures.h"
 #include "tools/session/device_factory.h"
-#include "tools/session/recorder.h"
+#include "tools/record/recorder.h"
 
 namespace palpate {
 namespace {

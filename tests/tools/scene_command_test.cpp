@@ -15,7 +15,7 @@
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/read_file.h"
-#include "tools/scene_command.h"
+#include "tools/commands/scene_command.h"
 #include "tools/session/model.h"
 
 namespace palpate {

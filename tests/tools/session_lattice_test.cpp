@@ -9,7 +9,7 @@
 
 #include "support/temp_root.h"
 #include "core/scene.h"
-#include "tools/session/recorder.h"
+#include "tools/record/recorder.h"
 
 namespace palpate {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "core/scene.h"
-#include "tools/bench_model.h"
+#include "tools/bench/bench_model.h"
 #include "tools/session/model.h"
 #include "tools/session/tool_hold.h"
 

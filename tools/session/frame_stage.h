@@ -28,7 +28,7 @@
 #include "sim/lattice.h"
 #include "tools/session/frame_stats.h"
 #include "tools/session/haptic_log.h"
-#include "tools/session/live_feed.h"
+#include "tools/live/live_feed.h"
 #include "tools/session/model.h"
 #include "tools/session/region_policy.h"
 

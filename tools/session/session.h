@@ -25,7 +25,7 @@
 #include "render/video_writer.h"
 #include "tools/session/frame_stage.h"
 #include "tools/session/haptic_log.h"
-#include "tools/session/live_feed.h"
+#include "tools/live/live_feed.h"
 #include "tools/session/lockstep.h"
 #include "tools/session/model.h"
 

@@ -1,0 +1,261 @@
+#include "tools/bench/bench_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "sim/material.h"
+#include "sim/reference_cases.h"
+#include "tools/bench/plot.h"
+#include "tools/session/model.h"
+#include "tools/session/tool_hold.h"
+
+namespace palpate {
+namespace {
+
+constexpr double kHertzRadius_m = 0.1;
+constexpr double kHertzDepth_m = 2.5e-4;
+constexpr double kBlockSide_m = 0.08, kBlockDepth_m = 0.04;
+constexpr double kCoupling_N_per_m = 300.0;
+
+// The Poisson ratio the lattice of `material` represents.
+double represented_poisson(const MaterialSpec& material) {
+  return material.model == MaterialModel::kVolumetric ? material.poisson_ratio : kLatticePoissonRatio;
+}
+
+// One row of the table: a reference at a level.
+struct Row {
+  std::string reference;
+  double nu = kLatticePoissonRatio;   // the lattice's Poisson ratio
+  MaterialModel model_kind = MaterialModel::kSprings;
+  double lateral = NAN;               // compression: lateral over axial strain (closed form: nu)
+  int level = 0;
+  std::size_t nodes = 0, springs = 0;
+  double model = 0.0, closed_form = 0.0, rel_error = 0.0;
+  const char* unit = "";
+  double ms_per_frame = 0.0;
+  int64_t frames = 0;
+};
+
+}  // namespace
+
+double hertz_force_N(double young_modulus_Pa, double poisson_ratio, double radius_m, double depth_m) {
+  const double e_star = young_modulus_Pa / (1.0 - poisson_ratio * poisson_ratio);
+  return 4.0 / 3.0 * e_star * std::sqrt(radius_m) * std::pow(std::max(depth_m, 0.0), 1.5);
+}
+
+Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator) {
+  // the block's top lies just below a cell plane, so no empty cell above it joins the lattice
+  const double top = 0.5 * kBlockDepth_m * (1.0 - 1e-3);
+  // the device held where the sphere, pushed back by the Hertz force through the coupling, sits about d deep
+  const double nu = represented_poisson(material);
+  const double device_z = top + kHertzRadius_m - kHertzDepth_m -
+                          hertz_force_N(material.young_modulus_Pa, nu, kHertzRadius_m, kHertzDepth_m) / kCoupling_N_per_m;
+  const int cells = 1 << (level - 1);
+  nlohmann::json j = {
+      {"name", "hertz"},
+      {"mesh", {{"box_m", {kBlockSide_m, kBlockSide_m, 2.0 * top}}, {"box_subdivisions", 32}, {"size_m", kBlockSide_m}}},
+      {"grid", {{"levels", std::max(level, 4)}}},
+      {"lattice", {{"level", level}, {"radius_cells", cells}, {"fix_floor", true}, {"integrator", integrator_name(integrator)}}},
+      {"material", {{"young_modulus_Pa", material.young_modulus_Pa}, {"poisson_ratio", material.poisson_ratio},
+                    {"density_kg_per_m3", material.density_kg_per_m3},
+                    {"stiffness_damping_s", material.stiffness_damping_s}, {"model", name_of(material.model)}}},
+      {"device", {{"max_force_N", 100.0}, {"coupling_N_per_m", kCoupling_N_per_m}, {"coupling_damping_Ns_per_m", 0.0},
+                  {"tool_radius_m", kHertzRadius_m}, {"tool_shape", "sphere"}, {"workspace_half_m", 1.0},
+                  {"max_stiffness_N_per_m", kCoupling_N_per_m}}},
+      {"interaction", {{"mode", "touch"}}},
+      {"trajectory", {{{"t_s", 0.0}, {"pos_m", {0.0, 0.0, device_z}}}}},
+  };
+  auto scene = parse_scene(j.dump(), "hertz (bench model)");
+  if (!scene) return scene.error();
+  auto model = load_model(scene.value());
+  if (!model) return model.error();
+  ToolHoldOptions ho;
+  ho.device_pos_m = Vec3(0.0, 0.0, device_z);
+  auto held = hold_tool(scene.value(), model.value(), ho);
+  if (!held) return held.error();
+  const ToolHoldResult& h = held.value();
+  if (!h.at_rest)
+    return make_error("hertz level ", std::to_string(level), ": not at rest after ", std::to_string(h.frames), " frames");
+  HertzToolCheck c;
+  c.force_N = h.force_N.z();
+  c.sphere_depth_m = top - (h.proxy_m.z() - kHertzRadius_m);
+  // the surface under the centre: the top-face vertex nearest the sphere's axis
+  const TriMesh& rest = model.value().rest;
+  std::size_t under = 0;
+  double best = INFINITY;
+  for (std::size_t v = 0; v < rest.vertices_m.size(); ++v) {
+    const Vec3& p = rest.vertices_m[v];
+    const double d = std::hypot(p.x() - h.proxy_m.x(), p.y() - h.proxy_m.y()) + std::abs(p.z() - top);
+    if (d < best) best = d, under = v;
+  }
+  c.depth_m = rest.vertices_m[under].z() - h.vertices_m[under].z();
+  c.closed_form_N = hertz_force_N(material.young_modulus_Pa, nu, kHertzRadius_m, c.depth_m);
+  c.rel_error = c.force_N / c.closed_form_N - 1.0;
+  c.nodes = h.nodes;
+  c.springs = h.springs;
+  c.force_nodes = h.force_nodes;
+  c.frames = h.frames;
+  c.ms_per_frame_p50 = h.sim_ms_p50;
+  return c;
+}
+
+Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) {
+  if (!o.json_path.empty())
+    if (auto st = check_output_target(o.json_path, "bench model output"); !st) return st.error();
+  if (!o.plot_path.empty())
+    if (auto st = check_plot_targets(o.plot_path); !st) return st.error();
+  MaterialSpec m;
+  m.enabled = true;
+  m.young_modulus_Pa = o.young_modulus_Pa;
+  m.poisson_ratio = 0.25;
+  m.density_kg_per_m3 = o.density_kg_per_m3;
+  m.stiffness_damping_s = o.stiffness_damping_s;
+  SettleOptions so;
+  so.step.kind = o.integrator;
+  std::vector<Row> rows;
+  auto wanted = [&](const char* name) { return std::find(o.references.begin(), o.references.end(), name) != o.references.end(); };
+  for (const std::string& name : o.references)
+    if (name != "compression" && name != "cantilever" && name != "hertz")
+      return make_error("bench model: reference '", name, "' is not one of: compression, cantilever, hertz");
+  // one reference at one level for material mat: its row, or an error naming them
+  auto run = [&](const std::string& ref, const MaterialSpec& mat, int level) -> Result<Row> {
+    Row row;
+    row.reference = ref;
+    row.level = level;
+    row.nu = represented_poisson(mat);
+    row.model_kind = mat.model;
+    if (ref == "hertz") {
+      auto r = check_hertz_tool(mat, level, o.integrator);
+      if (!r) return make_error("bench model: hertz level ", std::to_string(level), ": ", r.error().message);
+      const HertzToolCheck& h = r.value();
+      row.nodes = h.nodes, row.springs = h.springs, row.model = h.force_N, row.closed_form = h.closed_form_N;
+      row.rel_error = h.rel_error, row.unit = "N", row.ms_per_frame = h.ms_per_frame_p50, row.frames = h.frames;
+      return row;
+    }
+    auto r = ref == "compression" ? check_compression(mat, level, 1e-4, so) : check_cantilever(mat, level, so);
+    if (!r) return make_error("bench model: ", ref, " level ", std::to_string(level), ": ", r.error().message);
+    const ReferenceCheck& c = r.value();
+    row.nodes = c.nodes, row.springs = c.springs, row.model = c.model, row.closed_form = c.closed_form;
+    row.rel_error = c.rel_error, row.unit = "m", row.ms_per_frame = c.settle.ms_per_frame_p50, row.frames = c.settle.frames;
+    if (ref == "compression") row.lateral = c.poisson_effective;
+    return row;
+  };
+  for (const char* ref : {"compression", "cantilever", "hertz"}) {
+    if (!wanted(ref)) continue;
+    for (int level : o.levels) {
+      if (std::string(ref) == "cantilever" && level < 4) continue;  // the beam needs one cell across
+      auto row = run(ref, m, level);
+      if (!row) return row.error();
+      rows.push_back(row.value());
+    }
+  }
+  // the volumetric model at each nu: compression at level 4 (uniform strain: any level), the others at poisson_level
+  for (double nu : o.poisson_ratios) {
+    MaterialSpec mv = m;
+    mv.model = MaterialModel::kVolumetric;
+    mv.poisson_ratio = nu;
+    for (const char* ref : {"compression", "cantilever", "hertz"}) {
+      if (!wanted(ref)) continue;
+      auto row = run(ref, mv, std::string(ref) == "compression" ? 4 : o.poisson_level);
+      if (!row) return make_error(row.error().message, " (material.model volumetric, nu ", std::to_string(nu), ")");
+      rows.push_back(row.value());
+    }
+  }
+  // large strain: 30 % compression of the Neo-Hookean model against the Neo-Hookean closed form, per nu (uniform
+  // strain: one level does)
+  if (wanted("compression"))
+    for (double nu : o.large_strain_poisson_ratios) {
+      MaterialSpec mn = m;
+      mn.model = MaterialModel::kNeoHookean;
+      mn.poisson_ratio = nu;
+      auto r = check_large_compression(mn, 3, 0.3, so);
+      if (!r) return make_error("bench model: large compression nu ", std::to_string(nu), ": ", r.error().message);
+      const ReferenceCheck& c = r.value();
+      Row row;
+      row.reference = "compress 30%";
+      row.nu = nu;
+      row.model_kind = MaterialModel::kNeoHookean;
+      row.level = 3;
+      row.nodes = c.nodes, row.springs = c.springs, row.model = c.model, row.closed_form = c.closed_form;
+      row.rel_error = c.rel_error, row.unit = "m", row.ms_per_frame = c.settle.ms_per_frame_p50, row.frames = c.settle.frames;
+      row.lateral = c.poisson_effective;
+      rows.push_back(row);
+    }
+  std::ostringstream t;
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "E %.3g Pa, rho %.4g kg/m^3, beta %.3g s; %s, 1/60 s frames until at rest\n", o.young_modulus_Pa,
+                o.density_kg_per_m3, o.stiffness_damping_s, integrator_name(o.integrator));
+  t << line;
+  t << "reference    material     nu    level   nodes  springs  model          closed form    force error  lateral/axial  CPU ms/frame  frames to rest\n";
+  nlohmann::json js = nlohmann::json::array();
+  for (const Row& r : rows) {
+    char lateral[32] = "-";
+    if (std::isfinite(r.lateral)) std::snprintf(lateral, sizeof lateral, "%.4f", r.lateral);
+    std::snprintf(line, sizeof line, "%-12s %-11s %5.2f  %5d  %6zu  %7zu  %.5e %s  %.5e %s  %+10.2e  %13s  %12.2f  %6lld\n",
+                  r.reference.c_str(), name_of(r.model_kind), r.nu, r.level, r.nodes, r.springs, r.model, r.unit,
+                  r.closed_form, r.unit, r.rel_error, lateral, r.ms_per_frame, static_cast<long long>(r.frames));
+    t << line;
+    nlohmann::json row = {{"reference", r.reference}, {"material_model", name_of(r.model_kind)}, {"poisson_ratio", r.nu},
+                          {"level", r.level}, {"nodes", r.nodes}, {"springs", r.springs}, {"model", r.model},
+                          {"closed_form", r.closed_form}, {"unit", r.unit}, {"force_error", r.rel_error},
+                          {"cpu_ms_per_frame_p50", r.ms_per_frame}, {"frames_to_rest", r.frames}};
+    if (std::isfinite(r.lateral)) row["lateral_over_axial"] = r.lateral;
+    js.push_back(row);
+  }
+  t << "model / closed form: compression shortening, cantilever tip deflection (m), hertz force at the drop of the surface under the sphere (N);\n"
+       "force error: the force the lattice needs for the closed form's displacement over the closed form's, minus 1;\n"
+       "lateral/axial: compression's lateral over axial strain (closed form: nu); springs: central springs only (nu 0.25),\n"
+       "volumetric: springs for the shear modulus plus each cell's volume term, neo_hookean: a fifth of mu in springs,\n"
+       "the rest each cell's Neo-Hookean term (material.model); compress 30%: dead load for 30 % shortening of the\n"
+       "Neo-Hookean solid in three increments, force error = that load over the Neo-Hookean load for the shortening\n"
+       "reached, minus 1, and the lateral column is the lateral stretch over the closed form's, minus 1\n";
+  if (!o.json_path.empty()) {
+    nlohmann::json j{{"young_modulus_Pa", o.young_modulus_Pa},
+                     {"density_kg_per_m3", o.density_kg_per_m3}, {"stiffness_damping_s", o.stiffness_damping_s},
+                     {"integrator", integrator_name(o.integrator)}, {"rows", js}};
+    if (auto st = write_file_atomic(o.json_path, j.dump(2) + "\n", "bench json"); !st) return st.error();
+  }
+  if (plot != nullptr && !o.plot_path.empty()) {
+    // model error against cost, one line per reference through its levels (log-log)
+    PlotSpec p;
+    p.title = "model error against cost per lattice level";
+    p.x_label = "CPU ms per 1/60 s frame";
+    p.y_label = "|force error| against the closed form";
+    p.x_column = "cpu_ms_per_frame";
+    p.y_column = "abs_force_error";
+    char what[160];
+    std::snprintf(what, sizeof what, "palpate bench model (E %g Pa, nu 0.25, density %g kg/m^3)", o.young_modulus_Pa,
+                  o.density_kg_per_m3);
+    p.what = what;
+    p.key = "top right";
+    const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c"};
+    const int points[] = {7, 5, 9};
+    int c = 0;
+    for (const char* ref : {"compression", "cantilever", "hertz"}) {
+      PlotSeries s;
+      s.label = ref;
+      s.colour = colours[c];
+      s.point_type = points[c++];
+      s.style = PlotStyle::kLinesPoints;
+      PlotColumn level{"level", {}};
+      for (const Row& r : rows)
+        if (r.reference == ref && r.model_kind == MaterialModel::kSprings) {
+          s.x.push_back(r.ms_per_frame);
+          s.y.push_back(std::abs(r.rel_error));
+          level.values.push_back(r.level);
+        }
+      s.extra.push_back(level);
+      if (!s.x.empty()) p.series.push_back(s);
+    }
+    *plot = p;
+  }
+  return t.str();
+}
+
+}  // namespace palpate

@@ -1,0 +1,56 @@
+#pragma once
+/// `palpate bench model`: the model's error against the continuum it stands for, per lattice level, beside what the
+/// level costs — uniaxial compression (shortening = strain x side), a cantilever's tip deflection
+/// (F L^3 / (3 E I)) and Hertz indentation by the sphere tool (F = 4/3 E* sqrt(R) d^(3/2)). Every equilibrium is
+/// the simulation's own: the lattice stepped by its integrator until it is at rest (sim/settle.h); Hertz runs the
+/// servo's sphere god-object and the frame stage with the device held still (tools/session/tool_hold.h).
+
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "core/scene.h"
+#include "tools/bench/plot.h"
+
+namespace palpate {
+
+/// What to run. Plain data.
+struct BenchModelOptions {
+  std::vector<int> levels{3, 4, 5, 6};               ///< lattice levels (the cantilever needs >= 4: 1 cell across)
+  std::vector<std::string> references{"compression", "cantilever", "hertz"};  ///< which references to run
+  double young_modulus_Pa = 1e5;                     ///< E of every case
+  double density_kg_per_m3 = 1070.0;                 ///< rho
+  double stiffness_damping_s = 0.02;                 ///< Rayleigh beta: how fast each run comes to rest
+  IntegratorKind integrator = IntegratorKind::kImplicitEuler;  ///< what steps every run to rest
+  std::vector<double> poisson_ratios{0.0, 0.25, 0.4, 0.45, 0.49};  ///< material.model "volumetric" rows, one set per nu
+  std::vector<double> large_strain_poisson_ratios;   ///< material.model "neo_hookean", 30 % compression (none by default)
+  int poisson_level = 6;                             ///< level of those rows' cantilever and Hertz (compression: 4)
+  std::string json_path;                             ///< write the rows as JSON here when not empty
+  std::string plot_path;                             ///< log-log plot of force error against ms per frame (PNG)
+};
+
+/// One Hertz indentation by the sphere tool.
+struct HertzToolCheck {
+  double force_N = 0.0;            ///< the coupling force at rest (its z component, pushing the device up)
+  double depth_m = 0.0;            ///< how far the surface under the sphere's centre went down (Hertz's approach d)
+  double sphere_depth_m = 0.0;     ///< the sphere's lowest point below the block's rest top (<= depth_m: where the
+                                   ///< lattice's dimple is narrower than the sphere, the sphere rests on its rim)
+  double closed_form_N = 0.0;      ///< 4/3 E* sqrt(R) depth_m^(3/2), E* = E / (1 - nu^2) (nu the lattice's)
+  double rel_error = 0.0;          ///< force_N / closed_form_N - 1
+  std::size_t nodes = 0, springs = 0;
+  int force_nodes = 0;             ///< lattice nodes the contact force was spread over
+  int64_t frames = 0;              ///< sim frames to rest
+  double ms_per_frame_p50 = 0.0;   ///< frame stage thread CPU time per frame (median)
+};
+
+/// Hertz's force 4/3 E / (1 - nu^2) sqrt(R) d^(3/2) of a rigid sphere of radius R pressed d deep (N).
+double hertz_force_N(double young_modulus_Pa, double poisson_ratio, double radius_m, double depth_m);
+
+/// A block 8 x 8 x 4 cm of `material` (floor fixed) at lattice `level`, pressed by a sphere tool of radius 10 cm
+/// whose device is held so the sphere goes about 0.25 mm deep (contact radius 5 mm), run until at rest.
+Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator);
+
+/// Runs every case; returns the table as text. Errors name the case, its level or the output path.
+Result<std::string> run_bench_model(const BenchModelOptions& options, PlotSpec* plot = nullptr);
+
+}  // namespace palpate

@@ -1,0 +1,242 @@
+#include "tools/commands/bench_cli.h"
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "core/limits.h"
+#include "core/rates.h"
+#include "core/scene.h"
+#include "tools/bench/bench_feel.h"
+#include "tools/bench/bench_force.h"
+#include "tools/bench/bench_loop.h"
+#include "tools/bench/bench_mesh.h"
+#include "tools/bench/bench_model.h"
+#include "tools/bench/bench_png.h"
+#include "tools/bench/bench_scale.h"
+#include "tools/bench/bench_sim.h"
+#include "tools/commands/cli_checks.h"
+#include "tools/bench/plot.h"
+
+namespace palpate {
+namespace {
+
+// Every benchmark's options, as parsed.
+struct BenchArgs {
+  BenchLoopOptions loop;
+  BenchForceOptions force;
+  BenchFeelOptions feel;
+  std::string sim_scene;
+  BenchSimOptions sim;
+  std::string scale_scene = "scenes/bunny_pull.json";
+  BenchScaleOptions scale;
+  bool scale_no_full = false;
+  BenchModelOptions model;
+  std::string model_integrator = integrator_name(BenchModelOptions{}.integrator);
+  BenchPngOptions png;
+  BenchMeshOptions mesh;
+  CLI::App *loop_cmd = nullptr, *force_cmd = nullptr, *feel_cmd = nullptr, *sim_cmd = nullptr, *scale_cmd = nullptr, *model_cmd = nullptr,
+           *png_cmd = nullptr, *mesh_cmd = nullptr;
+};
+
+void add_loop(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.loop_cmd = bench->add_subcommand("loop", "Servo loop timing alone or beside the sim / record pipeline");
+  BenchLoopOptions& lo = a.loop;
+  c->add_option("--scene", lo.scene, "Scene whose device, model and pipeline are used")->capture_default_str();
+  c->add_option("--rate", lo.rate_hz, "Servo rate in Hz (default: the scene's servo.rate_hz)")
+      ->check(finite_range(100.0, 50000.0));
+  c->add_option("--seconds", lo.seconds, "Seconds per run")->check(finite_range(0.1, 3600.0))->capture_default_str();
+  c->add_option("--load", lo.load, "none | sim | record")->check(CLI::IsMember({"none", "sim", "record"}))
+      ->capture_default_str();
+  c->add_option("--spin-us", lo.spin_us,
+                "Spin this many us before each deadline (default: adaptive, following how late the sleep returns)")
+      ->check(CLI::Range(0, 1000));
+  c->add_option("--spin-compare", lo.spin_compare, "Fixed windows (us) also run at each rate, side by side")
+      ->delimiter(',')->check(CLI::Range(0, 1000));
+  c->add_option("--priority", lo.priority, "SCHED_FIFO priority, 0 = normal scheduling")->check(CLI::Range(0, 99))
+      ->capture_default_str();
+  c->add_flag("--sweep", lo.sweep,
+              "Try 1, 2, 5 and 10 kHz; report the highest rate such that it and every lower rate had no overruns");
+  c->add_flag("--live", lo.live,
+              "With --load record: each run again with the live view served and a client fetching it as the page "
+              "does (rows side by side)");
+  c->add_option("--json", lo.json_path, "Write the figures (with the latency histogram) as JSON");
+  c->add_option("--plot", lo.plot_path, "Draw the wake-latency histogram (log-log) with gnuplot: FILE.png, "
+                "its data FILE.dat and script FILE.gp");
+}
+
+void add_force(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.force_cmd = bench->add_subcommand(
+      "force", "Force between sim frames against a reference stepped at the servo rate (per force model)");
+  c->add_option("scenes", a.force.scenes, "Scenes to replay in lockstep")->capture_default_str();
+  c->add_option("--json", a.force.json_path, "Write the figures as JSON");
+}
+
+void add_feel(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.feel_cmd = bench->add_subcommand("feel", "What the hand feels: force steps per tick against the device's "
+                                               "motion, ripple, event steps, buzz above 100 Hz (lockstep)");
+  c->add_option("scenes", a.feel.scenes, "Scenes (default: every shipped scene)");
+  c->add_option("--json", a.feel.json_path, "Write the figures as JSON");
+  c->add_option("--plot", a.feel.plot_path, "Force traces with gnuplot: FILE.png (and FILE_spectrum.png, the spectra), "
+                "their data FILE.dat and scripts FILE.gp");
+  c->add_option("--step-threshold", a.feel.step_threshold_N, "Steps counted above this (N)")
+      ->check(finite_range(0.0, 100.0))
+      ->capture_default_str();
+}
+
+void add_sim(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.sim_cmd =
+      bench->add_subcommand("sim", "Speed against error per integrator x level x substeps/iterations (lockstep)");
+  BenchSimOptions& so = a.sim;
+  c->add_option("scene", a.sim_scene, "Scene whose interaction is replayed, e.g. scenes/bunny_pull.json")->required();
+  c->add_option("--json", so.json_path, "Write the rows as JSON");
+  c->add_option("--plot", so.plot_path, "Plot node error against ms per frame (log axes, Pareto front) "
+                "with gnuplot: FILE.png, its data FILE.dat and script FILE.gp");
+  c->add_option("--integrators", so.integrators, "Integrators to sweep (default: all)")->delimiter(',');
+  c->add_option("--levels", so.levels, "Lattice levels to sweep (default: the scene's)")->delimiter(',')
+      ->check(CLI::Range(1, kMaxGridLevels));
+  c->add_option("--substeps", so.substeps, "Substeps per frame to sweep, 0 = automatic")->delimiter(',')
+      ->check(CLI::Range(0, kMaxSubsteps))->capture_default_str();
+  c->add_option("--iterations", so.iterations, "Newton / local-global iterations to sweep, 0 = default")
+      ->delimiter(',')->check(CLI::Range(0, kMaxIterations))->capture_default_str();
+  c->add_option("--ref-substeps", so.reference_substeps, "RK4 substeps per frame of the reference")
+      ->check(CLI::Range(2, kMaxSubsteps))->capture_default_str();
+  c->add_option("--duration", so.duration_s, "Scene seconds to replay (overrides the scene)")
+      ->check(finite_range(Rates{}.frame_period_s(), 3600.0));
+  c->add_option("--box", so.box_cells, "Box lattices of N cells per axis (powers of two) instead of the replay, "
+                "e.g. 4,8,16 = 125, 729, 4913 nodes")->delimiter(',')->check(CLI::Range(1, 128));
+  c->add_flag("--quiet,-q", so.quiet, "No progress lines");
+}
+
+void add_scale(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.scale_cmd = bench->add_subcommand(
+      "scale", "Record a scene on its model subdivided 0..N times, cached layer beside full redraw (lockstep; "
+               "about 1.6 min with the defaults here, progress on stderr)");
+  BenchScaleOptions& sco = a.scale;
+  c->add_option("scene", a.scale_scene, "Scene whose interaction is recorded")->capture_default_str();
+  c->add_option("--max-subdivisions", sco.max_subdivisions,
+                "Largest midpoint subdivision (bunny: 0 = 3.7k, 1 = 14.7k, 2 = 58.8k, 3 = 235k, 4 = 940k triangles)")
+      ->check(CLI::Range(0, 5))->capture_default_str();
+  c->add_option("--duration", sco.duration_s, "Scene seconds to record (overrides the scene)")
+      ->check(finite_range(Rates{}.frame_period_s(), 3600.0));
+  c->add_flag("--no-full", a.scale_no_full, "Skip the full-redraw runs beside the cached-layer ones");
+  c->add_option("--json", sco.json_path, "Write the rows as JSON");
+  c->add_option("--plot", sco.plot_path, "Plot ms per frame against triangles (log-log) with gnuplot: "
+                "FILE.png, its data FILE.dat and script FILE.gp");
+  c->add_flag("--quiet,-q", sco.quiet, "No progress lines");
+}
+
+void add_model(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.model_cmd = bench->add_subcommand(
+      "model", "Model error against closed-form continuum references per lattice level, each run to rest by the "
+               "simulation, beside ms per frame (about 1.5 min with the defaults here)");
+  c->alias("material");
+  BenchModelOptions& mo = a.model;
+  c->add_option("--levels", mo.levels, "Lattice levels (the cantilever runs from 4)")->delimiter(',')
+      ->check(CLI::Range(2, 7))->capture_default_str();
+  c->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(finite_range(1.0, 1e12))->capture_default_str();
+  c->add_option("--damping", mo.stiffness_damping_s, "Rayleigh beta in s (how fast the runs come to rest)")
+      ->check(finite_range(0.0, 10.0))->capture_default_str();
+  c->add_option("--references", mo.references, "Which references: compression, cantilever, hertz")->delimiter(',')
+      ->capture_default_str();
+  c->add_option("--integrator", a.model_integrator, "Integrator that steps every run to rest")->capture_default_str();
+  c->add_option("--poisson", mo.poisson_ratios, "Poisson ratios of the material.model 'volumetric' rows (none: "
+                "--poisson '')")->delimiter(',')->check(finite_range(0.0, 0.49))->capture_default_str();
+  c->add_option("--large-strain", mo.large_strain_poisson_ratios, "Poisson ratios of the 30 % compression rows "
+                "(material.model 'neo_hookean'; none by default: the runs do not come to rest yet)")->delimiter(',')
+      ->check(finite_range(0.0, 0.49))->capture_default_str();
+  c->add_option("--poisson-level", mo.poisson_level, "Level of those rows' cantilever and Hertz")
+      ->check(CLI::Range(4, 7))->capture_default_str();
+  c->add_option("--json", mo.json_path, "Write the rows as JSON");
+  c->add_option("--plot", mo.plot_path, "Plot force error against ms per frame (log-log) as PNG");
+}
+
+void add_png(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.png_cmd = bench->add_subcommand(
+      "png", "PNG encoders side by side on a recording's frames (ms per frame, size, lossless check)");
+  BenchPngOptions& po = a.png;
+  c->add_option("folder", po.folder, "Recording folder (frames/frame_*.png), e.g. out/bunny_pull (default with "
+                "--record: the last recording made)");
+  c->add_option("--record", po.record, "Also record this lockstep scene with each frame writer (zlib RGBA / RGB, "
+                "libdeflate RGB, 1 and 2 threads) in turn, --reps times: wall per scene-second and state hashes "
+                "(about 47 s for scenes/bunny_pull.json here, a line per pass on stderr)");
+  c->add_option("--out,-o", po.out_dir, "Folder for the --record recordings")->capture_default_str();
+  c->add_option("--frames", po.frames, "Frames used, spread over the recording")->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  c->add_option("--reps", po.repetitions, "Passes over the frames")->check(CLI::Range(1, 1000))->capture_default_str();
+  c->add_option("--json", po.json_path, "Write the rows as JSON");
+}
+
+void add_mesh(CLI::App* bench, BenchArgs& a) {
+  auto* c = a.mesh_cmd = bench->add_subcommand("mesh", "Mesh loading with the reader in a child process against in "
+                                               "this process, alternately (median and fastest ms, ratio)");
+  c->add_option("files", a.mesh.files, "Valid mesh files (e.g. scenes/bunny.obj)")->required();
+  c->add_option("--reps", a.mesh.repetitions, "Loads per way and file")->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+}
+
+// Runs the benchmark the command line chose: the table (and any JSON) first; the plot is drawn after, so a missing
+// gnuplot loses neither.
+int run_bench(BenchArgs& a) {
+  // the default scenes are found from any folder, not only the repository root
+  if (*a.loop_cmd && a.loop_cmd->get_option("--scene")->count() == 0) a.loop.scene = locate_default(a.loop.scene);
+  if (*a.force_cmd && a.force_cmd->get_option("scenes")->count() == 0)
+    for (auto& s : a.force.scenes) s = locate_default(s);
+  if (*a.scale_cmd && a.scale_cmd->get_option("scene")->count() == 0) a.scale_scene = locate_default(a.scale_scene);
+  if (*a.loop_cmd) return run_bench_loop(a.loop);
+  if (*a.force_cmd) return run_bench_force(a.force);
+  if (*a.feel_cmd) {
+    if (a.feel.scenes.empty()) a.feel.scenes_dir = locate_default(a.feel.scenes_dir);
+    return run_bench_feel(a.feel);
+  }
+  if (*a.model_cmd && !integrator_from_name(a.model_integrator, &a.model.integrator)) {
+    std::fprintf(stderr, "palpate: bench model: --integrator '%s' is not one of: explicit_euler, symplectic_euler, "
+                 "implicit_euler, local_global, rk4\n", a.model_integrator.c_str());
+    return 2;
+  }
+  a.scale.full_redraw = !a.scale_no_full;
+  PlotSpec plot;
+  std::string plot_path;
+  Result<std::string> table = std::string();
+  if (*a.scale_cmd) {
+    table = run_bench_scale(a.scale_scene, a.scale, &plot);
+    plot_path = a.scale.plot_path;
+  } else if (*a.model_cmd) {
+    table = run_bench_model(a.model, &plot);
+    plot_path = a.model.plot_path;
+  } else if (*a.png_cmd) {
+    table = run_bench_png(a.png);
+  } else if (*a.mesh_cmd) {
+    table = run_bench_mesh(a.mesh);
+  } else if (a.sim.box_cells.empty()) {
+    table = run_bench_sim(a.sim_scene, a.sim, &plot);
+    plot_path = a.sim.plot_path;
+  } else {
+    table = run_bench_sim_box(a.sim_scene, a.sim);
+  }
+  if (!table) {
+    std::fprintf(stderr, "palpate: %s\n", table.error().message.c_str());
+    return 1;
+  }
+  std::fputs(table.value().c_str(), stdout);
+  return plot_path.empty() ? 0 : write_plot_and_report(plot, plot_path);
+}
+
+}  // namespace
+
+Subcommand add_bench_command(CLI::App& app) {
+  auto a = std::make_shared<BenchArgs>();
+  auto* bench = app.add_subcommand("bench", "Benchmarks: figures as tables, JSON and plots");
+  bench->require_subcommand(1);
+  add_loop(bench, *a);
+  add_force(bench, *a);
+  add_feel(bench, *a);
+  add_sim(bench, *a);
+  add_scale(bench, *a);
+  add_model(bench, *a);
+  add_png(bench, *a);
+  add_mesh(bench, *a);
+  return {bench, [a] { return run_bench(*a); }};
+}
+
+}  // namespace palpate

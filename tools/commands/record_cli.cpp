@@ -1,0 +1,189 @@
+#include "tools/commands/record_cli.h"
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "core/limits.h"
+#include "core/printable.h"
+#include "core/scene.h"
+#include "tools/commands/cli_checks.h"
+#include "tools/live/live_feed.h"
+#include "tools/live/live_server.h"
+#include "tools/record/record_plan.h"
+#include "tools/record/recorder.h"
+
+namespace palpate {
+namespace {
+
+volatile std::sig_atomic_t g_interrupted = 0;
+
+// The command line of `palpate record`, as parsed.
+struct RecordArgs {
+  std::string scene_path, mode, video_path, serve;
+  RecordOptions opt;
+  bool no_render = false, no_video = false;
+  double serve_linger_s = 0.0;
+};
+
+// Keeps the live view up after the run for linger_s seconds, or until Ctrl-C / SIGTERM.
+void linger(const LiveServer& server, double linger_s) {
+  std::fprintf(stderr, "palpate: live view: the run is over; serving its last frame at %s for %.0f s (Ctrl-C ends)\n",
+               server.url().c_str(), linger_s);
+  auto on_signal = [](int) { g_interrupted = 1; };
+  struct sigaction sa {}, old_int {}, old_term {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &old_int);
+  sigaction(SIGTERM, &sa, &old_term);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(linger_s);
+  while (!g_interrupted && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+}
+
+// What was written, one line each (only what exists).
+void print_outputs(const RecordPlan& plan, const RecordResult& r) {
+  if (plan.render)
+    std::printf("frames   %s/ (%d PNG)\n", plan.frames_dir.c_str(), r.frames_written);
+  if (!r.video_path.empty()) std::printf("video    %s\n", r.video_path.c_str());
+  std::printf("log      %s\n", plan.haptic_csv_path.c_str());
+  std::printf("summary  %s\n", r.summary_path.c_str());
+  if (!r.state_hash.empty()) std::printf("state_hash %s\n", r.state_hash.c_str());
+  std::fflush(stdout);
+}
+
+int run_record(const CLI::App& cmd, RecordArgs& a) {
+  RecordOptions& opt = a.opt;
+  if (cmd.get_option("--video")->count() > 0 && a.no_video) {
+    std::fprintf(stderr, "palpate: --video and --no-video exclude each other\n");
+    return 2;
+  }
+  if (cmd.get_option("--serve")->count() > 0 && a.serve.empty()) {
+    std::fprintf(stderr, "palpate: --serve '': give [ADDR:]PORT (e.g. 8080, or 0 for any free port)\n");
+    return 2;
+  }
+  if (a.serve_linger_s > 0.0 && a.serve.empty()) {
+    std::fprintf(stderr, "palpate: --serve-linger needs --serve\n");
+    return 2;
+  }
+  opt.render = !a.no_render;
+  // video on by default (<out>/recording.mp4, a warning when it cannot be made); an explicit FILE must be made
+  if (!a.no_video) {
+    opt.video_path = a.video_path;
+    opt.video_optional = a.video_path.empty();
+  }
+  if (!a.mode.empty()) {
+    opt.override_mode = true;
+    opt.mode = from_name<RunMode>(a.mode).value_or(RunMode::kLockstep);  // checked by the parser
+  }
+  opt.realtime_flags = cmd.get_option("--spin-us")->count() > 0 || cmd.get_option("--priority")->count() > 0;
+
+  auto scene = load_scene(a.scene_path);
+  if (!scene) {
+    std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
+    return 1;
+  }
+  // everything decided and every output checked before anything in the output folder is touched
+  auto planned = plan_record(scene.value(), opt);
+  if (!planned) {
+    std::fprintf(stderr, "palpate: %s\n", planned.error().message.c_str());
+    return 1;
+  }
+  const RecordPlan& plan = planned.value();
+  if (auto st = check_plan_outputs(plan); !st) {
+    std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
+    return 1;
+  }
+  for (const std::string& w : plan.warnings) std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
+  // the live view listens before anything is recorded: an address in use leaves no output behind
+  std::unique_ptr<LiveFeed> feed;
+  std::unique_ptr<LiveServer> server;
+  if (!a.serve.empty()) {
+    auto address = parse_serve_address(a.serve);
+    if (!address) {
+      std::fprintf(stderr, "palpate: %s\n", address.error().message.c_str());
+      return 2;
+    }
+    feed = std::make_unique<LiveFeed>(plan.scene.render.width, plan.scene.render.height, a.scene_path,
+                                      plan.lockstep ? "lockstep" : "realtime");
+    if (a.serve_linger_s > 0.0) feed->keep_frames();
+    server = std::make_unique<LiveServer>(feed.get());
+    if (auto st = server->start(address.value()); !st) {
+      std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
+      return 2;
+    }
+    std::fprintf(stderr, "palpate: live view at %s\n", server->url().c_str());
+    opt.live = feed.get();
+  }
+  auto res = record_planned(plan, opt);
+  if (!res) {
+    std::fprintf(stderr, "palpate: %s\n", res.error().message.c_str());
+    return 1;
+  }
+  const RecordResult& r = res.value();
+  print_outputs(plan, r);
+  if (!r.no_contact.empty()) std::fprintf(stderr, "palpate: warning: %s\n", r.no_contact.c_str());
+  if (server && a.serve_linger_s > 0.0) linger(*server, a.serve_linger_s);
+  if (server) server->stop();
+  // divergence is never silent: the outputs stay, the exit status says they hold a reset lattice (unless the
+  // scene accepts it with lattice.allow_divergence: then a warning says the same)
+  if (r.nan_events > 0 || r.divergence_events > 0) {
+    const bool allowed = plan.scene.lattice.allow_divergence;
+    std::fprintf(stderr, "palpate: %sscene '%s': the lattice diverged: nan_events %lld, divergence_events %lld (see %s)%s\n",
+                 allowed ? "warning: " : "", printable_text(a.scene_path).c_str(), static_cast<long long>(r.nan_events),
+                 static_cast<long long>(r.divergence_events), printable_text(r.summary_path).c_str(),
+                 allowed ? "; accepted (lattice.allow_divergence)" : "");
+    return allowed ? 0 : 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Subcommand add_record_command(CLI::App& app) {
+  auto a = std::make_shared<RecordArgs>();
+  RecordOptions& opt = a->opt;
+  auto* rec = app.add_subcommand("record", "Record a scene: frames/*.png, recording.mp4, haptic.csv, summary.json");
+  rec->footer("Limits of inputs: palpate --help");
+  rec->add_option("scene", a->scene_path, "Scene file (JSON), e.g. scenes/bunny_pull.json")->required();
+  rec->add_option("--out,-o", opt.out_dir, "Output folder (default: out/<scene name>)");
+  rec->add_option("--mode", a->mode, "lockstep (reproducible, default of scenes) or realtime (wall clock)")
+      ->check(CLI::IsMember({"lockstep", "realtime"}));
+  rec->add_option("--duration", opt.duration_s, "Scene seconds to record (overrides the scene)")
+      ->check(finite_range(Rates{}.frame_period_s(), 3600.0));
+  rec->add_flag("--quiet,-q", opt.quiet, "No progress line");
+  rec->add_flag("--no-render", a->no_render, "Simulate and log only: no GL, no frames");
+  rec->add_flag("--full-redraw", opt.full_redraw,
+                "Draw the whole mesh every frame instead of a cached static layer plus what moves (same pixels)");
+  rec->add_option("--device", opt.device,
+                  "Device: scripted | shm:NAME (palpate-device) | plugin:PATH.so | replay:PATH (haptic.csv or recording folder)");
+  rec->add_option("--spin-us", opt.spin_us,
+                  "realtime: spin this many us before each servo deadline (0 = sleep only; default: adaptive, the sleep's "
+                  "p99 lateness + 10 us, at most 60 % of the period and 200 us)")
+      ->check(CLI::Range(0, 1000));
+  rec->add_option("--priority", opt.fifo_priority, "realtime: servo SCHED_FIFO priority (0 = normal scheduling)")
+      ->check(CLI::Range(0, 99));
+  rec->add_option("--servo-rate", opt.servo_rate_hz,
+                  "Servo rate in Hz (lockstep: ticks per scene-second; default: the scene's servo.rate_hz); device, "
+                  "servo period, passivity guard and the coupling's passivity bound 2b/T follow it")
+      ->check(finite_range(kMinServoRate_hz, kMaxServoRate_hz));
+  // video on by default: it costs the sim thread one frame copy (the encoder has its own thread)
+  rec->add_option("--video", a->video_path,
+                  "Also encode the frames as H.264 MP4 (default on, at <out>/recording.mp4; an explicit FILE must be "
+                  "writable, a missing encoder is then an error instead of a warning)")
+      ->expected(0, 1);
+  rec->add_flag("--no-video", a->no_video, "No MP4, frames/*.png only");
+  rec->add_option("--serve", a->serve,
+                  "Live view in a browser while recording: serve it on [ADDR:]PORT (ADDR default 127.0.0.1; PORT 0 = any "
+                  "free port); the URL is printed on stderr");
+  rec->add_option("--serve-linger", a->serve_linger_s,
+                  "With --serve: keep the live view (last frame, final figures) up this many seconds after the run")
+      ->check(finite_range(0.0, 86400.0));
+  return {rec, [rec, a] { return run_record(*rec, *a); }};
+}
+
+}  // namespace palpate

@@ -1,0 +1,354 @@
+#include "tools/commands/scene_command.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/aabb.h"
+#include "core/atomic_file.h"
+#include "core/mesh_io.h"
+#include "tools/session/model.h"
+#include "tools/commands/scene_target.h"
+#include "tools/commands/subcommand.h"
+#include "tools/session/surface_queries.h"
+
+namespace palpate {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr double kSize_m = 0.1;          // largest side after normalisation, as the shipped scenes
+constexpr double kClearance_m = 0.03;    // the tool starts and ends this far out of the surface
+constexpr double kNear_m = 0.003;        // it slows down this far out before pressing
+constexpr double kGrabGap_m = 0.002;     // pull: the button is pressed this far out (within grab_radius_m)
+constexpr double kGrabRadius_m = 0.008;  // interaction.grab_radius_m, as the shipped scenes
+
+std::string mm3(const Vec3& p_m) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "[%.1f, %.1f, %.1f] mm", 1e3 * p_m.x(), 1e3 * p_m.y(), 1e3 * p_m.z());
+  return buf;
+}
+
+std::string dir_name(const Vec3& d) {
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(std::abs(d[a]) - 1.0) < 1e-9) return std::string(d[a] > 0 ? "+" : "-") + static_cast<char>('x' + a);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "(%.2f, %.2f, %.2f)", d.x(), d.y(), d.z());
+  return buf;
+}
+
+double round_um(double x_m) { return std::round(x_m * 1e6) / 1e6; }
+
+// most characters of a scene's name (as the scene reader allows)
+constexpr std::size_t kMaxSceneName = 64;
+
+// '<stem>_<mode>' made a name the scene reader takes: A-Z a-z 0-9 . _ - only (others become '_'), not starting with
+// '.', the stem shortened so the whole fits kMaxSceneName
+std::string scene_name(const std::string& stem, const std::string& mode) {
+  std::string out;
+  for (char c : stem) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-') ? c : '_';
+  if (out.empty() || out.front() == '.') out = "model" + out;
+  const std::string suffix = "_" + mode;
+  if (out.size() + suffix.size() > kMaxSceneName) out.resize(kMaxSceneName - suffix.size());
+  return out + suffix;
+}
+
+// one line per value: {"a": 1, "b": [1, 2]}
+std::string inline_json(const nlohmann::ordered_json& v) {
+  if (!v.is_object() && !v.is_array()) return v.dump();
+  std::string s = v.is_object() ? "{ " : "[";
+  bool first = true;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    s += first ? "" : ", ";
+    if (v.is_object()) s += nlohmann::ordered_json(it.key()).dump() + ": ";
+    s += inline_json(it.value());
+    first = false;
+  }
+  return s + (v.is_object() ? " }" : "]");
+}
+
+// the layout of the shipped scenes: a section a line, a keyframe a line
+std::string scene_text(const nlohmann::ordered_json& j) {
+  std::string s = "{\n";
+  bool first = true;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    s += first ? "" : ",\n";
+    s += "  " + nlohmann::ordered_json(it.key()).dump() + ": ";
+    if (it.value().is_array() && !it.value().empty() && it.value().front().is_object()) {
+      s += "[\n";
+      for (std::size_t i = 0; i < it.value().size(); ++i)
+        s += "    " + inline_json(it.value()[i]) + (i + 1 < it.value().size() ? ",\n" : "\n");
+      s += "  ]";
+    } else {
+      s += inline_json(it.value());
+    }
+    first = false;
+  }
+  return s + "\n}\n";
+}
+
+nlohmann::ordered_json vec_json(const Vec3& v) { return {round_um(v.x()), round_um(v.y()), round_um(v.z())}; }
+
+nlohmann::ordered_json key(double t_s, const Vec3& p_m, bool button, const std::optional<Quat>& q = std::nullopt) {
+  nlohmann::ordered_json k;
+  k["t_s"] = t_s;
+  k["pos_m"] = vec_json(p_m);
+  if (button) k["button"] = true;
+  if (q) k["orientation_wxyz"] = {q->w(), q->x(), q->y(), q->z()};
+  return k;
+}
+
+// The interaction section and the keyframes: from clearance_m out along the approach d to the surface point P, then
+// a press of depth_m (touch), a grab pulled out by depth_m (pull), or a blade in by depth_m drawn across the box to
+// its far side (cut), and away again. Returns the scene's duration.
+double add_trajectory(InteractionMode mode, const Vec3& P, const Vec3& d, double clearance_m, double depth_m,
+                      const Aabb& box, nlohmann::ordered_json* j) {
+  const Vec3 start = P - clearance_m * d;
+  nlohmann::ordered_json traj = nlohmann::ordered_json::array();
+  double duration_s = 3.5;
+  if (mode == InteractionMode::kTouch) {
+    (*j)["interaction"] = {{"mode", "touch"}, {"grab_radius_m", kGrabRadius_m}};
+    const Vec3 pressed = P + depth_m * d;
+    traj = {key(0.0, start, false), key(0.4, start, false), key(1.2, P - kNear_m * d, false), key(2.0, pressed, false),
+            key(2.6, pressed, false), key(3.2, start, false)};
+  } else if (mode == InteractionMode::kPull) {
+    (*j)["interaction"] = {{"mode", "pull"}, {"grab_radius_m", kGrabRadius_m}};
+    const Vec3 grab = P - kGrabGap_m * d;
+    const Vec3 pulled = grab - depth_m * d;
+    traj = {key(0.0, start, false), key(0.8, grab, false), key(1.0, grab, true), key(2.0, pulled, true),
+            key(2.6, pulled, true), key(2.8, pulled, false), key(3.2, pulled - kNear_m * d, false)};
+  } else {
+    // the blade points back out of the surface; it goes in by depth, then across the model to its far side
+    const Quat q = Quat::FromTwoVectors(Vec3::UnitZ(), -d);
+    Vec3 across = Vec3::Zero();
+    double best = -1.0;
+    for (int a = 0; a < 3; ++a) {
+      Vec3 ax = Vec3::Zero();
+      ax[a] = 1.0;
+      const Vec3 s = ax - ax.dot(d) * d;
+      if (s.norm() < 0.5) continue;
+      if (box.extent()[a] * s.norm() > best) {
+        best = box.extent()[a] * s.norm();
+        across = s.normalized();
+      }
+    }
+    auto to_face = [&](const Vec3& s) {
+      double t = 1e9;
+      for (int a = 0; a < 3; ++a)
+        if (std::abs(s[a]) > 1e-9) t = std::min(t, ((s[a] > 0 ? box.max_m[a] : box.min_m[a]) - P[a]) / s[a]);
+      return t;
+    };
+    if (to_face(-across) > to_face(across)) across = -across;
+    const Vec3 in = P + depth_m * d;
+    const Vec3 out = in + (to_face(across) + 0.01) * across;
+    (*j)["interaction"] = {{"mode", "cut"}, {"blade_length_m", round_um(depth_m + clearance_m + 0.01)},
+                        {"cut_resistance_Ns_per_m", 4.0}};
+    traj = {key(0.0, start, false, q), key(0.2, start, true, q), key(1.0, in, true, q), key(2.2, out, true, q),
+            key(2.4, out, false, q),  key(2.8, out - (depth_m + clearance_m) * d, false, q)};
+    duration_s = 3.0;
+  }
+  (*j)["trajectory"] = traj;
+  return duration_s;
+}
+
+}  // namespace
+
+Result<Vec3> parse_point(const std::string& option, const std::string& text) {
+  Vec3 p;
+  std::stringstream s(text);
+  std::string part;
+  int n = 0;
+  while (std::getline(s, part, ',')) {
+    char* end = nullptr;
+    const double x = std::strtod(part.c_str(), &end);
+    if (n >= 3 || part.empty() || end == part.c_str() || *end != '\0' || !std::isfinite(x))
+      return make_error(option, " '", text, "': expected three numbers X,Y,Z");
+    p[n++] = x;
+  }
+  if (n != 3) return make_error(option, " '", text, "': expected three numbers X,Y,Z");
+  return p;
+}
+
+Result<Vec3> parse_direction(const std::string& option, const std::string& text) {
+  std::string t = text;
+  double sign = 1.0;
+  if (!t.empty() && (t[0] == '+' || t[0] == '-')) {
+    sign = t[0] == '-' ? -1.0 : 1.0;
+    t = t.substr(1);
+  }
+  if (t.size() != 1 || t[0] < 'x' || t[0] > 'z')
+    return make_error(option, " '", text, "': expected an axis with a sign: +x, -x, +y, -y, +z or -z");
+  Vec3 d = Vec3::Zero();
+  d[t[0] - 'x'] = sign;
+  return d;
+}
+
+Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
+  GeneratedScene g;
+  // the command line's range check lets NaN through: every number is checked here again
+  if (!std::isfinite(rq.depth_mm) || rq.depth_mm < 0.0 || (rq.depth_mm > 0.0 && (rq.depth_mm < 0.5 || rq.depth_mm > 50.0)))
+    return make_error("--depth-mm ", std::to_string(rq.depth_mm), ": not a number in [0.5, 50]");
+  if (rq.level < 0 || rq.level > 8) return make_error("--level ", std::to_string(rq.level), ": not in [1, 8]");
+  if (rq.at_raw && !rq.at_raw->allFinite()) return make_error("--at: not three finite numbers");
+  if (rq.from && !(rq.from->allFinite() && std::abs(rq.from->norm() - 1.0) < 1e-9))
+    return make_error("--from: not a unit direction");
+  auto raw_r = load_mesh(rq.mesh_path);
+  if (!raw_r) return raw_r.error();
+  const TriMesh& raw = raw_r.value();
+  const Aabb raw_box = Aabb::of(raw.vertices_m);
+
+  // up axis, then levels sized to the model's thinnest side and triangle count
+  std::string why;
+  const char up = rq.up_axis ? rq.up_axis : guess_up_axis(raw_box, rq.mesh_path, &why);
+  g.notes.push_back(std::string("up axis ") + up + (rq.up_axis ? " (--up)" : " (guessed: " + why + "; --up x|y|z to change)"));
+  const Vec3 e = raw_box.extent();
+  const double thin_m = e.maxCoeff() > 0.0 ? kSize_m * e.minCoeff() / e.maxCoeff() : 0.0;
+  // level 5 (16 cells a side) when two of its cells fit across the thinnest side, else 6; cut simulates the whole
+  // object, so it stays at 5
+  const int max_level = rq.mode == InteractionMode::kCut ? 5 : 6;
+  const int level = rq.level > 0 ? rq.level : (thin_m >= 2.0 * kSize_m / 16.0 ? 5 : max_level);
+  const std::size_t tris = raw.num_triangles();
+  const int grid_levels = std::min(8, std::max(level, 5 + (tris > 100'000 ? 1 : 0) + (tris > 400'000 ? 1 : 0)));
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "lattice level %d%s (thinnest side %.0f mm of %.0f), grid levels %d (%zu triangles)",
+                level, rq.level > 0 ? " (--level)" : "", 1e3 * thin_m, 1e3 * kSize_m, grid_levels, tris);
+  g.notes.push_back(buf);
+
+  Scene spec;
+  spec.mesh.file = rq.mesh_path;
+  spec.mesh.size_m = kSize_m;
+  spec.mesh.up_axis = up;
+  spec.grid_levels = grid_levels;
+  spec.lattice.level = level;
+  auto model_r = load_model(spec);
+  if (!model_r) return model_r.error();
+  const Model& model = model_r.value();
+  const Aabb box = Aabb::of(model.rest.vertices_m);
+
+  // the surface point and the direction the tool comes in along
+  double clearance_m = kClearance_m;
+  if (rq.at_raw) {
+    const Vec3 at_m = model.normalization.scale * file_to_world_axes(*rq.at_raw, up) + model.normalization.offset_m;
+    const auto hit = nearest_surface_point(model, at_m);
+    if (!hit) return make_error("mesh '", rq.mesh_path, "': no surface near --at");
+    g.surface_point_m = hit->point_m;
+    g.approach = -hit->normal;  // into the face from its front, as the servo's touch test expects
+    // shorten the way in when other parts of the model stand in front of the face
+    const auto block = first_ray_hit(model, hit->point_m + 1e-6 * hit->normal, hit->normal, kClearance_m, false);
+    if (block) clearance_m = std::max(0.5 * block->distance_m, 2e-3);
+    if (!feelable(model, *hit, kGrabRadius_m))
+      g.notes.push_back("warning: the face at --at is large among many small ones near it; the tool may not feel it");
+    g.notes.push_back("at " + mm3(g.surface_point_m) + ", the surface point nearest --at " + mm3(at_m) + " (" +
+                      std::to_string(static_cast<int>(std::lround(1e3 * hit->distance_m))) + " mm away), approached along " +
+                      dir_name(g.approach));
+  } else {
+    // from above unless told; a model with no face turned up (an open or inward-wound one) is met from another side
+    std::vector<Vec3> sides{rq.from.value_or(Vec3::UnitZ())};
+    if (!rq.from)
+      for (const Vec3& s : {Vec3(Vec3::UnitX()), Vec3(-Vec3::UnitX()), Vec3(Vec3::UnitY()), Vec3(-Vec3::UnitY()),
+                            Vec3(-Vec3::UnitZ())})
+        sides.push_back(s);
+    bool offset = false;
+    std::optional<SurfaceHit> hit;
+    Vec3 from = sides.front();
+    for (const Vec3& s : sides) {
+      hit = surface_from(model, box, s, kGrabRadius_m, &offset);
+      if (hit) {
+        from = s;
+        break;
+      }
+    }
+    if (!hit)
+      return make_error("mesh '", rq.mesh_path, "': ", rq.from ? "--from " + dir_name(from) + ": no face of the model faces " +
+                        dir_name(from) : std::string("no face of the model faces outward on any side"),
+                        " where the tool can feel it (are its faces wound inward?)");
+    if (from != sides.front())
+      g.notes.push_back("no face turned to +z can be touched from above: coming in from " + dir_name(from) + " instead");
+    g.surface_point_m = hit->point_m;
+    g.approach = -from;
+    const auto any = first_ray_hit(model, hit->point_m + 0.2 * from, -from, 0.2, false);
+    const bool hidden = any && any->distance_m < 0.2 - 1e-6;
+    g.notes.push_back("at " + mm3(g.surface_point_m) + ", the first surface facing " + dir_name(from) + " on a ray from " +
+                      dir_name(from) + (offset ? " beside the model's centre (none through it)" : " through the model's centre") +
+                      (hidden ? "; a face turned away lies in front of it (inward-wound faces?)" : ""));
+  }
+
+  const Vec3 P = g.surface_point_m;
+  const Vec3 d = g.approach;
+  const double depth_m = 1e-3 * (rq.depth_mm > 0.0 ? rq.depth_mm : rq.mode == InteractionMode::kPull ? 15.0 : 10.0);
+
+  nlohmann::ordered_json j;
+  const std::string stem = fs::path(rq.mesh_path).stem().string();
+  j["name"] = scene_name(stem, mode_name(rq.mode));
+  // the mesh path as the scene resolves it: relative to the scene's folder when the mesh is below it
+  const fs::path mesh_abs = fs::weakly_canonical(fs::absolute(rq.mesh_path));
+  const fs::path dir_abs = fs::weakly_canonical(fs::absolute(rq.scene_dir.empty() ? "." : rq.scene_dir));
+  const fs::path rel = mesh_abs.lexically_relative(dir_abs);
+  const bool below = !rel.empty() && *rel.begin() != "..";
+  j["mesh"] = {{"file", (below ? rel : mesh_abs).string()}, {"size_m", kSize_m}, {"up_axis", std::string(1, up)}};
+  j["grid"] = {{"levels", grid_levels}};
+  // the shipped scenes' materials: soft for touch and pull, stiffer and under gravity for cut
+  nlohmann::ordered_json lat;
+  lat["level"] = level;
+  lat["radius_cells"] = 3;
+  if (rq.mode == InteractionMode::kCut) {
+    lat["node_mass_kg"] = 0.0002;
+    lat["stiffness_N_per_m"] = {{"structural", 100}, {"shear", 50}, {"bend", 25}};
+    lat["damping_Ns_per_m"] = 0.05;
+    lat["gravity_m_per_s2"] = {0, 0, -9.81};
+    lat["fix_floor"] = true;
+    lat["integrator"] = "local_global";
+  } else {
+    lat["node_mass_kg"] = 0.002;
+    lat["stiffness_N_per_m"] = {{"structural", 12}, {"shear", 6}, {"bend", 3}};
+    lat["damping_Ns_per_m"] = 0.03;
+    lat["gravity_m_per_s2"] = {0, 0, 0};
+    lat["fix_floor"] = true;
+    lat["integrator"] = "symplectic_euler";
+  }
+  lat["max_substeps"] = 256;
+  j["lattice"] = lat;
+  j["device"] = {{"driver", "scripted"},         {"max_force_N", 3.3},      {"coupling_N_per_m", 300},
+                 {"coupling_damping_Ns_per_m", 0.5}, {"tool_radius_m", 0.002}, {"workspace_half_m", 0.2}};
+  j["hand"] = {{"mass_kg", 0.12}, {"stiffness_N_per_m", 150}, {"damping_Ns_per_m", 6}};
+
+  const double duration_s = add_trajectory(rq.mode, P, d, clearance_m, depth_m, box, &j);
+  j["render"] = {{"width", 640}, {"height", 480}, {"style", "both"}, {"backend", "auto"}};
+  j["run_mode"] = "lockstep";
+  j["duration_s"] = duration_s;
+  g.json = std::move(j);
+  return g;
+}
+
+int run_scene(SceneRequest rq, const std::string& out_path) {
+  const std::string out =
+      out_path.empty() ? fs::path(rq.mesh_path).stem().string() + "_" + mode_name(rq.mode) + ".json" : out_path;
+  rq.scene_dir = fs::path(out).parent_path().string();
+  // the scene is never written over the model it is made for
+  std::error_code ec;
+  if (fs::weakly_canonical(fs::absolute(out), ec) == fs::weakly_canonical(fs::absolute(rq.mesh_path), ec) ||
+      (fs::exists(out, ec) && fs::equivalent(out, rq.mesh_path, ec))) {
+    std::fprintf(stderr, "palpate: --out '%s' is the mesh file itself: the scene would replace the model it points at\n",
+                 out.c_str());
+    return 1;
+  }
+  auto g = generate_scene(rq);
+  if (!g) {
+    std::fprintf(stderr, "palpate: %s\n", g.error().message.c_str());
+    return 1;
+  }
+  for (const std::string& n : g.value().notes) std::fprintf(stderr, "palpate scene: %s\n", n.c_str());
+  if (auto st = write_file_atomic(out, scene_text(g.value().json), "scene"); !st) {
+    std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
+    return 1;
+  }
+  std::printf("scene    %s\nrecord   %s record %s\n", out.c_str(), invoked_program().c_str(), out.c_str());
+  return 0;
+}
+
+}  // namespace palpate

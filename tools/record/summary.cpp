@@ -1,0 +1,199 @@
+#include "tools/record/summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/stats.h"
+#include "tools/record/budget_report.h"
+#include "tools/session/device_factory.h"
+#include "tools/record/material_report.h"
+
+namespace palpate {
+namespace {
+
+nlohmann::json ms_json(const std::vector<double>& v) {
+  return {{"p50", percentile(v, 0.5)}, {"p99", percentile(v, 0.99)}, {"max", percentile(v, 1.0)}, {"count", v.size()}};
+}
+
+nlohmann::json hist_json(const LatencyHistogram& h) {
+  const std::string over = "over_" + std::to_string(static_cast<int64_t>(h.range_us() / 1000.0)) + "ms";
+  return {{"p50", h.quantile_us(0.5)}, {"p99", h.quantile_us(0.99)}, {"p999", h.quantile_us(0.999)},
+          {"max", h.max_us()}, {"count", h.count()}, {over, h.overflow()}};
+}
+
+double per_frame(int64_t sum, int64_t frames) {
+  return static_cast<double>(sum) / static_cast<double>(std::max<int64_t>(1, frames));
+}
+
+nlohmann::json profile_entry(const FrameProfile& f) {
+  nlohmann::json wall, cpu;
+  for (int p = 0; p < kFrameParts; ++p) {
+    wall[kFramePartNames[p]] = f.wall_ms[p];
+    cpu[kFramePartNames[p]] = f.cpu_ms[p];
+  }
+  return {{"frame", f.frame},         {"ms", f.frame_wall_ms},       {"cpu_ms", f.frame_cpu_ms},
+          {"involuntary_switches", f.involuntary_switches},          {"iterations", f.iterations},
+          {"springs_cut", f.springs_cut}, {"parts_ms", wall},        {"parts_cpu_ms", cpu}};
+}
+
+// Where the sim's frame time went: each part's percentiles over all frames (wall and CPU), and the slowest
+// frames part by part.
+nlohmann::json profile_json(const std::vector<FrameProfile>& frames) {
+  static constexpr std::size_t kSlowest = 10;
+  nlohmann::json wall, cpu;
+  std::vector<double> v;
+  v.reserve(frames.size());
+  for (int p = 0; p < kFrameParts; ++p) {
+    v.clear();
+    for (const FrameProfile& f : frames) v.push_back(f.wall_ms[p]);
+    wall[kFramePartNames[p]] = ms_json(v);
+    v.clear();
+    for (const FrameProfile& f : frames) v.push_back(f.cpu_ms[p]);
+    cpu[kFramePartNames[p]] = ms_json(v);
+  }
+  std::vector<const FrameProfile*> order;
+  for (const FrameProfile& f : frames) order.push_back(&f);
+  const std::size_t n = std::min(kSlowest, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n), order.end(),
+                    [](const FrameProfile* a, const FrameProfile* b) { return a->frame_wall_ms > b->frame_wall_ms; });
+  nlohmann::json slowest = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i) slowest.push_back(profile_entry(*order[i]));
+  return {{"parts_ms", wall}, {"parts_cpu_ms", cpu}, {"slowest_frames", slowest}};
+}
+
+}  // namespace
+
+nlohmann::json recording_summary(const SummaryInputs& in) {
+  const Scene& scene = *in.scene;
+  const Model& model = *in.model;
+  const Session& session = *in.session;
+  const FrameStage& stage = session.stage();
+  const FrameStats& fst = stage.stats();
+  const ServoCounters& sc = session.servo().counters();
+  const ServoParams& sp = session.servo_params();
+  const ServoTiming& timing = in.run->timing;
+  const double rate_hz = session.rates().servo_hz;
+  const CouplingLimit coupling = coupling_limit(scene, in.device->specs());
+  const PngWriter* writer = in.writer;
+
+  nlohmann::json j;
+  j["scene"] = scene.path;
+  j["mode"] = name_of(in.lockstep ? RunMode::kLockstep : RunMode::kRealtime);
+  j["interaction"] = mode_name(scene.mode);
+  j["duration_s"] = scene.duration_s;
+  j["model"] = {{"vertices", model.rest.vertices_m.size()}, {"triangles", model.rest.triangles.size()},
+                {"startup_s", in.startup_s}};
+  // what the material became on the lattice (nu represented, total mass)
+  if (scene.lattice.material.enabled) j["material"] = material_summary(scene, model.grid);
+  j["frames_written"] = writer ? writer->frames_written() : 0;
+  j["frames_dropped"] = fst.frames_dropped;
+  j["servo_ticks"] = sc.ticks;
+  j["max_force_N"] = sc.max_force_N;
+  if (!in.no_contact.empty()) j["no_contact"] = in.no_contact;
+  j["max_displacement_m"] = fst.max_displacement_m;
+  j["nan_events"] = fst.nan_events;
+  j["dropped_samples"] = sc.dropped_samples;
+  j["rejected_inputs"] = sc.rejected_inputs;
+  j["no_readings"] = sc.no_readings;
+  // the coupling used and the limit that set it: the scene's ask, a stiffness limit, or the passivity bound
+  // 2b/T at this rate (b the device's damping)
+  j["coupling"] = {{"stiffness_N_per_m", sp.coupling_N_per_m},
+                   {"capped", sp.coupling_N_per_m < scene.device.coupling_N_per_m},
+                   {"bound", coupling.bound},
+                   {"limits_N_per_m", {{"scene", coupling.scene_N_per_m},
+                                       {"scene_max", coupling.scene_max_N_per_m},
+                                       {"device_max", coupling.device_max_N_per_m},
+                                       {"passivity", coupling.passivity_max_N_per_m}}},
+                   {"device_damping_Ns_per_m", coupling.damping_Ns_per_m},
+                   {"passivity", sp.passivity},
+                   {"passivity_activations", sc.passivity_activations},
+                   {"passivity_dissipated_J", sc.passivity_dissipated_J},
+                   {"ramps", sc.ramps}};
+  j["haptic_rows"] = in.haptic_rows;
+  j["servo"] = {{"clock", in.lockstep ? "virtual" : "wall"},
+                {"latency_us", hist_json(timing.wake_latency)},
+                {"compute_us", hist_json(timing.compute)},
+                {"overruns", timing.overruns},
+                {"first_overrun_ticks", std::vector<int64_t>(timing.first_overrun_ticks.begin(),
+                                                             timing.first_overrun_ticks.begin() + timing.overrun_ticks_recorded)},
+                {"rate_hz", rate_hz},
+                {"rate_from", in.rate_given ? "--servo-rate" : "scene"},
+                {"spin_us", timing.spin.final_ns / 1000}, {"spin_adaptive", timing.spin.adaptive},
+                {"steal_ms", timing.steal_ms >= 0 ? nlohmann::json(timing.steal_ms) : nlohmann::json()},
+                {"involuntary_switches", timing.involuntary_switches >= 0 ? nlohmann::json(timing.involuntary_switches) : nlohmann::json()},
+                {"rt", {{"memory_locked", in.run->memory_locked}, {"sched_fifo", timing.rt.fifo}, {"priority", timing.rt.priority},
+                        {"cpu", timing.rt.cpu}, {"timer_slack_1ns", timing.rt.timer_slack_1ns}, {"refused", timing.rt.refused}}}};
+  j["sim"] = {{"ms", ms_json(fst.sim_ms)},
+              {"cpu_ms", ms_json(fst.sim_cpu_ms)},
+              {"integrator", integrator_name(scene.lattice.integrator)},
+              {"max_substeps", fst.max_substeps},
+              {"nodes", fst.lattice_nodes},
+              {"springs", fst.lattice_springs},
+              {"vertices", fst.lattice_vertices},
+              {"per_frame_mean", {{"nodes", per_frame(fst.node_frames, fst.frames)},
+                                  {"springs", per_frame(fst.spring_frames, fst.frames)},
+                                  {"vertices", per_frame(fst.vertex_frames, fst.frames)}}},
+              {"step_ms", ms_json(fst.step_ms)},
+              {"step_cpu_ms", ms_json(fst.step_cpu_ms)},
+              {"frames_stepped", fst.frames_stepped},
+              {"frames_resting", fst.frames_resting},
+              {"region_moves", fst.region_moves},
+              {"divergence_events", fst.divergence_events},
+              {"frame_latency_us", hist_json(in.run->frame_latency)},
+              {"frames_late", in.run->frames_late},
+              {"profile", profile_json(fst.profile)}};
+  if (scene.lattice.budget_ms > 0.0) j["budget"] = budget_summary(scene, stage, in.lockstep);
+  if (scene.mode == InteractionMode::kCut) {
+    const CutModel* cut = stage.cut_model();
+    j["cut"] = {{"frames_cutting", fst.frames_cutting},
+                {"springs_cut", fst.springs_cut},
+                // under a budget a frame removes at most kBudgetSpringsPerFrame; the rest wait
+                {"springs_deferred_max", fst.springs_deferred_max},
+                {"frames_deferring", fst.frames_deferring},
+                {"springs_left", stage.lattice() ? stage.lattice()->springs.size() : 0},
+                {"triangles", cut ? cut->triangles().size() : 0},
+                {"triangles_added", fst.triangles_added},
+                {"vertices_added", fst.vertices_added},
+                {"free_nodes", fst.free_nodes},
+                {"sim_ms_cutting", ms_json(fst.cutting_ms)},
+                {"sim_ms_after_cut", ms_json(fst.after_cut_ms)}};
+  }
+  j["render"] = {{"ms", ms_json(fst.render_ms)}, {"backend", in.gl ? in.gl->backend_name() : "none"},
+                 {"width", scene.render.width}, {"height", scene.render.height},
+                 {"frames_layered", fst.frames_layered}, {"layer_builds", in.renderer ? in.renderer->layer_builds() : 0}};
+  if (in.renderer && scene.render.style == RenderStyle::kBoth) {
+    // the wireframe is left out of `both` on a mesh finer than the image (render.wire_min_edge_px)
+    const double median = in.renderer->median_edge_px();
+    j["render"]["wire"] = {{"drawn", in.renderer->wire_drawn()},
+                           {"median_edge_px", std::isfinite(median) ? nlohmann::json(median) : nlohmann::json(nullptr)},
+                           {"min_edge_px", scene.render.wire_min_edge_px}};
+  }
+  // a mesh finer than the image is drawn clustered (render.lod_min_edge_px)
+  j["render"]["lod"] = {{"used", stage.lod() != nullptr}, {"min_edge_px", scene.render.lod_min_edge_px}};
+  if (const MeshLod* lod = stage.lod()) {
+    j["render"]["lod"].update({{"triangles", lod->triangles.size()},
+                               {"vertices", lod->representatives},
+                               {"median_edge_px", lod->median_edge_px},
+                               {"lod_median_edge_px", lod->lod_median_edge_px},
+                               {"max_shift_px", lod->max_shift_px}});
+  }
+  j["png"] = {{"ms", ms_json(writer ? writer->png_ms() : std::vector<double>{})},
+              {"write_errors", writer ? writer->write_errors() : 0},
+              {"threads", in.png.threads},
+              {"codec", in.png.codec == PngCodec::kZlib ? "zlib" : "libdeflate"},
+              {"keep_alpha", in.png.keep_alpha}};
+  // realtime: which scene frame each file shows (files are numbered without gaps; lockstep: file i is frame i)
+  if (!in.lockstep) j["frames_scene_index"] = fst.written_frames;
+  j["video"] = video_json(*in.video, in.render ? "off: no video path (--no-video)" : "no frames (--no-render)");
+  j["wall_s"] = in.wall_s;
+  j["wall_s_per_scene_s"] = in.wall_s / scene.duration_s;
+  if (in.lockstep) j["state_hash"] = stage.state_hash();
+  j["device"] = in.device->report();
+  j["outputs"] = {{"frames", in.render ? nlohmann::json(in.frames_dir) : nlohmann::json(nullptr)},
+                  {"haptic_csv", in.haptic_csv.empty() ? nlohmann::json(nullptr) : nlohmann::json(in.haptic_csv)}};
+  if (!in.haptic_error.empty()) j["outputs"]["haptic_csv_error"] = in.haptic_error;
+  return j;
+}
+
+}  // namespace palpate
