@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <new>
 #include <cstdio>
 #include <string_view>
 #include <utility>
@@ -10,6 +11,11 @@
 #include "render/png_io.h"
 
 namespace palpate {
+
+namespace {
+// a frame that ran out of memory: the start of its error, before the frame's name (no allocation to make it)
+constexpr const char* kOutOfMemoryPrefix = "png: out of memory while encoding ";
+}  // namespace
 
 PngWriter::PngWriter(std::string dir, int width, int height, int pool_size, const PngWriterConfig& config)
     : dir_(std::move(dir)),
@@ -77,26 +83,37 @@ void PngWriter::run() {
   // finish() still drains what was queued
   while (jobs_.pop(&job)) {
     std::snprintf(name, sizeof name, "frame_%05d.png", job.index);
-    const std::string path = dir_ + "/" + name;
     const auto start = std::chrono::steady_clock::now();
-    // after a frame failed (a full disk) the rest are not encoded: none of them could follow it
-    Status written = failed_.load(std::memory_order_acquire)
-                         ? Status(make_error("png '", path, "': not written after an earlier frame failed"))
-                         : encoder.encode(width_, height_, job.buffer, path);
-    // the pixels are in the encoder's output now: the buffer goes back to the producer before the disk work
-    jobs_.release(job.buffer);
     Encoded done;
-    if (written.ok()) {
-      Result<AtomicFile> file = AtomicFile::open(path, "png");
-      if (file) {
-        const auto bytes = encoder.bytes();
-        file.value().write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
-        done.file = std::move(file).value();
+    bool released = false;
+    // out of memory here fails this frame like a full disk would (named, the frames before it kept), never the
+    // process: the frame and those after it are counted as not written and the recording ends with its summary
+    try {
+      const std::string path = dir_ + "/" + name;
+      // after a frame failed (a full disk) the rest are not encoded: none of them could follow it
+      Status written = failed_.load(std::memory_order_acquire)
+                           ? Status(make_error("png '", path, "': not written after an earlier frame failed"))
+                           : encoder.encode(width_, height_, job.buffer, path);
+      // the pixels are in the encoder's output now: the buffer goes back to the producer before the disk work
+      jobs_.release(job.buffer);
+      released = true;
+      if (written.ok()) {
+        Result<AtomicFile> file = AtomicFile::open(path, "png");
+        if (file) {
+          const auto bytes = encoder.bytes();
+          file.value().write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+          done.file = std::move(file).value();
+        } else {
+          done.error = file.error().message;
+        }
       } else {
-        done.error = file.error().message;
+        done.error = written.error().message;
       }
-    } else {
-      done.error = written.error().message;
+    } catch (const std::bad_alloc&) {
+      if (!released) jobs_.release(job.buffer);
+      done = Encoded{};
+      done.error = kOutOfMemoryPrefix;
+      done.error += name;
     }
     done.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     done.ready = true;
@@ -136,7 +153,11 @@ void PngWriter::commit_run() {
       if (written.ok()) written = frame.file.commit();
     }
     if (written.ok()) {
-      png_ms_.push_back(frame.ms);
+      // png_ms_ has room reserved for the first frames; past them a failed growth only loses the timing
+      try {
+        png_ms_.push_back(frame.ms);
+      } catch (const std::bad_alloc&) {
+      }
       frames_written_.fetch_add(1, std::memory_order_relaxed);
     } else {
       frame.file.discard();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <new>
+#include <string>
 
 namespace palpate {
 
@@ -59,9 +61,19 @@ void VideoWriter::run() {
   while (jobs_.pop(&job)) {
     if (!failed_.load(std::memory_order_relaxed)) {
       const auto t0 = std::chrono::steady_clock::now();
-      Status st = encoder_->encode(job.buffer, job.index);
+      // out of memory in the encoder fails the video (said in the summary), never the recording
+      Status st = Ok{};
+      try {
+        st = encoder_->encode(job.buffer, job.index);
+      } catch (const std::bad_alloc&) {
+        st = make_error("video: out of memory while encoding frame ", std::to_string(job.index));
+      }
       if (st) {
-        encode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        // room is reserved for the first frames; past them a failed growth only loses the timing
+        try {
+          encode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        } catch (const std::bad_alloc&) {
+        }
         frames_encoded_.fetch_add(1, std::memory_order_relaxed);
       } else {
         // later frames are dropped and counted; finish() reports this error

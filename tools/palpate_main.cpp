@@ -1,6 +1,9 @@
 // palpate: record touch/pull/cut demos headless, make their videos, inspect meshes, write scenes, benchmark.
 
 #include <csignal>
+#include <cstdio>
+#include <exception>
+#include <new>
 
 #include <CLI/CLI.hpp>
 
@@ -28,7 +31,17 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  for (const auto& c : commands)
-    if (*c.app) return c.run();
+  // the commands report their own failures; out of memory (or a failure no command foresaw) is still a line and
+  // an exit status, never an abort
+  try {
+    for (const auto& c : commands)
+      if (*c.app) return c.run();
+  } catch (const std::bad_alloc&) {
+    std::fputs("palpate: out of memory\n", stderr);
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "palpate: %s\n", e.what());
+    return 1;
+  }
   return 2;
 }

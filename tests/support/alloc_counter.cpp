@@ -10,10 +10,18 @@ thread_local bool g_counting = false;
 thread_local int64_t g_count = 0;
 std::atomic<bool> g_all_counting{false};
 std::atomic<int64_t> g_all_count{0};
+std::atomic<bool> g_fault_armed{false};
+std::atomic<bool> g_fault_fired{false};
+std::atomic<int64_t> g_fault_countdown{0};
 
 void* counted_alloc(std::size_t n, std::size_t align) {
   if (g_counting) ++g_count;
   if (g_all_counting.load(std::memory_order_relaxed)) g_all_count.fetch_add(1, std::memory_order_relaxed);
+  if (g_fault_armed.load(std::memory_order_relaxed) && g_fault_countdown.fetch_sub(1) == 1) {
+    g_fault_armed.store(false);
+    g_fault_fired.store(true);
+    throw std::bad_alloc();
+  }
   void* p = align > alignof(std::max_align_t) ? std::aligned_alloc(align, (n + align - 1) / align * align) : std::malloc(n ? n : 1);
   if (!p) throw std::bad_alloc();
   return p;
@@ -48,5 +56,13 @@ AllThreadsAllocationGuard::AllThreadsAllocationGuard() {
 }
 AllThreadsAllocationGuard::~AllThreadsAllocationGuard() { g_all_counting.store(false); }
 int64_t AllThreadsAllocationGuard::count() const { return g_all_count.load(); }
+
+AllocationFault::AllocationFault(int64_t n) {
+  g_fault_fired.store(false);
+  g_fault_countdown.store(n < 1 ? 1 : n);
+  g_fault_armed.store(true);
+}
+AllocationFault::~AllocationFault() { g_fault_armed.store(false); }
+bool AllocationFault::fired() const { return g_fault_fired.load(); }
 
 }  // namespace palpate::test

@@ -1,6 +1,6 @@
 #pragma once
-// Counts heap allocations made by this thread (or by any thread) while a guard is alive (global operator new is
-// replaced in alloc_counter.cpp, linked into the test executables that include this header).
+// Counts heap allocations made by this thread (or by any thread) while a guard is alive, and fails one on purpose
+// (global operator new is replaced in alloc_counter.cpp, linked into the test executables that include this header).
 
 #include <cstdint>
 
@@ -23,6 +23,16 @@ class AllThreadsAllocationGuard {
   ~AllThreadsAllocationGuard();
   /// Number of operator new calls seen on any thread.
   int64_t count() const;
+};
+
+/// Makes the n-th operator new on any thread, counted from construction (n >= 1), throw std::bad_alloc once; every
+/// allocation after it succeeds again (memory freed by the unwinding, as after a real failure). One at a time.
+class AllocationFault {
+ public:
+  explicit AllocationFault(int64_t n);
+  ~AllocationFault();
+  /// True once the n-th allocation has thrown.
+  bool fired() const;
 };
 
 }  // namespace palpate::test

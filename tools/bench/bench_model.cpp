@@ -124,6 +124,8 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       return make_error("bench model: reference '", name, "' is not one of: compression, cantilever, hertz");
   // one reference at one level for material mat: its row, or an error naming them
   auto run = [&](const std::string& ref, const MaterialSpec& mat, int level) -> Result<Row> {
+    // a run to rest takes seconds to a minute: say which is under way (stderr; the table goes to stdout)
+    std::fprintf(stderr, "bench model: %s, level %d, nu %.2f ...\n", ref.c_str(), level, represented_poisson(mat));
     Row row;
     row.reference = ref;
     row.level = level;

@@ -129,7 +129,7 @@ void add_scale(CLI::App* bench, BenchArgs& a) {
 void add_model(CLI::App* bench, BenchArgs& a) {
   auto* c = a.model_cmd = bench->add_subcommand(
       "model", "Model error against closed-form continuum references per lattice level, each run to rest by the "
-               "simulation, beside ms per frame (about 1.5 min with the defaults here)");
+               "simulation, beside ms per frame (about 1.5 min with the defaults here, progress on stderr)");
   c->alias("material");
   BenchModelOptions& mo = a.model;
   c->add_option("--levels", mo.levels, "Lattice levels (the cantilever runs from 4)")->delimiter(',')

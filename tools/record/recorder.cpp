@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <new>
 #include <filesystem>
 #include <memory>
 
@@ -170,12 +171,29 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   return rec->log.open(rec->csv_path);
 }
 
+// What a run that ran out of memory on the sim thread says (summary.json "aborted", and the error line): where it
+// stopped. Frames, haptic.csv and summary.json up to there are kept.
+std::string out_of_memory_note(const Session& session, int64_t f) {
+  char t[32];
+  std::snprintf(t, sizeof t, "%.3f", session.frame_time_s(f));
+  return "out of memory in frame " + std::to_string(f) + " (scene time " + t + " s); the run stopped there";
+}
+
 // The lockstep driver: a virtual clock, rates.servo_hz ticks and rates.frame_hz frames per scene-second in a fixed
 // order, every frame written; reproducible bit for bit.
 RunFigures drive_lockstep(Session& session, double duration_s, Progress& progress) {
   const int64_t frames = session.rates().frames(duration_s);
-  session.run_lockstep(duration_s, [&](int64_t f, double t) { progress.update(t, f + 1, frames); });
   RunFigures run;
+  int64_t done = 0;  // frames finished: the one under way when memory ran out is the next
+  try {
+    session.run_lockstep(duration_s, [&](int64_t f, double t) {
+      done = f + 1;
+      progress.update(t, f + 1, frames);
+    });
+  } catch (const std::bad_alloc&) {
+    run.aborted = out_of_memory_note(session, done);
+    session.finish();
+  }
   run.timing.compute = session.lockstep_compute();
   return run;
 }
@@ -219,8 +237,14 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
       if (opt.live) opt.live->frame_skipped();
       continue;
     }
-    session.frame(f, false);
-    progress.update(session.frame_time_s(f), f + 1, frames);
+    try {
+      session.frame(f, false);
+      progress.update(session.frame_time_s(f), f + 1, frames);
+    } catch (const std::bad_alloc&) {
+      run.aborted = out_of_memory_note(session, f);
+      runner.stop();  // the device's force ramps down with the servo's end, as at the end of any run
+      break;
+    }
   }
   runner.join();  // the servo ends by itself after the scene's ticks
   session.finish();
@@ -313,6 +337,9 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   // says when there is no summary
   if (!summary_status && log_status && !(rec.writer && rec.writer->write_errors() > 0)) return summary_status.error();
   const std::string no_summary = summary_status ? "" : " (and no summary: " + summary_status.error().message + ")";
+  if (!run.aborted.empty())
+    return make_error(run.aborted, ": ", std::to_string(res.frames_written), " frame(s), ", std::to_string(in.haptic_rows),
+                      " haptic row(s)", summary_status ? " and summary.json kept in '" + plan.out_dir + "'" : no_summary);
   if (rec.writer && rec.writer->write_errors() > 0)
     return make_error(std::to_string(rec.writer->write_errors()), " frame(s) could not be written: ",
                       rec.writer->first_error(), no_summary);
@@ -320,6 +347,18 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   if (!log_status) return make_error(log_status.error().message, no_summary);
   if (!events_status) return make_error(events_status.error().message, no_summary);
   return res;
+}
+
+Result<RecordResult> record_planned_unguarded(const RecordPlan& plan, const RecordOptions& opt) {
+  auto rec = std::make_unique<Recording>();
+  if (auto st = open_recording(plan, opt, rec.get()); !st) return st.error();
+  const SessionOutputs outputs{rec->renderer.get(), rec->writer.get(), &rec->log, rec->video.writer.get(), opt.live};
+  Session session(rec->scene, *rec->model, rec->device.get(), outputs);
+  Progress progress(opt.quiet, rec->scene.name, rec->scene.duration_s);
+  const auto wall0 = std::chrono::steady_clock::now();
+  const RunFigures run = plan.lockstep ? drive_lockstep(session, rec->scene.duration_s, progress)
+                                       : drive_realtime(session, rec->scene.duration_s, opt, progress);
+  return finish_recording(*rec, session, run, wall0, progress, opt);
 }
 
 }  // namespace
@@ -332,15 +371,12 @@ Result<RecordResult> record_scene(const Scene& scene, const RecordOptions& opt) 
 }
 
 Result<RecordResult> record_planned(const RecordPlan& plan, const RecordOptions& opt) {
-  auto rec = std::make_unique<Recording>();
-  if (auto st = open_recording(plan, opt, rec.get()); !st) return st.error();
-  const SessionOutputs outputs{rec->renderer.get(), rec->writer.get(), &rec->log, rec->video.writer.get(), opt.live};
-  Session session(rec->scene, *rec->model, rec->device.get(), outputs);
-  Progress progress(opt.quiet, rec->scene.name, rec->scene.duration_s);
-  const auto wall0 = std::chrono::steady_clock::now();
-  const RunFigures run = plan.lockstep ? drive_lockstep(session, rec->scene.duration_s, progress)
-                                       : drive_realtime(session, rec->scene.duration_s, opt, progress);
-  return finish_recording(*rec, session, run, wall0, progress, opt);
+  // out of memory while the run is set up or finished (the frame loop says where it stopped, above) is a line
+  try {
+    return record_planned_unguarded(plan, opt);
+  } catch (const std::bad_alloc&) {
+    return make_error("out of memory while opening or finishing the recording in '", plan.out_dir, "'");
+  }
 }
 
 }  // namespace palpate

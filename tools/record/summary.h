@@ -26,6 +26,7 @@ struct RunFigures {
   LatencyHistogram frame_latency{100'000};    ///< realtime: frame start - frame deadline, 100 us buckets to 200 ms
   int64_t frames_late = 0;                    ///< realtime: frames skipped a whole period late
   bool memory_locked = false;                 ///< realtime: mlockall succeeded
+  std::string aborted;                        ///< why the run ended before its duration (out of memory), else empty
 };
 
 /// Everything summary.json is made of; the pointers are non-null unless said otherwise. Plain data.

@@ -1,0 +1,140 @@
+// Out of memory anywhere in a recording ends it with a line, never with an abort: an allocation made to fail on
+// purpose, at points spread over a whole lockstep recording (model, frame loop, PNG encoder threads, video encoder,
+// summary), in a child process so that an abort shows as a signal. A run stopped in its frame loop or by its PNG
+// writer keeps its frames whole, its haptic log and a summary.json that says why it ended.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "support/alloc_counter.h"
+#include "support/fixtures.h"
+#include "tools/record/recorder.h"
+
+namespace palpate {
+namespace {
+namespace fs = std::filesystem;
+
+// what a child reports through its pipe
+struct ChildReport {
+  bool fired = false;
+  bool ok = false;
+  long long allocations = 0;
+  std::string error;
+};
+
+RecordOptions options(const std::string& out) {
+  RecordOptions opt;
+  opt.out_dir = out;
+  opt.duration_s = 0.25;
+  opt.quiet = true;
+  opt.video_path = out + "/recording.mp4";
+  return opt;
+}
+
+// Runs the recording in a child; fail_at > 0 makes that allocation (counted over every thread) throw once.
+// Returns the report; `signalled` says whether the child died of a signal (an abort); an exception that left
+// the recorder fails the test here.
+ChildReport run_child(const Scene& scene, const std::string& out, long long fail_at, bool* signalled) {
+  int fds[2];
+  EXPECT_EQ(::pipe(fds), 0);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::close(fds[0]);
+    ChildReport rep;
+    // an exception that escapes the recorder is a failure of its own (exit 3), not gtest's to report in the child
+    try {
+      test::AllThreadsAllocationGuard count;
+      std::optional<test::AllocationFault> fault;
+      if (fail_at > 0) fault.emplace(fail_at);
+      auto r = record_scene(scene, options(out));
+      rep.ok = static_cast<bool>(r);
+      if (!r) rep.error = r.error().message;
+      rep.fired = fault && fault->fired();
+      rep.allocations = count.count();
+    } catch (...) {
+      ::_exit(3);
+    }
+    const std::string line = std::to_string(rep.fired) + " " + std::to_string(rep.ok) + " " +
+                             std::to_string(rep.allocations) + " " + rep.error;
+    [[maybe_unused]] const ssize_t n = ::write(fds[1], line.data(), line.size());
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  std::string text;
+  char buf[512];
+  for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;) text.append(buf, static_cast<std::size_t>(n));
+  ::close(fds[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  *signalled = WIFSIGNALED(status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "an exception escaped the recorder";
+  ChildReport rep;
+  int fired = 0, ok = 0;
+  int used = 0;
+  if (std::sscanf(text.c_str(), "%d %d %lld %n", &fired, &ok, &rep.allocations, &used) >= 3) {
+    rep.fired = fired != 0;
+    rep.ok = ok != 0;
+    rep.error = text.substr(static_cast<std::size_t>(used));
+  }
+  return rep;
+}
+
+TEST(OutOfMemory, AnywhereInARecordingEndsWithALineAndKeepsWhatWasWritten) {
+  const Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  bool signalled = false;
+  const ChildReport clean = run_child(scene, test::fresh_dir("oom_clean"), 0, &signalled);
+  ASSERT_FALSE(signalled);
+  ASSERT_TRUE(clean.ok) << clean.error;
+  ASSERT_GT(clean.allocations, 100);
+
+  // points spread over the run's allocations, from loading the model to writing the summary
+  constexpr int kPoints = 9;
+  int in_run = 0;
+  for (int k = 1; k <= kPoints; ++k) {
+    const long long at = clean.allocations * k / (kPoints + 1);
+    const std::string out = test::fresh_dir("oom_" + std::to_string(k));
+    const ChildReport rep = run_child(scene, out, at, &signalled);
+    SCOPED_TRACE("allocation " + std::to_string(at) + " of " + std::to_string(clean.allocations));
+    ASSERT_FALSE(signalled) << "the recording aborted";
+    ASSERT_TRUE(rep.fired);
+    if (rep.ok) continue;  // the failure cost only a timing figure
+    EXPECT_NE(rep.error.find("out of memory"), std::string::npos) << rep.error;
+    const bool stopped_in_run = rep.error.find("in frame") != std::string::npos ||
+                                rep.error.find("while encoding") != std::string::npos;
+    if (!stopped_in_run) continue;  // opening or finishing: said on the line
+    ++in_run;
+    const fs::path summary = fs::path(out) / "summary.json";
+    ASSERT_TRUE(fs::exists(summary)) << rep.error;
+    std::ifstream f(summary);
+    const auto j = nlohmann::json::parse(f, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << "summary.json is not whole";
+    if (rep.error.find("in frame") != std::string::npos) {
+      ASSERT_TRUE(j.contains("aborted"));
+      EXPECT_NE(j["aborted"].get<std::string>().find("out of memory"), std::string::npos);
+    }
+    // the frames kept are whole files in an unbroken sequence, and the log is there
+    int frames = 0;
+    for (const auto& e : fs::directory_iterator(fs::path(out) / "frames")) {
+      EXPECT_EQ(e.path().extension(), ".png") << e.path();
+      ++frames;
+    }
+    EXPECT_EQ(frames, j["frames_written"].get<int>());
+    EXPECT_TRUE(fs::exists(fs::path(out) / "haptic.csv") || fs::exists(fs::path(out) / "haptic.csv.partial"));
+  }
+  // most allocations of a recording are its frames': the sweep must have stopped some runs there
+  EXPECT_GE(in_run, 3);
+}
+
+}  // namespace
+}  // namespace palpate
