@@ -14,6 +14,7 @@
 
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/json_file.h"
 #include "support/read_file.h"
 
 namespace palpate {
@@ -23,15 +24,14 @@ namespace fs = std::filesystem;
 using test::CliRun;
 using test::palpate;
 using test::read_file;
+using test::write_text;
 
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("palpate_cli_" + name)).string(); }
-
-void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 // A scene using the given mesh file, written next to it.
 std::string scene_for_mesh(const std::string& mesh, const std::string& name) {
   const std::string s = tmp(name + ".json");
-  write(s, R"({"mesh": {"file": ")" + mesh + R"("}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.1]}], "duration_s": 0.1})");
+  write_text(s, R"({"mesh": {"file": ")" + mesh + R"("}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.1]}], "duration_s": 0.1})");
   return s;
 }
 
@@ -86,9 +86,9 @@ TEST(Cli, MissingMeshNamesTheFile) {
 
 TEST(Cli, EmptyMalformedAndNonMeshFiles) {
   const std::string empty = tmp("empty.obj"), bad = tmp("bad.obj"), png = tmp("picture.stl");
-  write(empty, "");
-  write(bad, "v 1 2\nf 1 2 9 x\nthis is not obj\n");
-  write(png, std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR garbage", 24));
+  write_text(empty, "");
+  write_text(bad, "v 1 2\nf 1 2 9 x\nthis is not obj\n");
+  write_text(png, std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR garbage", 24));
   expect_error(palpate("info " + empty), "mesh '" + empty + "': file is empty");
   for (const auto& f : {bad, png}) {
     const CliRun r = palpate("info " + f);
@@ -98,20 +98,20 @@ TEST(Cli, EmptyMalformedAndNonMeshFiles) {
 
 TEST(Cli, FlatMeshIsRejected) {
   const std::string flat = tmp("flat.obj");
-  write(flat, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
+  write_text(flat, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");
   expect_error(palpate("info " + flat), "flat on axis z");
   expect_error(palpate("record " + scene_for_mesh(flat, "flat") + " -q --out " + tmp("out_flat")), "flat on axis z");
 }
 
 TEST(Cli, SceneWithWrongKeyNamesTheKey) {
   const std::string s = tmp("wrongkey.json");
-  write(s, R"({"mesh": {"box_m": [0.05, 0.05, 0.05]}, "lattice": {"stifness": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})");
+  write_text(s, R"({"mesh": {"box_m": [0.05, 0.05, 0.05]}, "lattice": {"stifness": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})");
   expect_error(palpate("record " + s + " -q"), "lattice.stifness: unknown key");
 }
 
 TEST(Cli, UnwritableOutputFolderIsAnError) {
   const std::string file = tmp("a_file");
-  write(file, "x");
+  write_text(file, "x");
   expect_error(palpate("record scenes/cube_press.json -q --duration 0.1 --out " + file + "/sub"),
                "output '" + file + "/sub': cannot create folder");
 }
@@ -133,7 +133,7 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
   scene["material"]["poisson_ratio"] = 0.45;
   const std::string s = tmp("nu045.json");
-  write(s, scene.dump());
+  write_text(s, scene.dump());
   const CliRun w = palpate("record " + s + " -q --no-render --duration 0.1 --out " + tmp("nu045_out"));
   ASSERT_EQ(w.code, 0) << w.out;
   EXPECT_NE(w.out.find("warning: material.poisson_ratio 0.45 is not representable"), std::string::npos) << w.out;

@@ -14,6 +14,7 @@
 
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/json_file.h"
 #include "tools/record/recorder.h"
 
 namespace palpate {
@@ -22,19 +23,14 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::palpate;
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
-}
-
-void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+using test::read_json;
+using test::write_text;
 
 TEST(ContactReport, RecordingThatNeverTouchesSaysHowCloseTheToolCame) {
   // a 100 mm box (top at z = 50 mm); the tool holds 12 mm above its top
   const std::string dir = test::fresh_dir("scene_nocontact");
   fs::create_directories(dir);
-  write(dir + "/s.json", R"({"mesh": {"box_m": [0.1, 0.1, 0.1]}, "lattice": {"level": 4},
+  write_text(dir + "/s.json", R"({"mesh": {"box_m": [0.1, 0.1, 0.1]}, "lattice": {"level": 4},
     "trajectory": [{"t_s": 0, "pos_m": [0.01, 0.0, 0.062]}], "duration_s": 1.0})");
   const CliRun r = palpate("record " + dir + "/s.json --no-render -q -o " + dir + "/out");
   EXPECT_EQ(r.code, 0) << r.out;

@@ -17,6 +17,7 @@
 
 #include "render/png_io.h"
 #include "support/cli_run.h"
+#include "support/json_file.h"
 #include "support/read_file.h"
 #include "support/temp_root.h"
 #include "tools/bench/plot.h"
@@ -28,6 +29,7 @@ namespace fs = std::filesystem;
 using test::CliRun;
 using test::palpate;
 using test::read_file;
+using test::read_json;
 using test::shell;
 
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("plot_" + name)).string(); }
@@ -36,11 +38,6 @@ std::string write(const std::string& name, const std::string& text) {
   const std::string path = tmp(name);
   std::ofstream(path, std::ios::binary) << text;
   return path;
-}
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
 }
 
 // A small box pressed from above: a bench sim sweep of it takes about a second.

@@ -9,6 +9,7 @@
 #include "core/scene.h"
 #include "render/png_io.h"
 #include "support/fixtures.h"
+#include "support/json_file.h"
 #include "tools/record/recorder.h"
 
 namespace palpate {
@@ -16,11 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using test::fresh_dir;
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
-}
+using test::read_json;
 
 TEST(Record, CubePressWritesThirtyFramesThatChangeWhereTheToolPresses) {
   Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();

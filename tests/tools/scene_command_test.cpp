@@ -14,6 +14,7 @@
 #include "core/mesh_io.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/json_file.h"
 #include "support/read_file.h"
 #include "tools/commands/scene_command.h"
 #include "tools/session/model.h"
@@ -24,13 +25,8 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::palpate;
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
-}
-
-void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+using test::read_json;
+using test::write_text;
 
 // A 4 x 2 x 1 box (raw units) centred at (10, 0, 0), as an OBJ; normalised to 100 x 50 x 25 mm at the origin.
 std::string box_obj(const std::string& dir) {
@@ -41,7 +37,7 @@ std::string box_obj(const std::string& dir) {
   for (const auto& t : m.triangles)
     text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
   const std::string path = (fs::path(dir) / "box.obj").string();
-  write(path, text);
+  write_text(path, text);
   return path;
 }
 
@@ -177,7 +173,7 @@ TEST(SceneCommand, BadOptionsAndOutputsAreRefusedNamingThem) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.out.find("missing.obj"), std::string::npos) << r.out;
   // an existing scene file is replaced, and nothing temporary is left beside it
-  write(dir + "/s.json", "old");
+  write_text(dir + "/s.json", "old");
   r = palpate("scene " + bunny + " --out " + dir + "/s.json");
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(load_scene(dir + "/s.json")) << "the file was replaced by a loadable scene";
@@ -253,7 +249,7 @@ TEST(SceneCommand, AFlatPlateIsTouchedOnItsFace) {
   for (const auto& t : m.triangles)
     text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
   const std::string path = dir + "/plate.obj";
-  write(path, text);
+  write_text(path, text);
   {
     SceneRequest rq;
     rq.mesh_path = path;
@@ -279,7 +275,7 @@ TEST(SceneCommand, EveryModeMeetsACubeOfEightVertices) {
   const std::string dir = test::fresh_dir("scene_cube");
   fs::create_directories(dir);
   const std::string cube = dir + "/cube.ply";
-  write(cube, "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+  write_text(cube, "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
               "element face 6\nproperty list uchar int vertex_indices\nend_header\n"
               "0 0 0\n0 0 1\n0 1 1\n0 1 0\n1 0 0\n1 0 1\n1 1 1\n1 1 0\n"
               "4 0 1 2 3\n4 7 6 5 4\n4 0 4 5 1\n4 1 5 6 2\n4 2 6 7 3\n4 3 7 4 0\n");

@@ -17,6 +17,7 @@
 #include "render/png_io.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
+#include "support/json_file.h"
 #include "support/read_file.h"
 
 namespace palpate {
@@ -25,12 +26,8 @@ namespace fs = std::filesystem;
 
 using test::CliRun;
 using test::palpate;
+using test::read_json;
 using test::shell;
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in, nullptr, false);
-}
 
 // ffprobe's view of the first video stream, frames counted by decoding
 nlohmann::json probe(const std::string& mp4) {
