@@ -21,15 +21,15 @@ struct HertzPoint {
 constexpr HertzPoint kHertzCalibration[] = {
     {MaterialModel::kSprings, 0.25, 0.25, 3.73},   {MaterialModel::kSprings, 0.25, 0.5, 0.94},
     {MaterialModel::kSprings, 0.25, 1.0, 0.10},    {MaterialModel::kSprings, 0.25, 2.0, 0.029},
-    {MaterialModel::kVolumetric, 0.0, 1.0, NAN},   {MaterialModel::kVolumetric, 0.0, 2.0, NAN},
+    {MaterialModel::kVolumetric, 0.0, 1.0, -0.375},   {MaterialModel::kVolumetric, 0.0, 2.0, -0.075},
     {MaterialModel::kVolumetric, 0.25, 1.0, 0.101}, {MaterialModel::kVolumetric, 0.25, 2.0, 0.029},
     {MaterialModel::kVolumetric, 0.4, 1.0, -0.008}, {MaterialModel::kVolumetric, 0.4, 2.0, 0.002},
     {MaterialModel::kVolumetric, 0.45, 1.0, -0.044}, {MaterialModel::kVolumetric, 0.45, 2.0, -0.0002},
     {MaterialModel::kVolumetric, 0.49, 1.0, -0.068}, {MaterialModel::kVolumetric, 0.49, 2.0, 0.002},
-    {MaterialModel::kNeoHookean, 0.0, 1.0, NAN},   {MaterialModel::kNeoHookean, 0.0, 2.0, NAN},
-    {MaterialModel::kNeoHookean, 0.25, 1.0, NAN},  {MaterialModel::kNeoHookean, 0.25, 2.0, NAN},
-    {MaterialModel::kNeoHookean, 0.45, 1.0, NAN},  {MaterialModel::kNeoHookean, 0.45, 2.0, NAN},
-    {MaterialModel::kNeoHookean, 0.49, 1.0, NAN},  {MaterialModel::kNeoHookean, 0.49, 2.0, NAN},
+    {MaterialModel::kNeoHookean, 0.0, 1.0, -0.375},   {MaterialModel::kNeoHookean, 0.0, 2.0, -0.075},
+    {MaterialModel::kNeoHookean, 0.25, 1.0, -0.459},  {MaterialModel::kNeoHookean, 0.25, 2.0, -0.069},
+    {MaterialModel::kNeoHookean, 0.45, 1.0, -0.541},  {MaterialModel::kNeoHookean, 0.45, 2.0, -0.065},
+    {MaterialModel::kNeoHookean, 0.49, 1.0, -0.557},  {MaterialModel::kNeoHookean, 0.49, 2.0, -0.059},
 };
 
 // The error of one (model, nu) row at `cells`: piecewise linear in log2(cells), the nearest end outside
