@@ -30,7 +30,7 @@ LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m
   c.diagonal_N_per_m = 3.0 * e_l / 25.0;
   // damping for the whole shear modulus (beta mu l / 9), also where the springs carry only a share of it
   const double damping_E_Pa = material.model == MaterialModel::kSprings ? springs_E_Pa : 2.5 * mu;
-  c.damping_Ns_per_m = 2.0 / 45.0 * material.stiffness_damping_s * damping_E_Pa * cell_m;
+  c.damping_Ns_per_m = 2.0 / 45.0 * material.stiffness_damping_s * (damping_E_Pa * cell_m);
   if (material.model == MaterialModel::kSprings && std::abs(material.poisson_ratio - kLatticePoissonRatio) > 1e-9) {
     std::ostringstream s;
     s << "material.poisson_ratio " << material.poisson_ratio << " is not representable: a cubic lattice of central "
