@@ -57,6 +57,8 @@ void compute_forces(const Lattice& lat, const std::vector<Vec3>& x_m, const std:
   add_neo_hookean_forces(lat, x_m, f_N);
   for (std::size_t i = 0; i < n; ++i)
     if (lat.fixed[i]) (*f_N)[i].setZero();
+  for (std::size_t d = 0; d < lat.held_dof.size(); ++d)
+    if (lat.held_dof[d]) (*f_N)[d / 3][static_cast<int>(d % 3)] = 0.0;
 }
 
 double lattice_energy_J(const Lattice& lat) {

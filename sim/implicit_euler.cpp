@@ -74,6 +74,17 @@ void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::ve
   // block-Jacobi preconditioner: each free node's 3x3 diagonal block inverted (symmetric positive definite)
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     node_block_inv_[i] = lat.fixed[i] ? Mat3::Zero() : Mat3(node_block_[i].inverse());
+  // held DOFs: the block restricted to the free axes, inverted
+  for (std::size_t i = 0; 3 * i < lat.held_dof.size(); ++i) {
+    const uint8_t* held = &lat.held_dof[3 * i];
+    if (lat.fixed[i] || !(held[0] || held[1] || held[2])) continue;
+    Mat3 b = node_block_[i];
+    for (int a = 0; a < 3; ++a)
+      if (held[a]) b.row(a).setZero(), b.col(a).setZero(), b(a, a) = 1.0;
+    node_block_inv_[i] = b.inverse();
+    for (int a = 0; a < 3; ++a)
+      if (held[a]) node_block_inv_[i].row(a).setZero(), node_block_inv_[i].col(a).setZero();
+  }
 }
 
 void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& p, std::vector<Vec3>* out) const {
@@ -103,6 +114,8 @@ void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& 
   }
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     if (lat.fixed[i]) y[i].setZero();
+  for (std::size_t d = 0; d < lat.held_dof.size(); ++d)
+    if (lat.held_dof[d]) y[d / 3][static_cast<int>(d % 3)] = 0.0;
 }
 
 bool ImplicitEulerSolver::solve(const Lattice& lat) {

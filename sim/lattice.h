@@ -41,6 +41,8 @@ struct Lattice {
   std::vector<Vec3> v_m_per_s;           ///< velocities (n)
   std::vector<double> mass_kg;           ///< node masses (n)
   std::vector<uint8_t> fixed;            ///< 1 = held at rest (region border / floor) (n)
+  std::vector<uint8_t> held_dof;         ///< DOFs (3n; empty: none) held where they are one axis at a time, a sliding
+                                         ///< support (forces there zeroed; local_global reports it as a failed solve)
   std::vector<Spring> springs;           ///< all springs (n_s)
   std::array<int, 3> springs_per_family{};  ///< counts by SpringFamily
   std::vector<int32_t> grid_node;        ///< grid vertex index i + (N+1)(j + (N+1)k) of each node (n)

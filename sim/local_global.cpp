@@ -369,7 +369,7 @@ bool LocalGlobalSolver::ready(const Lattice& lat, double h_s) {
 int LocalGlobalSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int iterations) {
   // the constant matrix holds springs only: a lattice with cell volume terms (scenes refuse the pairing) is
   // reported as a failed solve, so the step falls back to symplectic Euler instead of dropping the term
-  if (lat->volume_Pa != 0.0 || lat->neo_mu_Pa != 0.0) return -1;
+  if (lat->volume_Pa != 0.0 || lat->neo_mu_Pa != 0.0 || !lat->held_dof.empty()) return -1;
   if (!ready(*lat, h_s)) return -1;
   const std::size_t n = lat->num_nodes();
   const double inv_h2 = 1.0 / (h_s * h_s), c_h = lat->damping_Ns_per_m / h_s;

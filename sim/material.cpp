@@ -8,26 +8,29 @@ namespace palpate {
 LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m) {
   LatticeCalibration c;
   double springs_E_Pa = material.young_modulus_Pa;
-  if (material.model == MaterialModel::kVolumetric) {
-    // springs for the shear modulus, the volume term for the rest of lambda
-    const double nu = material.poisson_ratio, e = material.young_modulus_Pa;
-    const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-    springs_E_Pa = 2.5 * mu;
-    c.volume_Pa = lambda - mu;
-    c.poisson_represented = nu;
-  } else if (material.model == MaterialModel::kNeoHookean) {
-    // a share of mu in the springs (their lambda is that share too), the rest in the cells' Neo-Hookean term
-    const double nu = material.poisson_ratio, e = material.young_modulus_Pa, s = kNeoHookeanSpringShare;
-    const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  const double nu = material.poisson_ratio, e = material.young_modulus_Pa;
+  const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  const bool volumetric = material.model == MaterialModel::kVolumetric;
+  if (material.model == MaterialModel::kNeoHookean || (volumetric && nu < kLatticePoissonRatio)) {
+    // a share of mu in the springs (their lambda is that share too), the rest in the cells' Neo-Hookean term; below
+    // nu = 1/4 the volumetric model takes this split too (its cell term is, at small strain, the linear solid)
+    const double s = kNeoHookeanSpringShare;
     springs_E_Pa = 2.5 * s * mu;
     c.neo_mu_Pa = (1.0 - s) * mu;
     c.neo_lambda_Pa = lambda - s * mu;
+    c.poisson_represented = nu;
+  } else if (volumetric) {
+    // springs for the shear modulus, the volume term for the rest of lambda
+    springs_E_Pa = 2.5 * mu;
+    c.volume_Pa = lambda - mu;
     c.poisson_represented = nu;
   }
   const double e_l = springs_E_Pa * cell_m;
   c.edge_N_per_m = 7.0 * e_l / 50.0;
   c.diagonal_N_per_m = 3.0 * e_l / 25.0;
-  c.damping_Ns_per_m = 2.0 / 45.0 * material.stiffness_damping_s * e_l;
+  // damping for the whole shear modulus (beta mu l / 9), also where the springs carry only a share of it
+  const double damping_E_Pa = material.model == MaterialModel::kSprings ? springs_E_Pa : 2.5 * mu;
+  c.damping_Ns_per_m = 2.0 / 45.0 * material.stiffness_damping_s * (damping_E_Pa * cell_m);
   if (material.model == MaterialModel::kSprings && std::abs(material.poisson_ratio - kLatticePoissonRatio) > 1e-9) {
     std::ostringstream s;
     s << "material.poisson_ratio " << material.poisson_ratio << " is not representable: a cubic lattice of central "

@@ -63,7 +63,7 @@ namespace palpate {
 inline constexpr double kLatticePoissonRatio = 0.25;
 
 /// Share of the shear modulus the springs carry in the Neo-Hookean model (the rest is the cells' Neo-Hookean term).
-inline constexpr double kNeoHookeanSpringShare = 0.2;
+inline constexpr double kNeoHookeanSpringShare = 0.1;
 
 /// Least mass a material lattice's node carries, as a share of a full cell's mass (a full corner carries 1/8): a
 /// node whose cells the solid-fraction sampling finds empty would otherwise be massless.
@@ -73,7 +73,7 @@ inline constexpr double kMinNodeMassShare = 1.0 / 64.0;
 struct LatticeCalibration {
   double edge_N_per_m = 0.0;      ///< k_e each cell adds to each of its 12 edges: 7 E l / 50
   double diagonal_N_per_m = 0.0;  ///< k_s each cell adds to each face and body diagonal: 3 E l / 25
-  double damping_Ns_per_m = 0.0;  ///< c of every spring: 2/45 beta E l
+  double damping_Ns_per_m = 0.0;  ///< c of every spring: 2/45 beta E l (E = 5/2 mu for the split models)
   double volume_Pa = 0.0;         ///< lambda_v of each cell's volume term (0: springs only)
   double neo_mu_Pa = 0.0;         ///< mu of each cell's Neo-Hookean term (0: none)
   double neo_lambda_Pa = 0.0;     ///< lambda of that term

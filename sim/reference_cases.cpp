@@ -5,6 +5,7 @@
 
 #include "core/mesh_io.h"
 #include "sim/material.h"
+#include "sim/static_solve.h"
 
 namespace palpate {
 namespace {
@@ -168,48 +169,73 @@ double neo_hookean_uniaxial_Pa(double mu_Pa, double lambda_Pa, double a, double*
 
 Result<ReferenceCheck> check_large_compression(const MaterialSpec& material, int level, double strain,
                                                const SettleOptions& settle_options) {
+  if (level < 2) return make_error("large compression: level ", std::to_string(level), " has no centre node (needs >= 2)");
   const double nu = material.poisson_ratio, e = material.young_modulus_Pa;
   const double mu = e / (2.0 * (1.0 + nu)), lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  double lateral = 1.0;
-  const double stress_Pa = -neo_hookean_uniaxial_Pa(mu, lambda, 1.0 - strain, &lateral);
-  // the small-strain case's loads scaled to this stress (compression_case pushes with E x its strain)
-  auto c = compression_case(material, level, 1e-4);
+  auto c = compression_case(material, level, strain);
   if (!c) return c.error();
-  ReferenceCase& rc = c.value();
-  Lattice& L = rc.lattice;
-  const double scale = stress_Pa / (e * 1e-4);
+  Lattice& L = c.value().lattice;
+  const std::size_t nodes = L.num_nodes();
+  const double side = kCompressionSide_m, half = 0.5 * side, eps = 1e-9 * side;
+  // frictionless plates: the top and bottom faces held in z, free to spread; the bottom face's centre held in x and
+  // y and its node on the x = side edge's middle in y (no rigid motion; by symmetry neither moves sideways)
+  L.held_dof.assign(3 * nodes, 0);
+  std::vector<std::size_t> top;
+  for (std::size_t i = 0; i < nodes; ++i) {
+    const Vec3& r = L.rest_m[i];
+    const bool bottom = r.z() < eps;
+    if (bottom || r.z() > side - eps) L.held_dof[3 * i + 2] = 1;
+    if (!bottom) {
+      if (r.z() > side - eps) top.push_back(i);
+      continue;
+    }
+    const bool mid_y = std::abs(r.y() - half) < eps;
+    if (mid_y && std::abs(r.x() - half) < eps) L.held_dof[3 * i] = L.held_dof[3 * i + 1] = 1;
+    if (mid_y && r.x() > side - eps) L.held_dof[3 * i + 1] = 1;
+  }
+  // the plates moved together in increments, each run to rest from the last one squashed uniformly (the closed
+  // form's lateral stretch as the first guess: a nearly incompressible cell squashed in z only would burst)
+  constexpr int kIncrements = 3;
   ReferenceCheck out;
-  std::vector<Vec3> load(rc.f_ext_N.size());
-  // squashed by dead loads a free cube would tip over (their couple grows with the tilt): held upright
-  SettleOptions upright = settle_options;
-  upright.hold_rotation = true;
-  for (int step = 1; step <= 3; ++step) {
-    for (std::size_t i = 0; i < load.size(); ++i) load[i] = rc.f_ext_N[i] * (scale * step / 3.0);
-    auto rep = settle(&L, load, upright);
-    if (!rep) return make_error("large compression, load step ", std::to_string(step), " of 3: ", rep.error().message);
+  double previous = 1.0, previous_lateral = 1.0;
+  for (int step = 1; step <= kIncrements; ++step) {
+    const double stretch = 1.0 - strain * step / kIncrements;
+    double guess_lateral = 1.0;
+    neo_hookean_uniaxial_Pa(mu, lambda, stretch, &guess_lateral);
+    const double spread = guess_lateral / previous_lateral;
+    for (Vec3& x : L.x_m) {
+      x.z() *= stretch / previous;
+      x.x() = half + (x.x() - half) * spread;
+      x.y() = half + (x.y() - half) * spread;
+    }
+    previous = stretch;
+    previous_lateral = guess_lateral;
+    auto rep = settle(&L, {}, settle_options);
+    if (!rep)
+      return make_error("large compression, step ", std::to_string(step), " of ", std::to_string(kIncrements), ": ",
+                        rep.error().message);
     out.settle.frames += rep.value().frames;
     out.settle.substeps += rep.value().substeps;
-    out.settle.ms_per_frame_p50 = rep.value().ms_per_frame_p50;
+    out.settle.ms_per_frame_p50 = std::max(out.settle.ms_per_frame_p50, rep.value().ms_per_frame_p50);
     out.settle.residual_rel = rep.value().residual_rel;
   }
-  const double side = kCompressionSide_m, eps = 1e-9 * side;
-  double top = 0.0, bottom = 0.0, right = 0.0, left = 0.0;
-  int n_top = 0, n_bottom = 0, n_right = 0, n_left = 0;
-  for (std::size_t i = 0; i < L.num_nodes(); ++i) {
+  // the plates' force: the lattice's push on the top face's nodes
+  const std::vector<Vec3> f = spring_forces_N(L, L.x_m);
+  double push_N = 0.0;
+  for (std::size_t i : top) push_N += f[i].z();
+  double right = 0.0, left = 0.0;
+  int n_right = 0, n_left = 0;
+  for (std::size_t i = 0; i < nodes; ++i) {
     const Vec3& r = L.rest_m[i];
-    const Vec3 u = L.x_m[i] - r;
-    if (r.z() > side - eps) top += u.z(), ++n_top;
-    if (r.z() < eps) bottom += u.z(), ++n_bottom;
-    if (r.x() > side - eps) right += u.x(), ++n_right;
-    if (r.x() < eps) left += u.x(), ++n_left;
+    if (r.x() > side - eps) right += L.x_m[i].x(), ++n_right;
+    if (r.x() < eps) left += L.x_m[i].x(), ++n_left;
   }
-  out.model = bottom / n_bottom - top / n_top;
-  out.closed_form = strain * side;
-  // the load over what the Neo-Hookean solid needs for the stretch the lattice reached
-  const double reached = 1.0 - out.model / side;
-  out.rel_error = stress_Pa / -neo_hookean_uniaxial_Pa(mu, lambda, reached, nullptr) - 1.0;
-  out.poisson_effective = (1.0 + (right / n_right - left / n_left) / side) / lateral - 1.0;
-  out.nodes = L.num_nodes();
+  double lateral = 1.0;
+  out.model = push_N;
+  out.closed_form = -neo_hookean_uniaxial_Pa(mu, lambda, 1.0 - strain, &lateral) * side * side;
+  out.rel_error = out.model / out.closed_form - 1.0;
+  out.poisson_effective = (right / n_right - left / n_left) / side / lateral - 1.0;
+  out.nodes = nodes;
   out.springs = L.springs.size();
   return out;
 }

@@ -61,11 +61,11 @@ Result<ReferenceCheck> check_cantilever(const MaterialSpec& material, int level,
 /// stretch b, the root of mu (b^2 - 1) + lambda ln(a b^2) = 0.
 double neo_hookean_uniaxial_Pa(double mu_Pa, double lambda_Pa, double a, double* lateral);
 
-/// Uniaxial compression of the 4 cm cube at large strain: the nominal stress the Neo-Hookean solid of `material`
-/// needs to shorten by `strain` (e.g. 0.3), as dead loads on the top and bottom faces, applied in three equal
-/// increments each run to rest. model: the shortening (m); closed_form: strain x side; rel_error: the load over the
-/// Neo-Hookean load for the stretch reached, minus 1 (> 0: too stiff); poisson_effective: the lateral stretch
-/// reached over the closed form's, minus 1.
+/// Uniaxial compression of the 4 cm cube at large strain between frictionless plates: the top and bottom faces held
+/// in z and free to spread (settle's held DOFs), moved together by `strain` (e.g. 0.3, level >= 2) in three
+/// increments, each run to rest. model: the plates' force (N); closed_form: the compressible Neo-Hookean solid's
+/// uniaxial nominal stress for that stretch times the face (N, neo_hookean_uniaxial_Pa); rel_error: model over
+/// closed_form minus 1 (> 0: too stiff); poisson_effective: the lateral stretch reached over the closed form's, minus 1.
 Result<ReferenceCheck> check_large_compression(const MaterialSpec& material, int level, double strain,
                                                const SettleOptions& settle = {});
 

@@ -6,8 +6,6 @@
 #include <ctime>
 #include <string>
 
-#include <Eigen/SVD>
-
 #include "sim/static_solve.h"
 
 namespace palpate {
@@ -40,23 +38,6 @@ Result<SettleReport> settle(Lattice* lat, const std::vector<Vec3>& f_ext_N, cons
     ms.push_back(thread_cpu_ms() - t0);
     rep.frames = frame + 1;
     rep.substeps += s.substeps;
-    if (o.hold_rotation && s.finite) {
-      // the rotation R best mapping rest onto current positions (polar factor of sum m (x - c)(X - C)^T); apply R^T
-      double m = 0.0;
-      Vec3 c = Vec3::Zero(), c0 = Vec3::Zero();
-      for (std::size_t i = 0; i < n; ++i) m += lat->mass_kg[i], c += lat->mass_kg[i] * lat->x_m[i], c0 += lat->mass_kg[i] * lat->rest_m[i];
-      c /= m, c0 /= m;
-      Mat3 a = Mat3::Zero();
-      for (std::size_t i = 0; i < n; ++i) a += lat->mass_kg[i] * (lat->x_m[i] - c) * (lat->rest_m[i] - c0).transpose();
-      const Eigen::JacobiSVD<Mat3> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
-      Mat3 r = svd.matrixU() * svd.matrixV().transpose();
-      if (r.determinant() < 0.0) r = svd.matrixU() * Vec3(1, 1, -1).asDiagonal() * svd.matrixV().transpose();
-      for (std::size_t i = 0; i < n; ++i) {
-        if (lat->fixed[i]) continue;
-        lat->x_m[i] = c + r.transpose() * (lat->x_m[i] - c);
-        lat->v_m_per_s[i] = r.transpose() * lat->v_m_per_s[i];
-      }
-    }
     if (s.diverged)
       return make_error("settle: the lattice diverged at frame ", std::to_string(frame), " (", integrator_name(o.step.kind), ")");
     double moved = 0.0, speed = 0.0, imbalance = 0.0;
@@ -65,7 +46,11 @@ Result<SettleReport> settle(Lattice* lat, const std::vector<Vec3>& f_ext_N, cons
       if (lat->fixed[i]) continue;
       moved = std::max(moved, (lat->x_m[i] - lat->rest_m[i]).norm());
       speed = std::max(speed, lat->v_m_per_s[i].norm());
-      imbalance = std::max(imbalance, f[i].norm());
+      Vec3 free_f = f[i];
+      if (!lat->held_dof.empty())
+        for (int a = 0; a < 3; ++a)
+          if (lat->held_dof[3 * i + static_cast<std::size_t>(a)]) free_f[a] = 0.0;
+      imbalance = std::max(imbalance, free_f.norm());
     }
     rep.residual_rel = imbalance / load;
     if (rep.residual_rel < o.rest_rel && speed * o.frame_s <= o.rest_rel * moved) break;

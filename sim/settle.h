@@ -20,9 +20,6 @@ struct SettleOptions {
   double rest_rel = 1e-5;           ///< at rest: the largest free node's force imbalance below rest_rel x the largest
                                     ///< load on a node, and no node moving more than rest_rel x the largest
                                     ///< displacement from rest per frame
-  bool hold_rotation = false;       ///< after each frame turn the lattice back by its best-fit rotation about its
-                                    ///< centre of mass: a free body whose dead loads would tip it over when squashed
-                                    ///< (their couple grows with the tilt) held upright as by frictionless guides
   SettleOptions() { step.kind = IntegratorKind::kImplicitEuler; }
 };
 
@@ -34,7 +31,8 @@ struct SettleReport {
   double residual_rel = 0.0;        ///< force imbalance at the end, over the largest nodal load
 };
 
-/// Steps *lat from its current state under f_ext_N (n) and gravity until at rest; lat->fixed nodes stay put.
+/// Steps *lat from its current state under f_ext_N (n) and gravity until at rest; lat->fixed nodes and lat->held_dof
+/// stay put (the force on those is a support's reaction and does not count against rest).
 /// Errors when the state diverges or max_frames pass first, naming the frame and the imbalance.
 Result<SettleReport> settle(Lattice* lat, const std::vector<Vec3>& f_ext_N, const SettleOptions& options = {});
 

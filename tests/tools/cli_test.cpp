@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/contact_model_error.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
@@ -129,9 +130,13 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   EXPECT_EQ(j["material"]["poisson_ratio_represented"].get<double>(), 0.25);
   EXPECT_NEAR(j["material"]["total_mass_kg"].get<double>(), 1070.0 * 0.06 * 0.06 * 0.06, 1e-9);
   EXPECT_TRUE(j.contains("state_hash"));
+  // its point tool: no Hertz figure, and the summary says why
+  EXPECT_TRUE(j["material"]["contact_model_error"]["hertz_force_error"].is_null()) << j["material"].dump();
+  EXPECT_NE(j["material"]["contact_model_error"]["basis"].get<std::string>().find("point tool"), std::string::npos);
 
   nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
   scene["material"]["poisson_ratio"] = 0.45;
+  scene["device"]["tool_shape"] = "sphere";
   const std::string s = tmp("nu045.json");
   write_text(s, scene.dump());
   const CliRun w = palpate("record " + s + " -q --no-render --duration 0.1 --out " + tmp("nu045_out"));
@@ -140,6 +145,12 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   const auto k = nlohmann::json::parse(read_file(tmp("nu045_out") + "/summary.json"));
   EXPECT_EQ(k["material"]["poisson_ratio_asked"].get<double>(), 0.45);
   EXPECT_EQ(k["material"]["poisson_ratio_represented"].get<double>(), 0.25);
+  // a 2 mm sphere on 7.5 mm cells (level 4 of the 6 cm cube): the springs' calibration at 0.27 cells
+  const auto& c = k["material"]["contact_model_error"];
+  EXPECT_NEAR(c["contact_radius_cells"].get<double>(), 0.002 / 0.0075, 1e-9) << c.dump();
+  EXPECT_DOUBLE_EQ(c["hertz_force_error"].get<double>(),
+                   contact_model_error(MaterialSpec{}, true, 0.002, 0.0075).hertz_force_error);
+  EXPECT_NE(c["source"].get<std::string>().find("palpate bench model"), std::string::npos);
 }
 
 TEST(Cli, AssimpInvalidModelsGiveErrorsNotCrashes) {

@@ -9,7 +9,9 @@
 
 #include "core/atomic_file.h"
 #include "sim/material.h"
+#include "sim/pull_reference.h"
 #include "sim/reference_cases.h"
+#include "sim/richardson.h"
 #include "tools/bench/plot.h"
 #include "tools/session/model.h"
 #include "tools/session/tool_hold.h"
@@ -24,7 +26,7 @@ constexpr double kCoupling_N_per_m = 300.0;
 
 // The Poisson ratio the lattice of `material` represents.
 double represented_poisson(const MaterialSpec& material) {
-  return material.model == MaterialModel::kVolumetric ? material.poisson_ratio : kLatticePoissonRatio;
+  return material.model == MaterialModel::kSprings ? kLatticePoissonRatio : material.poisson_ratio;
 }
 
 // One row of the table: a reference at a level.
@@ -33,6 +35,7 @@ struct Row {
   double nu = kLatticePoissonRatio;   // the lattice's Poisson ratio
   MaterialModel model_kind = MaterialModel::kSprings;
   double lateral = NAN;               // compression: lateral over axial strain (closed form: nu)
+  double order = NAN;                 // pull: the observed order of convergence of the Richardson extrapolation
   int level = 0;
   std::size_t nodes = 0, springs = 0;
   double model = 0.0, closed_form = 0.0, rel_error = 0.0;
@@ -120,8 +123,11 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
   std::vector<Row> rows;
   auto wanted = [&](const char* name) { return std::find(o.references.begin(), o.references.end(), name) != o.references.end(); };
   for (const std::string& name : o.references)
-    if (name != "compression" && name != "cantilever" && name != "hertz")
-      return make_error("bench model: reference '", name, "' is not one of: compression, cantilever, hertz");
+    if (name != "compression" && name != "cantilever" && name != "hertz" && name != "pull")
+      return make_error("bench model: reference '", name, "' is not one of: compression, cantilever, hertz, pull");
+  for (std::size_t k = 1; k < o.pull_levels.size(); ++k)
+    if (o.pull_levels.size() != 3 || o.pull_levels[k] != o.pull_levels[k - 1] + 1)
+      return make_error("bench model: --pull-levels needs three consecutive levels (e.g. 3,4,5)");
   // one reference at one level for material mat: its row, or an error naming them
   auto run = [&](const std::string& ref, const MaterialSpec& mat, int level) -> Result<Row> {
     // a run to rest takes seconds to a minute: say which is under way (stderr; the table goes to stdout)
@@ -159,22 +165,22 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
   // the volumetric model at each nu: compression at level 4 (uniform strain: any level), the others at poisson_level
   for (double nu : o.poisson_ratios) {
     MaterialSpec mv = m;
-    mv.model = MaterialModel::kVolumetric;
+    mv.model = o.poisson_model;
     mv.poisson_ratio = nu;
     for (const char* ref : {"compression", "cantilever", "hertz"}) {
       if (!wanted(ref)) continue;
       auto row = run(ref, mv, std::string(ref) == "compression" ? 4 : o.poisson_level);
-      if (!row) return make_error(row.error().message, " (material.model volumetric, nu ", std::to_string(nu), ")");
+      if (!row) return make_error(row.error().message, " (material.model ", name_of(o.poisson_model), ", nu ", std::to_string(nu), ")");
       rows.push_back(row.value());
     }
   }
   // large strain: 30 % compression of the Neo-Hookean model against the Neo-Hookean closed form, per nu (uniform
-  // strain: one level does)
-  if (wanted("compression"))
-    for (double nu : o.large_strain_poisson_ratios) {
-      MaterialSpec mn = m;
-      mn.model = MaterialModel::kNeoHookean;
-      mn.poisson_ratio = nu;
+  // strain: one level does); the 40 mm pull against the Richardson extrapolation of its three levels
+  for (double nu : o.large_strain_poisson_ratios) {
+    MaterialSpec mn = m;
+    mn.model = MaterialModel::kNeoHookean;
+    mn.poisson_ratio = nu;
+    if (wanted("compression")) {
       auto r = check_large_compression(mn, 3, 0.3, so);
       if (!r) return make_error("bench model: large compression nu ", std::to_string(nu), ": ", r.error().message);
       const ReferenceCheck& c = r.value();
@@ -184,10 +190,34 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       row.model_kind = MaterialModel::kNeoHookean;
       row.level = 3;
       row.nodes = c.nodes, row.springs = c.springs, row.model = c.model, row.closed_form = c.closed_form;
-      row.rel_error = c.rel_error, row.unit = "m", row.ms_per_frame = c.settle.ms_per_frame_p50, row.frames = c.settle.frames;
+      row.rel_error = c.rel_error, row.unit = "N", row.ms_per_frame = c.settle.ms_per_frame_p50, row.frames = c.settle.frames;
       row.lateral = c.poisson_effective;
       rows.push_back(row);
     }
+    if (wanted("pull") && !o.pull_levels.empty()) {
+      std::vector<Row> pulls;
+      for (int level : o.pull_levels) {
+        auto r = check_pull(mn, level, PullGeometry{}, so);
+        if (!r) return make_error("bench model: pull nu ", std::to_string(nu), ": ", r.error().message);
+        Row row;
+        row.reference = "pull 40mm";
+        row.nu = nu;
+        row.model_kind = MaterialModel::kNeoHookean;
+        row.level = level;
+        row.nodes = r.value().nodes, row.springs = r.value().springs, row.model = r.value().force_N, row.unit = "N";
+        row.ms_per_frame = r.value().settle.ms_per_frame_p50, row.frames = r.value().settle.frames;
+        pulls.push_back(row);
+      }
+      auto ext = richardson_extrapolate(pulls[0].model, pulls[1].model, pulls[2].model);
+      if (!ext) return make_error("bench model: pull nu ", std::to_string(nu), ": ", ext.error().message);
+      for (Row& row : pulls) {
+        row.closed_form = ext.value().value;
+        row.rel_error = row.model / row.closed_form - 1.0;
+        row.order = ext.value().order;
+        rows.push_back(row);
+      }
+    }
+  }
   std::ostringstream t;
   char line[400];
   std::snprintf(line, sizeof line,
@@ -199,6 +229,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
   for (const Row& r : rows) {
     char lateral[32] = "-";
     if (std::isfinite(r.lateral)) std::snprintf(lateral, sizeof lateral, "%.4f", r.lateral);
+    if (std::isfinite(r.order)) std::snprintf(lateral, sizeof lateral, "order %.2f", r.order);
     std::snprintf(line, sizeof line, "%-12s %-11s %5.2f  %5d  %6zu  %7zu  %.5e %s  %.5e %s  %+10.2e  %13s  %12.2f  %6lld\n",
                   r.reference.c_str(), name_of(r.model_kind), r.nu, r.level, r.nodes, r.springs, r.model, r.unit,
                   r.closed_form, r.unit, r.rel_error, lateral, r.ms_per_frame, static_cast<long long>(r.frames));
@@ -208,15 +239,18 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
                           {"closed_form", r.closed_form}, {"unit", r.unit}, {"force_error", r.rel_error},
                           {"cpu_ms_per_frame_p50", r.ms_per_frame}, {"frames_to_rest", r.frames}};
     if (std::isfinite(r.lateral)) row["lateral_over_axial"] = r.lateral;
+    if (std::isfinite(r.order)) row["richardson_order"] = r.order;
     js.push_back(row);
   }
   t << "model / closed form: compression shortening, cantilever tip deflection (m), hertz force at the drop of the surface under the sphere (N);\n"
        "force error: the force the lattice needs for the closed form's displacement over the closed form's, minus 1;\n"
        "lateral/axial: compression's lateral over axial strain (closed form: nu); springs: central springs only (nu 0.25),\n"
-       "volumetric: springs for the shear modulus plus each cell's volume term, neo_hookean: a fifth of mu in springs,\n"
-       "the rest each cell's Neo-Hookean term (material.model); compress 30%: dead load for 30 % shortening of the\n"
-       "Neo-Hookean solid in three increments, force error = that load over the Neo-Hookean load for the shortening\n"
-       "reached, minus 1, and the lateral column is the lateral stretch over the closed form's, minus 1\n";
+       "volumetric: springs for the shear modulus plus each cell's volume term (below nu 0.25: the neo_hookean split),\n"
+       "neo_hookean: a tenth of mu in springs, the rest each cell's Neo-Hookean term (material.model);\n"
+       "compress 30%: the 4 cm cube between frictionless plates moved 30 % together, model = the plates' force against\n"
+       "the compressible Neo-Hookean solid's uniaxial stress x face (closed form), lateral column = lateral stretch over\n"
+       "the closed form's, minus 1; pull 40mm: the 8 cm cube glued to the floor and to a plate pulled up 40 mm, the\n"
+       "plate's force against the Richardson extrapolation of the three levels (not a closed form; order p observed)\n";
   if (!o.json_path.empty()) {
     nlohmann::json j{{"young_modulus_Pa", o.young_modulus_Pa},
                      {"density_kg_per_m3", o.density_kg_per_m3}, {"stiffness_damping_s", o.stiffness_damping_s},

@@ -1,7 +1,8 @@
 #pragma once
 /// `palpate bench model`: the model's error against the continuum it stands for, per lattice level, beside what the
 /// level costs — uniaxial compression (shortening = strain x side), a cantilever's tip deflection
-/// (F L^3 / (3 E I)) and Hertz indentation by the sphere tool (F = 4/3 E* sqrt(R) d^(3/2)). Every equilibrium is
+/// (F L^3 / (3 E I)) and Hertz indentation by the sphere tool (F = 4/3 E* sqrt(R) d^(3/2)); at large strain 30 %
+/// compression against the Neo-Hookean closed form and a 40 mm pull against Richardson extrapolation over levels. Every equilibrium is
 /// the simulation's own: the lattice stepped by its integrator until it is at rest (sim/settle.h); Hertz runs the
 /// servo's sphere god-object and the frame stage with the device held still (tools/session/tool_hold.h).
 
@@ -17,13 +18,16 @@ namespace palpate {
 /// What to run. Plain data.
 struct BenchModelOptions {
   std::vector<int> levels{3, 4, 5, 6};               ///< lattice levels (the cantilever needs >= 4: 1 cell across)
-  std::vector<std::string> references{"compression", "cantilever", "hertz"};  ///< which references to run
+  std::vector<std::string> references{"compression", "cantilever", "hertz", "pull"};  ///< which references to run
   double young_modulus_Pa = 1e5;                     ///< E of every case
   double density_kg_per_m3 = 1070.0;                 ///< rho
   double stiffness_damping_s = 0.02;                 ///< Rayleigh beta: how fast each run comes to rest
   IntegratorKind integrator = IntegratorKind::kImplicitEuler;  ///< what steps every run to rest
   std::vector<double> poisson_ratios{0.0, 0.25, 0.4, 0.45, 0.49};  ///< material.model "volumetric" rows, one set per nu
-  std::vector<double> large_strain_poisson_ratios;   ///< material.model "neo_hookean", 30 % compression (none by default)
+  std::vector<double> large_strain_poisson_ratios{0.0, 0.25, 0.45, 0.49};  ///< material.model "neo_hookean" rows:
+                                                     ///< 30 % compression, and the 40 mm pull
+  std::vector<int> pull_levels{3, 4, 5};             ///< three consecutive levels of the pull (Richardson)
+  MaterialModel poisson_model = MaterialModel::kVolumetric;  ///< material.model of those rows
   int poisson_level = 6;                             ///< level of those rows' cantilever and Hertz (compression: 4)
   std::string json_path;                             ///< write the rows as JSON here when not empty
   std::string plot_path;                             ///< log-log plot of force error against ms per frame (PNG)

@@ -33,6 +33,7 @@ struct BenchArgs {
   bool scale_no_full = false;
   BenchModelOptions model;
   std::string model_integrator = integrator_name(BenchModelOptions{}.integrator);
+  std::string poisson_model = name_of(BenchModelOptions{}.poisson_model);
   BenchPngOptions png;
   BenchMeshOptions mesh;
   CLI::App *loop_cmd = nullptr, *force_cmd = nullptr, *feel_cmd = nullptr, *sim_cmd = nullptr, *scale_cmd = nullptr, *model_cmd = nullptr,
@@ -129,7 +130,8 @@ void add_scale(CLI::App* bench, BenchArgs& a) {
 void add_model(CLI::App* bench, BenchArgs& a) {
   auto* c = a.model_cmd = bench->add_subcommand(
       "model", "Model error against closed-form continuum references per lattice level, each run to rest by the "
-               "simulation, beside ms per frame (about 1.5 min with the defaults here, progress on stderr)");
+               "simulation, beside ms per frame (about 1.5 min with the defaults here, and about 3 min more for the 40 mm "
+               "pull rows; --references compression,cantilever,hertz leaves them out; progress on stderr)");
   c->alias("material");
   BenchModelOptions& mo = a.model;
   c->add_option("--levels", mo.levels, "Lattice levels (the cantilever runs from 4)")->delimiter(',')
@@ -137,14 +139,19 @@ void add_model(CLI::App* bench, BenchArgs& a) {
   c->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(finite_range(1.0, 1e12))->capture_default_str();
   c->add_option("--damping", mo.stiffness_damping_s, "Rayleigh beta in s (how fast the runs come to rest)")
       ->check(finite_range(0.0, 10.0))->capture_default_str();
-  c->add_option("--references", mo.references, "Which references: compression, cantilever, hertz")->delimiter(',')
+  c->add_option("--references", mo.references, "Which references: compression, cantilever, hertz, pull")->delimiter(',')
       ->capture_default_str();
   c->add_option("--integrator", a.model_integrator, "Integrator that steps every run to rest")->capture_default_str();
   c->add_option("--poisson", mo.poisson_ratios, "Poisson ratios of the material.model 'volumetric' rows (none: "
                 "--poisson '')")->delimiter(',')->check(finite_range(0.0, 0.49))->capture_default_str();
-  c->add_option("--large-strain", mo.large_strain_poisson_ratios, "Poisson ratios of the 30 % compression rows "
-                "(material.model 'neo_hookean'; none by default: the runs do not come to rest yet)")->delimiter(',')
+  c->add_option("--large-strain", mo.large_strain_poisson_ratios, "Poisson ratios of the material.model "
+                "'neo_hookean' rows: 30 % compression against the closed form, 40 mm pull against Richardson "
+                "extrapolation over --pull-levels (none: --large-strain '')")->delimiter(',')
       ->check(finite_range(0.0, 0.49))->capture_default_str();
+  c->add_option("--pull-levels", mo.pull_levels, "Three consecutive levels of the 40 mm pull (Richardson)")
+      ->delimiter(',')->check(CLI::Range(3, 7))->capture_default_str();
+  c->add_option("--poisson-model", a.poisson_model, "material.model of those rows: volumetric or neo_hookean")
+      ->capture_default_str();
   c->add_option("--poisson-level", mo.poisson_level, "Level of those rows' cantilever and Hertz")
       ->check(CLI::Range(4, 7))->capture_default_str();
   c->add_option("--json", mo.json_path, "Write the rows as JSON");
@@ -193,6 +200,15 @@ int run_bench(BenchArgs& a) {
     std::fprintf(stderr, "palpate: bench model: --integrator '%s' is not one of: explicit_euler, symplectic_euler, "
                  "implicit_euler, local_global, rk4\n", a.model_integrator.c_str());
     return 2;
+  }
+  if (*a.model_cmd) {
+    const auto pm = from_name<MaterialModel>(a.poisson_model);
+    if (!pm || *pm == MaterialModel::kSprings) {
+      std::fprintf(stderr, "palpate: bench model: --poisson-model '%s' is not one of: volumetric, neo_hookean\n",
+                   a.poisson_model.c_str());
+      return 2;
+    }
+    a.model.poisson_model = *pm;
   }
   a.scale.full_redraw = !a.scale_no_full;
   PlotSpec plot;

@@ -1,6 +1,7 @@
 #pragma once
 /// What a scene's material becomes on the lattice, said at start-up and in summary.json ("material" block):
-/// E, nu asked, nu represented (0.25), density, total mass and the calibration at the scene's level.
+/// E, nu asked, nu represented, density, total mass, the calibration at the scene's level, and the model error the
+/// scene's contact carries according to the Hertz calibration of `palpate bench model` (sim/contact_model_error.h).
 
 #include <string>
 
