@@ -347,5 +347,17 @@ TEST(Cli, BenchHelpSaysHowLongAndShowsNoStrayDefaults) {
   EXPECT_NE(palpate("bench png --help").out.find("about 47 s"), std::string::npos);
 }
 
+// The help's "none" for no rows parses (the run stops later, at the unknown reference); a bad item is named.
+TEST(Cli, BenchModelListsTakeNoneAndNameABadItem) {
+  const CliRun none = palpate("bench model --poisson none --large-strain '' --references nothing");
+  EXPECT_EQ(none.code, 1) << none.out;
+  EXPECT_NE(none.out.find("reference 'nothing' is not one of"), std::string::npos) << none.out;
+  const CliRun bad = palpate("bench model --poisson 0.3,x");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--poisson: 'x' is not a number in [0, 0.49]"), std::string::npos) << bad.out;
+  const CliRun high = palpate("bench model --large-strain 0.5");
+  EXPECT_NE(high.out.find("--large-strain: '0.5' is not a number in [0, 0.49]"), std::string::npos) << high.out;
+}
+
 }  // namespace
 }  // namespace palpate

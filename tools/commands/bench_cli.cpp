@@ -22,6 +22,13 @@ namespace palpate {
 namespace {
 
 // Every benchmark's options, as parsed.
+// a list default as the text the option shows and parses ("0.25", "0.45", ...)
+std::vector<std::string> number_texts(const std::vector<double>& values) {
+  std::vector<std::string> out;
+  for (double v : values) out.push_back(CLI::detail::to_string(v));
+  return out;
+}
+
 struct BenchArgs {
   BenchLoopOptions loop;
   BenchForceOptions force;
@@ -34,6 +41,8 @@ struct BenchArgs {
   BenchModelOptions model;
   std::string model_integrator = integrator_name(BenchModelOptions{}.integrator);
   std::string poisson_model = name_of(BenchModelOptions{}.poisson_model);
+  std::vector<std::string> poisson_text = number_texts(BenchModelOptions{}.poisson_ratios);
+  std::vector<std::string> large_strain_text = number_texts(BenchModelOptions{}.large_strain_poisson_ratios);
   BenchPngOptions png;
   BenchMeshOptions mesh;
   CLI::App *loop_cmd = nullptr, *force_cmd = nullptr, *feel_cmd = nullptr, *sim_cmd = nullptr, *scale_cmd = nullptr, *model_cmd = nullptr,
@@ -142,12 +151,11 @@ void add_model(CLI::App* bench, BenchArgs& a) {
   c->add_option("--references", mo.references, "Which references: compression, cantilever, hertz, pull")->delimiter(',')
       ->capture_default_str();
   c->add_option("--integrator", a.model_integrator, "Integrator that steps every run to rest")->capture_default_str();
-  c->add_option("--poisson", mo.poisson_ratios, "Poisson ratios of the material.model 'volumetric' rows (none: "
-                "--poisson '')")->delimiter(',')->check(finite_range(0.0, 0.49))->capture_default_str();
-  c->add_option("--large-strain", mo.large_strain_poisson_ratios, "Poisson ratios of the material.model "
+  c->add_option("--poisson", a.poisson_text, "Poisson ratios of the material.model 'volumetric' rows, each in "
+                "[0, 0.49] (none: --poisson none)")->delimiter(',')->capture_default_str();
+  c->add_option("--large-strain", a.large_strain_text, "Poisson ratios of the material.model "
                 "'neo_hookean' rows: 30 % compression against the closed form, 40 mm pull against Richardson "
-                "extrapolation over --pull-levels (none: --large-strain '')")->delimiter(',')
-      ->check(finite_range(0.0, 0.49))->capture_default_str();
+                "extrapolation over --pull-levels, each in [0, 0.49] (none: --large-strain none)")->delimiter(',')->capture_default_str();
   c->add_option("--pull-levels", mo.pull_levels, "Three consecutive levels of the 40 mm pull (Richardson)")
       ->delimiter(',')->check(CLI::Range(3, 7))->capture_default_str();
   c->add_option("--poisson-model", a.poisson_model, "material.model of those rows: volumetric or neo_hookean")
@@ -209,6 +217,13 @@ int run_bench(BenchArgs& a) {
       return 2;
     }
     a.model.poisson_model = *pm;
+    std::string bad;
+    if (!parse_number_list(a.poisson_text, "--poisson", 0.0, 0.49, &a.model.poisson_ratios, &bad) ||
+        !parse_number_list(a.large_strain_text, "--large-strain", 0.0, 0.49, &a.model.large_strain_poisson_ratios,
+                           &bad)) {
+      std::fprintf(stderr, "palpate: bench model: %s\n", bad.c_str());
+      return 2;
+    }
   }
   a.scale.full_redraw = !a.scale_no_full;
   PlotSpec plot;

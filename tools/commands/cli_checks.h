@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -20,6 +21,24 @@ inline CLI::Validator finite_range(double lo, double hi) {
         return {};
       },
       "FLOAT in [" + CLI::detail::to_string(lo) + " - " + CLI::detail::to_string(hi) + "]");
+}
+
+/// The numbers of a list option given as text: "none" or "" alone is the empty list; each other item a finite number
+/// in [lo, hi]. False, with `error` naming the option and the item, otherwise.
+inline bool parse_number_list(const std::vector<std::string>& items, const char* option, double lo, double hi,
+                              std::vector<double>* out, std::string* error) {
+  out->clear();
+  if (items.size() == 1 && (items[0].empty() || items[0] == "none")) return true;
+  for (const std::string& item : items) {
+    double v = 0.0;
+    if (!CLI::detail::lexical_cast(item, v) || !std::isfinite(v) || v < lo || v > hi) {
+      *error = std::string(option) + ": '" + item + "' is not a number in [" + CLI::detail::to_string(lo) + ", " +
+               CLI::detail::to_string(hi) + "] (none: " + option + " none)";
+      return false;
+    }
+    out->push_back(v);
+  }
+  return true;
 }
 
 /// A default input named relative to the repository ("scenes/bunny_pull.json"): taken from the current folder when
