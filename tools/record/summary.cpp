@@ -6,6 +6,7 @@
 
 #include "core/stats.h"
 #include "tools/record/budget_report.h"
+#include "tools/session/cut_region.h"
 #include "tools/session/device_factory.h"
 #include "tools/record/material_report.h"
 
@@ -156,6 +157,9 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                 {"triangles_added", fst.triangles_added},
                 {"vertices_added", fst.vertices_added},
                 {"free_nodes", fst.free_nodes},
+                // triangles plus vertices tested in one frame, at most kCutWorkPerFrame plus one quad's
+                {"work_max", fst.cut_work_max},
+                {"work_limit", kCutWorkPerFrame},
                 {"sim_ms_cutting", ms_json(fst.cutting_ms)},
                 {"sim_ms_after_cut", ms_json(fst.after_cut_ms)}};
   }

@@ -16,7 +16,7 @@ CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
   const int level = scene.lattice.level;
   const int n = model.grid.cells_per_axis(level);
   auto lat = build_lattice(model.grid, scene.lattice, region_cells(model.grid, level, {n / 2, n / 2, n / 2}, n));
-  cut_.set_max_split_triangles_per_apply(kSplitTrianglesPerFrame);
+  cut_.set_max_cut_work_per_apply(kCutWorkPerFrame);
   if (!lat) return;
   lattice_ = std::move(lat).value();
   floor_z_m_ = lattice_->rest_m.front().z();
@@ -42,6 +42,7 @@ bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   const auto deferred = static_cast<int64_t>(cut_.deferred_springs());
   stats_->springs_deferred_max = std::max(stats_->springs_deferred_max, deferred);
   stats_->frames_deferring += deferred > 0 ? 1 : 0;
+  stats_->cut_work_max = std::max<int64_t>(stats_->cut_work_max, rep.work());
   stats_->triangles_added += rep.split.triangles_added;
   stats_->vertices_added += rep.split.vertices_added;
   stats_->lattice_vertices = std::max(stats_->lattice_vertices, cut_.rest_vertices_m().size());

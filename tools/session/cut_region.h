@@ -1,7 +1,7 @@
 #pragma once
 /// CutRegion (cut): one lattice over every solid cell of the object, built with the region and never moved (the
 /// blade may go anywhere and cuts must persist). The blade's sweeps cut its springs and split the mesh, at most
-/// kSplitTrianglesPerFrame triangles near the sweep a frame (the rest of a long stroke on the frames after);
+/// kCutWorkPerFrame triangles and vertices near the sweep tested a frame (the rest of a long stroke on the frames after);
 /// pieces cut free fall onto the body (sim/piece_contact.h) or a floor at the lowest node plane.
 
 #include <cstdint>
@@ -13,8 +13,9 @@
 
 namespace palpate {
 
-/// Triangles near the blade's sweep a frame's mesh split visits at most (CutModel::set_max_split_triangles_per_apply).
-inline constexpr int kSplitTrianglesPerFrame = 6000;
+/// Triangles the mesh split tests plus vertices the side binding tests a frame, at most (one rest quad's more when
+/// a single quad reaches more; CutModel::set_max_cut_work_per_apply).
+inline constexpr int kCutWorkPerFrame = 8000;
 
 /// The whole-object region. Its node count never changes: a cut removes springs, and the nodes of a piece cut
 /// free of every fixed node stay in the lattice (counted in FrameStats::free_nodes). Every vertex may move and
