@@ -165,8 +165,9 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
       ++take;
     }
   }
-  const std::vector<BladeQuad> batch(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
+  last_batch_.assign(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
   queued_.erase(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
+  const std::vector<BladeQuad>& batch = last_batch_;
   CutReport rep = cut_rest(batch, lat, vertices_m);
   rep.quads_dropped = dropped;
   rep.quads_cut = static_cast<int>(batch.size());

@@ -97,6 +97,17 @@ class CutModel {
   /// Writes the ids of triangles with a current vertex inside [lo_m, hi_m] into *out (cleared first).
   void triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
                         std::vector<int32_t>* out) const;
+  /// Appends the lattice cells (linear index at the bound level) whose box overlaps [lo_m, hi_m] to *cells.
+  void cells_in_box(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* cells) const;
+  /// Appends the vertices bound to `cell` (linear index at the bound level) to *out, in no set order.
+  void vertices_in_cell(int32_t cell, std::vector<int32_t>* out) const {
+    for (int32_t v = cell_first_[static_cast<std::size_t>(cell)]; v >= 0; v = next_in_cell_[static_cast<std::size_t>(v)])
+      out->push_back(v);
+  }
+  /// The triangles by rest cube (every triangle of the cut mesh is registered).
+  const TriangleGrid& triangle_grid() const { return tri_grid_; }
+  /// The rest quads the last apply() cut with.
+  const std::vector<BladeQuad>& last_quads() const { return last_batch_; }
   /// Vertices moved by the fallback (no corner left on their side) in the last deform().
   int orphans() const { return orphans_; }
 
@@ -107,8 +118,6 @@ class CutModel {
   int springs_this_apply() const;
   // marks the corners of vertex v (seen from test point p) that the quads separate it from; true when changed
   bool block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads);
-  // lattice cells (linear index at level_) whose box overlaps [lo_m, hi_m], appended to *cells
-  void cells_in_box(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* cells) const;
   // links vertex v into its cell's list
   void link_vertex(int32_t v);
   // nearest node of the cells around vertex v that the quads do not separate from p (-1 if none)
@@ -124,6 +133,7 @@ class CutModel {
   std::vector<int32_t> fallback_;                 // node followed when every corner is cut off, else -1 (n_v)
   std::vector<BladeQuad> pending_;                // swept quads not applied yet
   std::vector<BladeQuad> queued_;                 // rest quads mapped, not cut yet (split budget)
+  std::vector<BladeQuad> last_batch_;             // rest quads the last apply() cut with
   int max_work_ = 0;                              // triangles and vertices tested per apply() at most (0: all)
   std::vector<int32_t> cell_first_;               // first vertex bound to each cell at level_, -1: none (n_cells)
   std::vector<int32_t> next_in_cell_;             // next vertex of the same cell, -1: last (n_v)
