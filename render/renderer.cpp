@@ -211,24 +211,20 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   if (view.vertices_m == nullptr || view.triangles == nullptr || view.triangles->empty()) return false;
   const std::vector<Vec3>& vertices = *view.vertices_m;
   const auto& triangles = *view.triangles;
-  const bool fresh = layer_valid_ && view.layer_epoch == layer_epoch_ && vertices.size() == layer_vertices_ &&
-                     triangles.size() == layer_triangles_;
-  if (!fresh) {
+  const bool same_layer = layer_valid_ && view.layer_epoch == layer_epoch_;
+  const bool fresh = same_layer && vertices.size() == layer_vertices_ && triangles.size() == layer_triangles_ &&
+                     view.topology_epoch == layer_topology_;
+  if (!fresh && same_layer && view.static_part_kept && vertices.size() >= layer_vertices_) {
+    if (!resplit(view)) return false;
+  } else if (!fresh) {
     layer_valid_ = false;
     for (int32_t v : *view.moving_vertices)
       if (v < 0 || static_cast<std::size_t>(v) >= vertices.size()) return false;
     if (!prepare_mesh(view)) return false;
     layers_.split(vertices.size(), triangles, edge_indices_, *view.moving_vertices);
     // the dynamic part's own vertex array, taken from the whole mesh's once per layer
+    fill_local_vertices();
     const auto& local = layers_.local_vertices();
-    local_positions_f_.resize(3 * local.size());
-    if (style_ != RenderStyle::kWireframe) local_normals_f_.resize(3 * local.size());
-    for (std::size_t i = 0; i < local.size(); ++i) {
-      const auto from = static_cast<std::size_t>(3 * local[i]);
-      std::copy_n(positions_f_.begin() + static_cast<std::ptrdiff_t>(from), 3, local_positions_f_.begin() + static_cast<std::ptrdiff_t>(3 * i));
-      if (style_ != RenderStyle::kWireframe)
-        std::copy_n(normals_f_.begin() + static_cast<std::ptrdiff_t>(from), 3, local_normals_f_.begin() + static_cast<std::ptrdiff_t>(3 * i));
-    }
     // the static part, drawn as a full redraw would draw it: fill, then lines (less what reaches no centre)
     const bool cull = culling_;
     if (cull) {
@@ -255,6 +251,7 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
     layer_epoch_ = view.layer_epoch;
     layer_vertices_ = vertices.size();
     layer_triangles_ = triangles.size();
+    layer_topology_ = view.topology_epoch;
     ++layer_builds_;
   } else {
     update_local_vertices(view);
@@ -325,6 +322,46 @@ const std::vector<uint32_t>& Renderer::covering_lines(bool cull, const PixelCove
   }
   last_drawn_.lines_drawn = out->size() / 2;
   return *out;
+}
+
+void Renderer::fill_local_vertices() {
+  const auto& local = layers_.local_vertices();
+  local_positions_f_.resize(3 * local.size());
+  if (style_ != RenderStyle::kWireframe) local_normals_f_.resize(3 * local.size());
+  for (std::size_t i = 0; i < local.size(); ++i) {
+    const auto from = static_cast<std::ptrdiff_t>(3 * local[i]);
+    const auto to = static_cast<std::ptrdiff_t>(3 * i);
+    std::copy_n(positions_f_.begin() + from, 3, local_positions_f_.begin() + to);
+    if (style_ != RenderStyle::kWireframe) std::copy_n(normals_f_.begin() + from, 3, local_normals_f_.begin() + to);
+  }
+}
+
+bool Renderer::resplit(const FrameView& view) {
+  const std::vector<Vec3>& vertices = *view.vertices_m;
+  const auto& triangles = *view.triangles;
+  const auto n_v = static_cast<int64_t>(vertices.size());
+  for (int32_t v : *view.moving_vertices)
+    if (v < 0 || v >= n_v) return false;
+  for (const auto& t : triangles)
+    if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= n_v || t[1] >= n_v || t[2] >= n_v) return false;
+  // the static vertices keep the positions the layer was drawn with; the new ones move, and are written from the
+  // view below with every affected vertex
+  positions_f_.resize(3 * vertices.size(), 0.0f);
+  if (style_ != RenderStyle::kWireframe) normals_f_.resize(3 * vertices.size(), 0.0f);
+  if (lines_drawn()) update_edges(triangles);
+  layers_.split(vertices.size(), triangles, edge_indices_, *view.moving_vertices);
+  fill_local_vertices();
+  update_local_vertices(view);
+  const auto& local = layers_.local_vertices();
+  if (layer_culled_) {
+    local_xy_.resize(2 * local.size());
+    place(local_positions_f_.data(), local.size(), &local_xy_, &local_fill_cells_, &local_line_cells_);
+  }
+  layer_vertices_ = vertices.size();
+  layer_triangles_ = triangles.size();
+  layer_topology_ = view.topology_epoch;
+  ++resplits_;
+  return true;
 }
 
 void Renderer::update_local_vertices(const FrameView& view) {

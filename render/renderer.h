@@ -38,6 +38,12 @@ struct FrameView {
   const std::vector<int32_t>* moving_vertices = nullptr;
   /// Changes whenever moving_vertices or the triangles change (region moved, mesh cut): the layer is redrawn.
   uint64_t layer_epoch = 0;
+  /// Changes whenever the triangles change.
+  uint64_t topology_epoch = 0;
+  /// True when, within one layer_epoch, triangles change or are added only where a moving vertex is and new
+  /// vertices are moving (a cut inside the moving part): the layer is kept and only the dynamic part is split
+  /// again. False: any change of the triangles redraws the layer.
+  bool static_part_kept = false;
 };
 
 /// Draws frames with legacy fixed-function GL; keeps a pointer to the context (which must outlive it) and
@@ -83,6 +89,8 @@ class Renderer {
   int64_t draws() const { return draws_; }
   /// Times the cached layer was redrawn.
   int64_t layer_builds() const { return layer_builds_; }
+  /// Times the triangles changed within a layer and only its dynamic part was split again.
+  int64_t resplits() const { return resplits_; }
   /// Pixel coordinates (x right, y down, origin top-left) of a world point; NaN when behind the camera.
   Eigen::Vector2d project(const Vec3& p_m) const;
   /// Size in pixels of the frames draw() reads (the context's).
@@ -107,6 +115,10 @@ class Renderer {
   bool ensure_framebuffers(const GlApi& gl);
   // layered path: redraws the layer when the epoch changed, else updates the affected vertices; false: skip mesh
   bool draw_layered(const GlApi& gl, const FrameView& view);
+  // within a layer: splits the changed triangles' dynamic part again and keeps the layer (static_part_kept)
+  bool resplit(const FrameView& view);
+  // the dynamic part's local vertex arrays from the whole mesh's (positions_f_, normals_f_)
+  void fill_local_vertices();
   // copies the affected vertices' positions and normals (computed from the dynamic triangles when the view has
   // none) into the local arrays: O(dynamic part), whatever the mesh's size
   void update_local_vertices(const FrameView& view);
@@ -160,6 +172,8 @@ class Renderer {
   bool layer_valid_ = false;             // layer_ holds the static part of layer_epoch_
   uint64_t layer_epoch_ = 0;             // epoch the layer was drawn for
   std::size_t layer_vertices_ = 0, layer_triangles_ = 0;  // mesh size the layer was drawn for
+  uint64_t layer_topology_ = 0;          // topology epoch the dynamic part was split for
+  int64_t resplits_ = 0;                 // dynamic parts split again with the layer kept
   bool culling_ = true;                  // leave out what reaches no pixel centre (layered path)
   PixelCover cover_;                     // the camera and viewport for that
   std::vector<float> mesh_xy_;           // window positions of the whole mesh, for a layer build (2 n_v)

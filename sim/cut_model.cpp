@@ -19,7 +19,29 @@ CutModel::CutModel(const TriMesh& rest, const std::vector<VertexBinding>& bindin
       bindings_(bindings),
       blocked_(rest.vertices_m.size(), 0),
       fallback_(rest.vertices_m.size(), -1),
-      tri_grid_(grid->cell_size_m(level), rest.vertices_m, rest.triangles) {}
+      tri_grid_(grid->cell_size_m(level), rest.vertices_m, rest.triangles) {
+  const auto cells = static_cast<std::size_t>(grid->num_cells(level));
+  cell_first_.assign(cells, -1);
+  cell_count_.assign(cells, 0);
+  next_in_cell_.reserve(rest_m_.size());
+  for (std::size_t v = 0; v < rest_m_.size(); ++v) link_vertex(static_cast<int32_t>(v));
+}
+
+void CutModel::link_vertex(int32_t v) {
+  const int32_t c = bindings_[static_cast<std::size_t>(v)].cell;
+  next_in_cell_.push_back(cell_first_[c]);
+  cell_first_[c] = v;
+  ++cell_count_[c];
+}
+
+void CutModel::cells_in_box(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* cells) const {
+  // a point on a cell's face may be bound to either cell: a hair of margin takes both
+  const Vec3 eps = Vec3::Constant(1e-9 * grid_->cell_size_m(level_));
+  const CellCoord a = grid_->cell_of(lo_m - eps, level_), b = grid_->cell_of(hi_m + eps, level_);
+  for (int k = a.k; k <= b.k; ++k)
+    for (int j = a.j; j <= b.j; ++j)
+      for (int i = a.i; i <= b.i; ++i) cells->push_back(grid_->linear_index({i, j, k}, level_));
+}
 
 void CutModel::add_sample(const Vec3& tip_m, const Vec3& axis, bool cutting) {
   if (!cutting || !tip_m.allFinite() || !axis.allFinite()) {
@@ -118,13 +140,15 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
       }
     }
   }
-  // the front of the queue, up to the split budget
+  // the front of the queue, up to the work limit: the triangle entries of the cubes the quads reach and the
+  // vertices of the cells they reach, each cube and cell counted once
   std::size_t take = queued_.size();
-  if (max_split_tris_ > 0 && !queued_.empty()) {
-    // the triangle entries of the cubes the quads reach, each cube counted once
-    std::unordered_set<uint64_t> seen;
+  if (max_work_ > 0 && !queued_.empty()) {
+    std::unordered_set<uint64_t> seen_cubes;
+    std::unordered_set<int32_t> seen_cells;
     std::vector<uint64_t> keys;
-    std::size_t entries = 0;
+    std::vector<int32_t> cells;
+    std::size_t items = 0;
     take = 0;
     while (take < queued_.size()) {
       CutBox b;
@@ -132,15 +156,21 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
       keys.clear();
       tri_grid_.cube_keys(b.lo_m, b.hi_m, &keys);
       for (uint64_t k : keys)
-        if (seen.insert(k).second) entries += tri_grid_.count_in(k);
-      if (take > 0 && entries > static_cast<std::size_t>(max_split_tris_)) break;
+        if (seen_cubes.insert(k).second) items += tri_grid_.count_in(k);
+      cells.clear();
+      cells_in_box(b.lo_m, b.hi_m, &cells);
+      for (int32_t c : cells)
+        if (seen_cells.insert(c).second) items += static_cast<std::size_t>(cell_count_[c]);
+      if (take > 0 && items > static_cast<std::size_t>(max_work_)) break;
       ++take;
     }
   }
-  const std::vector<BladeQuad> batch(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
+  last_batch_.assign(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
   queued_.erase(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
+  const std::vector<BladeQuad>& batch = last_batch_;
   CutReport rep = cut_rest(batch, lat, vertices_m);
   rep.quads_dropped = dropped;
+  rep.quads_cut = static_cast<int>(batch.size());
   return rep;
 }
 
@@ -158,26 +188,20 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
   std::vector<SplitVertex> created;
   rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_, &tri_grid_);
 
-  // existing vertices near the sweep (of the triangles in the cubes its quads reach, grown by reach): corners now
-  // on the far side of the cut are dropped
-  const double reach = 1.8 * lat->cell_m;
-  std::vector<int32_t> near_tris;
-  {
-    std::vector<Vec3> lo, hi;
-    for (const CutBox& b : set.quad_box) lo.push_back(b.lo_m), hi.push_back(b.hi_m);
-    tri_grid_.query_all(lo, hi, reach, &near_tris);
-  }
+  // existing vertices whose cell a quad's box overlaps (a vertex's segments to its corners stay in its cell, so
+  // no other can be cut off from a corner): corners now on the far side of the cut are dropped
+  std::vector<int32_t> cells;
+  for (const CutBox& b : set.quad_box) cells_in_box(b.lo_m, b.hi_m, &cells);
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   std::vector<int32_t> near_v;
-  for (int32_t t : near_tris)
-    for (int32_t v : triangles_[t])
+  for (int32_t c : cells)
+    for (int32_t v = cell_first_[c]; v >= 0; v = next_in_cell_[v])
       if (static_cast<std::size_t>(v) < old_count) near_v.push_back(v);
   std::sort(near_v.begin(), near_v.end());
-  near_v.erase(std::unique(near_v.begin(), near_v.end()), near_v.end());
-  for (int32_t v : near_v) {
-    const Vec3& p = rest_m_[v];
-    if (!set.box.overlaps_segment(p, p, reach)) continue;
-    if (block_corners(*lat, v, p, set)) ++rep.vertices_rebound;
-  }
+  rep.vertices_tested = static_cast<int>(near_v.size());
+  for (int32_t v : near_v)
+    if (block_corners(*lat, v, rest_m_[v], set)) ++rep.vertices_rebound;
   // new vertices: bound at their rest position, tested from a point just off the cut on their own side
   auto off_cut = [&](std::size_t v, int32_t from) { return Vec3(rest_m_[v] + 0.01 * (rest_m_[from] - rest_m_[v])); };
   for (std::size_t i = 0; i < created.size(); ++i) {
@@ -188,6 +212,7 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
     blocked_.push_back(same_cell ? blocked_[sv.from] : 0);
     fallback_.push_back(same_cell ? fallback_[sv.from] : -1);
     block_corners(*lat, v, off_cut(v, sv.from), set);
+    link_vertex(static_cast<int32_t>(v));
     near_v.push_back(static_cast<int32_t>(v));
   }
   // vertices cut off from all their corners follow the nearest node on their side

@@ -38,6 +38,10 @@ struct CutReport {
   MeshSplitReport split;       ///< mesh split figures
   int vertices_rebound = 0;    ///< existing vertices that lost a corner to the cut
   int quads_dropped = 0;       ///< rest quads whose map jumped (kMaxRestStretch), left uncut
+  int quads_cut = 0;           ///< rest quads (cell-sized blade pieces) this apply cut with
+  int vertices_tested = 0;     ///< existing vertices whose corners were tested (those bound to a cell a quad reaches)
+  /// The apply's cut work, in the unit the work limit counts: triangles tested plus vertices tested.
+  int work() const { return split.triangles_tested + vertices_tested; }
   bool changed() const { return springs_cut > 0 || split.edges_cut > 0 || vertices_rebound > 0; }
 };
 
@@ -55,10 +59,13 @@ class CutModel {
   const std::vector<BladeQuad>& pending() const { return pending_; }
   /// True when the next apply() has something to do: quads swept, quads queued, springs deferred.
   bool has_work() const { return !pending_.empty() || !queued_.empty() || !deferred_.empty(); }
-  /// At most about n triangles near the sweep are visited per apply() (0: no limit, the default): the quads
-  /// mapped to rest wait in order in a queue and each apply() takes from its front until their near triangles
-  /// exceed n (always at least one quad), so a long or fast stroke is cut over several frames.
-  void set_max_split_triangles_per_apply(int n) { max_split_tris_ = std::max(n, 0); }
+  /// At most about n work items per apply() (0: no limit, the default): an item is a triangle the split tests
+  /// (those registered in the rest cubes a quad reaches) or a vertex whose corners the side binding tests (those
+  /// bound to a lattice cell a quad's box overlaps). The quads mapped to rest wait in order in a queue and each
+  /// apply() takes from its front while the items of the cubes and cells they reach stay within n (always at
+  /// least one quad), so a long or fast stroke is cut over several frames and CutReport::work() stays within n
+  /// plus one quad's items.
+  void set_max_cut_work_per_apply(int n) { max_work_ = std::max(n, 0); }
   /// Rest quads mapped but not cut yet.
   std::size_t queued_quads() const { return queued_.size(); }
   /// Cuts the lattice springs and the mesh with the pending quads, mapped into rest coordinates through the
@@ -90,6 +97,17 @@ class CutModel {
   /// Writes the ids of triangles with a current vertex inside [lo_m, hi_m] into *out (cleared first).
   void triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
                         std::vector<int32_t>* out) const;
+  /// Appends the lattice cells (linear index at the bound level) whose box overlaps [lo_m, hi_m] to *cells.
+  void cells_in_box(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* cells) const;
+  /// Appends the vertices bound to `cell` (linear index at the bound level) to *out, in no set order.
+  void vertices_in_cell(int32_t cell, std::vector<int32_t>* out) const {
+    for (int32_t v = cell_first_[static_cast<std::size_t>(cell)]; v >= 0; v = next_in_cell_[static_cast<std::size_t>(v)])
+      out->push_back(v);
+  }
+  /// The triangles by rest cube (every triangle of the cut mesh is registered).
+  const TriangleGrid& triangle_grid() const { return tri_grid_; }
+  /// The rest quads the last apply() cut with.
+  const std::vector<BladeQuad>& last_quads() const { return last_batch_; }
   /// Vertices moved by the fallback (no corner left on their side) in the last deform().
   int orphans() const { return orphans_; }
 
@@ -100,6 +118,8 @@ class CutModel {
   int springs_this_apply() const;
   // marks the corners of vertex v (seen from test point p) that the quads separate it from; true when changed
   bool block_corners(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads);
+  // links vertex v into its cell's list
+  void link_vertex(int32_t v);
   // nearest node of the cells around vertex v that the quads do not separate from p (-1 if none)
   int32_t nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads) const;
 
@@ -113,7 +133,11 @@ class CutModel {
   std::vector<int32_t> fallback_;                 // node followed when every corner is cut off, else -1 (n_v)
   std::vector<BladeQuad> pending_;                // swept quads not applied yet
   std::vector<BladeQuad> queued_;                 // rest quads mapped, not cut yet (split budget)
-  int max_split_tris_ = 0;                        // near triangles visited per apply() at most (0: all)
+  std::vector<BladeQuad> last_batch_;             // rest quads the last apply() cut with
+  int max_work_ = 0;                              // triangles and vertices tested per apply() at most (0: all)
+  std::vector<int32_t> cell_first_;               // first vertex bound to each cell at level_, -1: none (n_cells)
+  std::vector<int32_t> next_in_cell_;             // next vertex of the same cell, -1: last (n_v)
+  std::vector<int32_t> cell_count_;               // vertices bound to each cell (n_cells)
   TriangleGrid tri_grid_;                         // triangles by rest cube
   int max_springs_ = 0;                           // springs removed per apply() at most (0: all)
   std::vector<uint64_t> deferred_;                // crossed springs still in the lattice, oldest first

@@ -425,7 +425,7 @@ TEST(Cut, ASplitTouchesOnlyTheTrianglesNearTheSweep) {
 // Under a split budget a stroke is cut over several applies, and ends as the same cut made at once.
 TEST(Cut, ASplitBudgetSpreadsAStrokeOverAppliesAndEndsAtTheSameMesh) {
   Block whole, spread;
-  spread.cut.set_max_split_triangles_per_apply(20);
+  spread.cut.set_max_cut_work_per_apply(40);
   for (Block* b : {&whole, &spread})
     for (int i = 0; i <= 120; ++i) b->cut.add_sample({0.003, -0.06 + 0.001 * i, -0.06}, Vec3::UnitZ(), true);
   whole.cut.apply(&whole.lat, &whole.vertices);

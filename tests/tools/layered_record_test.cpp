@@ -1,7 +1,8 @@
 // The shipped scenes recorded with the cached static layer and with a full redraw of every frame: the same
-// pixels in every frame, and the layered run really draws over its layer (touch, pull) or says it does not (cut).
+// pixels in every frame (cut: within the redraw tolerance), and the layered run really draws over its layer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -49,19 +50,22 @@ TEST_P(LayeredRecord, EveryFrameEqualsTheFullRedraw) {
   EXPECT_EQ(layered.result.state_hash, full.result.state_hash);
   const int64_t frames = layered.summary["frames_written"].get<int64_t>();
   EXPECT_EQ(full.summary["render"]["frames_layered"].get<int64_t>(), 0);
-  if (scene.mode == InteractionMode::kCut) {
-    // the whole object moves and its topology changes: every frame is drawn in full
-    EXPECT_EQ(layered.summary["render"]["frames_layered"].get<int64_t>(), 0);
-  } else {
-    EXPECT_EQ(layered.summary["render"]["frames_layered"].get<int64_t>(), frames);
-    EXPECT_GE(layered.summary["render"]["layer_builds"].get<int64_t>(), 2);  // at rest, then around the contact
+  const bool cut = scene.mode == InteractionMode::kCut;
+  EXPECT_EQ(layered.summary["render"]["frames_layered"].get<int64_t>(), frames);
+  EXPECT_GE(layered.summary["render"]["layer_builds"].get<int64_t>(), 2);  // at rest, then around the contact
+  // cut mode: the triangles the blade splits are redrawn without redrawing the layer
+  if (cut) {
+    EXPECT_GT(layered.summary["render"]["layer_resplits"].get<int64_t>(), 0);
   }
   if (scene.render.style == RenderStyle::kBoth) {
     // the shipped bunny's edges are several pixels long on screen: its wireframe is drawn
     EXPECT_TRUE(layered.summary["render"]["wire"]["drawn"].get<bool>());
     EXPECT_GT(layered.summary["render"]["wire"]["median_edge_px"].get<double>(), kWireMinEdgePxDefault);
   }
-  int64_t differing = 0, changed_since_first = 0;
+  // cut mode keeps in the layer what moved less than kRedrawTolerance of the model's size (cut_redraw.h): a few
+  // scattered pixels of edges and shading a fraction of a pixel away, between layer redraws (measured on
+  // bunny_cut: at most 3891 of 307200 in a frame, 1.3 %); every other mode draws exactly the full redraw's pixels
+  int64_t differing = 0, changed_since_first = 0, worst_pixels = 0;
   std::vector<uint8_t> first;
   for (int64_t i = 0; i < frames; ++i) {
     char name[32];
@@ -70,10 +74,18 @@ TEST_P(LayeredRecord, EveryFrameEqualsTheFullRedraw) {
     auto b = read_png((fs::path(full.frames) / name).string());
     ASSERT_TRUE(a && b) << name;
     differing += a.value().rgba != b.value().rgba ? 1 : 0;
+    int64_t pixels = 0;
+    for (std::size_t k = 0; k + 3 < a.value().rgba.size(); k += 4)
+      pixels += std::equal(&a.value().rgba[k], &a.value().rgba[k] + 3, &b.value().rgba[k]) ? 0 : 1;
+    worst_pixels = std::max(worst_pixels, pixels);
     if (i == 0) first = a.value().rgba;
     changed_since_first += a.value().rgba != first ? 1 : 0;
   }
-  EXPECT_EQ(differing, 0) << "of " << frames << " frames";
+  if (cut) {
+    EXPECT_LE(worst_pixels, static_cast<int64_t>(scene.render.width) * scene.render.height / 50);
+  } else {
+    EXPECT_EQ(differing, 0) << "of " << frames << " frames";
+  }
   EXPECT_GT(changed_since_first, frames / 2);  // the frames compared show a moving scene
 }
 

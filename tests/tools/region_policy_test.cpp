@@ -188,14 +188,16 @@ TEST(CutRegion, OneWholeObjectLatticeThatNeverMovesAndWhoseSpringsTheBladeCuts) 
   EXPECT_EQ(lat.num_nodes(), nodes0);
   EXPECT_EQ(stats.region_moves, 0);
 
-  // the view: the blade drawn, and the whole mesh (no moving subset)
+  // the view: the blade drawn, and nothing moving yet (the layer holds the whole mesh until a cut or a node moves)
   HapticSample latest;
   latest.tool_pos_m = Vec3(0.01, -0.1, 0.0);
   latest.blade_axis = Vec3::UnitY();
   FrameView view{};
   region.fill_view(latest, &view);
   EXPECT_TRUE(view.show_blade);
-  EXPECT_EQ(view.moving_vertices, nullptr);
+  ASSERT_NE(view.moving_vertices, nullptr);
+  EXPECT_TRUE(view.moving_vertices->empty());
+  EXPECT_TRUE(view.static_part_kept);
   EXPECT_EQ((view.blade_end_m - Vec3(0.01, 0.1, 0.0)).norm(), 0.0);
   EXPECT_EQ((region.patch_edge(latest) - Vec3(0.0, 0.2, 0.0)).norm(), 0.0);
 

@@ -6,6 +6,7 @@
 
 #include "core/stats.h"
 #include "tools/record/budget_report.h"
+#include "tools/session/cut_region.h"
 #include "tools/session/device_factory.h"
 #include "tools/record/material_report.h"
 
@@ -157,12 +158,16 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                 {"triangles_added", fst.triangles_added},
                 {"vertices_added", fst.vertices_added},
                 {"free_nodes", fst.free_nodes},
+                // triangles plus vertices tested in one frame, at most kCutWorkPerFrame plus one quad's
+                {"work_max", fst.cut_work_max},
+                {"work_limit", kCutWorkPerFrame},
                 {"sim_ms_cutting", ms_json(fst.cutting_ms)},
                 {"sim_ms_after_cut", ms_json(fst.after_cut_ms)}};
   }
   j["render"] = {{"ms", ms_json(fst.render_ms)}, {"backend", in.gl ? in.gl->backend_name() : "none"},
                  {"width", scene.render.width}, {"height", scene.render.height},
-                 {"frames_layered", fst.frames_layered}, {"layer_builds", in.renderer ? in.renderer->layer_builds() : 0}};
+                 {"frames_layered", fst.frames_layered}, {"layer_builds", in.renderer ? in.renderer->layer_builds() : 0},
+                 {"layer_resplits", in.renderer ? in.renderer->resplits() : 0}};
   if (in.renderer && scene.render.style == RenderStyle::kBoth) {
     // the wireframe is left out of `both` on a mesh finer than the image (render.wire_min_edge_px)
     const double median = in.renderer->median_edge_px();

@@ -4,6 +4,7 @@
 
 #include "core/tri_mesh.h"
 #include "sim/cut.h"
+#include "sim/static_solve.h"
 
 namespace palpate {
 
@@ -16,9 +17,16 @@ CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
   const int level = scene.lattice.level;
   const int n = model.grid.cells_per_axis(level);
   auto lat = build_lattice(model.grid, scene.lattice, region_cells(model.grid, level, {n / 2, n / 2, n / 2}, n));
-  cut_.set_max_split_triangles_per_apply(kSplitTrianglesPerFrame);
+  cut_.set_max_cut_work_per_apply(kCutWorkPerFrame);
   if (!lat) return;
   lattice_ = std::move(lat).value();
+  // the object starts resting under gravity, as it lay before the blade came: its frames stay at rest (no step,
+  // nothing redrawn) until a cut changes it. A lattice the solve cannot settle starts from rest as before.
+  if (lattice_->gravity_m_per_s2.squaredNorm() > 0.0) {
+    Lattice settled = *lattice_;
+    if (solve_static(&settled, {}, {})) lattice_ = std::move(settled);
+  }
+  redraw_.emplace(*lattice_, model.grid.num_cells(level), kRedrawTolerance * (model.grid.cube().max_m - model.grid.cube().min_m).x());
   floor_z_m_ = lattice_->rest_m.front().z();
   for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
   stats_->lattice_nodes = lattice_->num_nodes();
@@ -29,11 +37,16 @@ CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
 void CutRegion::add_sample(const HapticSample& s) {
   // the blade cuts whatever it sweeps while the button is held (the servo's in-material test only sets the
   // resistance: the lattice reaches past the surface, and its springs there must be cut too)
-  cut_.add_sample(s.tool_pos_m, s.blade_axis, (s.buttons & 1u) != 0 && !s.input_rejected);
+  blade_cutting_ = (s.buttons & 1u) != 0 && !s.input_rejected;
+  blade_tip_m_ = s.tool_pos_m;
+  blade_end_m_ = s.tool_pos_m + scene_.blade_length_m * s.blade_axis;
+  cut_.add_sample(s.tool_pos_m, s.blade_axis, blade_cutting_);
 }
 
 bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   cutting_ = false;
+  topology_changed_ = false;
+  first_new_ = cut_.rest_vertices_m().size();
   if (!lattice_ || !cut_.has_work()) return false;
   const CutReport rep = cut_.apply(&*lattice_, mesh.vertices_m);
   cutting_ = true;
@@ -42,6 +55,7 @@ bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   const auto deferred = static_cast<int64_t>(cut_.deferred_springs());
   stats_->springs_deferred_max = std::max(stats_->springs_deferred_max, deferred);
   stats_->frames_deferring += deferred > 0 ? 1 : 0;
+  stats_->cut_work_max = std::max<int64_t>(stats_->cut_work_max, rep.work());
   stats_->triangles_added += rep.split.triangles_added;
   stats_->vertices_added += rep.split.vertices_added;
   stats_->lattice_vertices = std::max(stats_->lattice_vertices, cut_.rest_vertices_m().size());
@@ -49,6 +63,7 @@ bool CutRegion::begin_frame(const DeformedMesh& mesh) {
     contact_.update(*lattice_, grid_);
     stats_->free_nodes = static_cast<int64_t>(contact_.free_nodes().size());
   }
+  topology_changed_ = rep.split.edges_cut > 0 || rep.split.triangles_added != 0;
   if (!rep.changed()) return false;
   mesh.normals->clear();
   return true;
@@ -89,13 +104,21 @@ void CutRegion::patch_candidates(const HapticSample& latest, const std::vector<V
 Vec3 CutRegion::patch_edge(const HapticSample& latest) const { return scene_.blade_length_m * latest.blade_axis; }
 
 void CutRegion::fill_view(const HapticSample& latest, FrameView* view) const {
-  // moving_vertices stays null: the whole object moves and its topology changes, so it is drawn in full
+  // what moved or was cut since the layer was drawn; the triangles change only there
+  if (redraw_) {
+    view->moving_vertices = &redraw_->moving_vertices();
+    view->layer_epoch = redraw_->layer_epoch();
+    view->topology_epoch = redraw_->topology_epoch();
+    view->static_part_kept = true;
+  }
   view->show_blade = true;
   view->blade_tip_m = latest.tool_pos_m;
   view->blade_end_m = latest.tool_pos_m + scene_.blade_length_m * latest.blade_axis;
 }
 
 void CutRegion::end_frame(double sim_ms) {
+  if (redraw_)
+    redraw_->update(*lattice_, cut_, blade_cutting_, blade_tip_m_, blade_end_m_, topology_changed_, first_new_);
   if (cutting_) stats_->cutting_ms.push_back(sim_ms);
   else if (stats_->frames_cutting > 0) stats_->after_cut_ms.push_back(sim_ms);
 }

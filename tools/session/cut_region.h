@@ -1,24 +1,27 @@
 #pragma once
 /// CutRegion (cut): one lattice over every solid cell of the object, built with the region and never moved (the
 /// blade may go anywhere and cuts must persist). The blade's sweeps cut its springs and split the mesh, at most
-/// kSplitTrianglesPerFrame triangles near the sweep a frame (the rest of a long stroke on the frames after);
+/// kCutWorkPerFrame triangles and vertices near the sweep tested a frame (the rest of a long stroke on the frames after);
 /// pieces cut free fall onto the body (sim/piece_contact.h) or a floor at the lowest node plane.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sim/cut_model.h"
 #include "sim/piece_contact.h"
+#include "tools/session/cut_redraw.h"
 #include "tools/session/region_policy.h"
 
 namespace palpate {
 
-/// Triangles near the blade's sweep a frame's mesh split visits at most (CutModel::set_max_split_triangles_per_apply).
-inline constexpr int kSplitTrianglesPerFrame = 6000;
+/// Triangles the mesh split tests plus vertices the side binding tests a frame, at most (one rest quad's more when
+/// a single quad reaches more; CutModel::set_max_cut_work_per_apply).
+inline constexpr int kCutWorkPerFrame = 8000;
 
 /// The whole-object region. Its node count never changes: a cut removes springs, and the nodes of a piece cut
-/// free of every fixed node stay in the lattice (counted in FrameStats::free_nodes). Every vertex may move and
-/// the topology changes, so normals are recomputed in full and the mesh is drawn in full.
+/// free of every fixed node stay in the lattice (counted in FrameStats::free_nodes). The object starts resting
+/// under gravity; the renderer redraws only the part that moved or was cut (cut_redraw.h).
 class CutRegion final : public RegionPolicy {
  public:
   /// Builds the whole-object lattice and the uncut mesh's side binding. scene, model and stats must outlive
@@ -65,6 +68,11 @@ class CutRegion final : public RegionPolicy {
   CutModel cut_;             // the cut mesh and side binding
   double floor_z_m_ = 0.0;   // lowest node plane
   bool cutting_ = false;     // this frame applied blade sweeps
+  std::optional<CutRedraw> redraw_;  // what frames may move, for the renderer's layer
+  bool blade_cutting_ = false;       // the last sample's button was held
+  Vec3 blade_tip_m_ = Vec3::Zero(), blade_end_m_ = Vec3::Zero();  // the last sample's blade edge
+  bool topology_changed_ = false;    // this frame's split changed the triangles
+  std::size_t first_new_ = 0;        // first vertex this frame's split created
 };
 
 }  // namespace palpate

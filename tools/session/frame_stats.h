@@ -70,6 +70,7 @@ struct FrameStats {
   int64_t frames_deferring = 0;     ///< frames that ended with crossed springs left for later frames
   int64_t triangles_added = 0;      ///< growth of the triangle count by mesh splits
   int64_t vertices_added = 0;       ///< growth of the vertex count by mesh splits
+  int64_t cut_work_max = 0;         ///< most cut work (CutReport::work()) one frame did
   int64_t free_nodes = 0;           ///< nodes in pieces cut free of every fixed node (after the last cut)
   std::vector<double> cutting_ms;   ///< sim_ms of frames that cut
   std::vector<double> after_cut_ms; ///< sim_ms of frames after the first cut that did not cut

@@ -1,0 +1,108 @@
+// The layered path keeps its layer while the triangles change only where vertices move (a cut inside the moving
+// part, FrameView::static_part_kept), and every frame still has the pixels of a full redraw.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/aabb.h"
+#include "core/mesh_io.h"
+#include "core/tri_mesh.h"
+#include "render/gl_context_factory.h"
+#include "render/renderer.h"
+#include "render_test_util.h"
+
+namespace palpate {
+namespace {
+
+constexpr int kW = 160;
+constexpr int kH = 120;
+
+int count_different(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  int n = 0;
+  for (std::size_t i = 0; i < a.size(); i += 4) n += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
+  return n;
+}
+
+class RendererResplitTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    auto ctx = create_gl_context(kW, kH, from_name<RenderBackend>(GetParam()).value());
+    if (!ctx.ok()) {
+      const std::string& m = ctx.error().message;
+      if (GetParam() == "egl" && m.find("not available") != std::string::npos) GTEST_SKIP() << m;
+      FAIL() << m;
+    }
+    ctx_ = std::move(ctx.value());
+  }
+  std::unique_ptr<GlContext> ctx_;
+};
+
+// A box whose +x part moves; each frame one moving triangle is split at its centroid into three (a new vertex,
+// moving, appended: the triangle count and vertex count grow) and the moving part is pressed in further. The layer
+// is drawn once; the dynamic part is split again every frame; the pixels are a full redraw's.
+TEST_P(RendererResplitTest, ATopologyChangeInsideTheMovingPartKeepsTheLayerAndTheFullRedrawsPixels) {
+  TriMesh mesh = ::palpate::make_box_mesh(Vec3(0.1, 0.08, 0.06), 8);
+  const Aabb box = Aabb::of(mesh.vertices_m);
+  const Camera cam = Camera::framing(box.min_m, box.max_m, static_cast<double>(kW) / kH);
+  for (RenderStyle style : {RenderStyle::kBoth, RenderStyle::kSolid}) {
+    TriMesh m = mesh;
+    std::vector<Vec3> rest = m.vertices_m;
+    Renderer layered(ctx_.get(), style, cam), full(ctx_.get(), style, cam);
+    full.set_layered(false);
+    std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size()), first(a.size());
+    std::vector<int32_t> moving;
+    for (std::size_t v = 0; v < rest.size(); ++v)
+      if (rest[v].x() > 0.02) moving.push_back(static_cast<int32_t>(v));
+    std::vector<Vec3> normals;
+    uint64_t topology = 0;
+    for (int f = 0; f < 6; ++f) {
+      if (f > 0) {
+        // split the first triangle whose corners all move at its centroid
+        for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+          const auto tri = m.triangles[t];
+          auto moves = [&](int32_t v) { return std::binary_search(moving.begin(), moving.end(), v); };
+          if (!moves(tri[0]) || !moves(tri[1]) || !moves(tri[2])) continue;
+          const auto c = static_cast<int32_t>(rest.size());
+          rest.push_back((rest[tri[0]] + rest[tri[1]] + rest[tri[2]]) / 3.0);
+          m.vertices_m.push_back(rest.back());
+          moving.push_back(c);
+          m.triangles[t] = {tri[0], tri[1], c};
+          m.triangles.push_back({tri[1], tri[2], c});
+          m.triangles.push_back({tri[2], tri[0], c});
+          ++topology;
+          break;
+        }
+      }
+      for (int32_t v : moving) {
+        const Vec3& r = rest[v];
+        m.vertices_m[v] = r + f * Vec3(-0.003 * (r.x() - 0.02) * 20, 0.001, -0.002 * (1 + r.y() * 10));
+      }
+      compute_vertex_normals(m.vertices_m, m.triangles, &normals);
+      FrameView view{};
+      view.vertices_m = &m.vertices_m;
+      view.triangles = &m.triangles;
+      view.normals = &normals;
+      view.moving_vertices = &moving;
+      view.layer_epoch = 7;
+      view.topology_epoch = topology;
+      view.static_part_kept = true;
+      layered.draw(view, a.data());
+      EXPECT_TRUE(layered.last_draw_layered());
+      full.draw(view, b.data());
+      EXPECT_EQ(count_different(a, b), 0) << "style " << static_cast<int>(style) << " frame " << f;
+      if (f == 0) first = a;
+    }
+    EXPECT_EQ(layered.layer_builds(), 1);
+    EXPECT_EQ(layered.resplits(), 5);
+    EXPECT_GT(count_different(first, a), 100);  // the frames differ: the comparison is not of still images
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RendererResplitTest, ::testing::Values("osmesa", "egl"),
+                         [](const auto& param_info) { return param_info.param; });
+
+}  // namespace
+}  // namespace palpate
