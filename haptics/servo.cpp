@@ -144,10 +144,18 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     proxy_m_ = contact_point_m_ = tool;
     return;
   }
+  // with a jump limit the proxy goes at most the device's step and the limit's share of the coupling a tick: where
+  // the surface alone would snap it over (a convex ridge or facet edge), it rolls over in bounded steps (the
+  // friction cone and the release still judge from where the surface alone would put it)
+  const double path_m = params_.jump_limit_N_per_tick > 0.0 && params_.coupling_N_per_m > 0.0
+                            ? (tool - prev_tool_m_).norm() + params_.jump_limit_N_per_tick / params_.coupling_N_per_m
+                            : 0.0;
   Vec3 c = free;
   if (params_.friction.on()) {
     const FrictionStep f = friction_step(params_.friction, held, free, tool, tool_vel_m_per_s_, &friction_);
-    c = f.stick ? held : god_object_move(m, held, f.goal, r, contact_normal_, &active);
+    c = f.stick ? held : god_object_move(m, held, f.goal, r, contact_normal_, &active, path_m);
+  } else if (path_m > 0.0 && (free - held).norm() > path_m) {
+    c = god_object_move(m, held, tool, r, contact_normal_, &active, path_m);
   }
   // the contact point under the centre, and the surface's smooth normal there (the side later ticks hold to)
   int slot = -1;
