@@ -34,18 +34,20 @@ struct FrictionStep {
 };
 
 /// The tick's friction from the held proxy `held`, the frictionless proxy `free` (where the surface alone would put
-/// it), the device `tool` and its velocity. The normal is the frictionless coupling's direction, so with the
-/// coupling k, F_n = k |free - tool| and the pull across is k times the held proxy's offset across that normal.
+/// it: the god-object's move from `held` toward the device) and the device `tool` with its velocity. The cone is
+/// taken along the surface the proxy moves on: F_n = k |free - tool| (the frictionless coupling), and the pull across
+/// is k |held - free|, how far the surface alone would carry the held proxy. Sliding, the goal lies on the way from
+/// `held` to `free`, mu_d |free - tool| short of `free`, so a tilted or curved surface (the dent the tool presses)
+/// never turns a small change of the cone into a large move of the proxy.
 inline FrictionStep friction_step(const FrictionParams& p, const Vec3& held, const Vec3& free, const Vec3& tool,
                                   const Vec3& tool_vel_m_per_s, FrictionState* st) noexcept {
   FrictionStep s;
-  s.goal = tool;
+  s.goal = free;
   const Vec3 normal_offset = free - tool;
   const double depth = normal_offset.norm();
   if (!(depth > 0.0)) return s;
   const Vec3 n = normal_offset / depth;
-  const Vec3 e = held - tool;
-  const Vec3 across = e - e.dot(n) * n;  // the held proxy's offset from the device across the surface
+  const Vec3 across = held - free;  // the way back from where the surface alone would put the proxy
   const double pull = across.norm();
   if (!st->sliding) {
     if (pull <= p.static_coefficient * depth) {
@@ -65,7 +67,7 @@ inline FrictionStep friction_step(const FrictionParams& p, const Vec3& held, con
     if (v_across.norm() < p.stick_speed_m_per_s) st->sliding = false;
     return s;
   }
-  s.goal = tool + (st->trail_m / pull) * across;
+  s.goal = free + (st->trail_m / pull) * across;
   return s;
 }
 

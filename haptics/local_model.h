@@ -18,6 +18,9 @@ struct LocalModel {
   std::array<int32_t, kMaxTriangles> tri_ids{};           ///< mesh triangle ids
   std::array<std::array<Vec3, 3>, kMaxTriangles> tri_m{}; ///< deformed corner positions
   std::array<std::array<Vec3, 3>, kMaxTriangles> normal{};///< unit vertex normals at the corners
+  /// the same corners as the servo last saw them (the frame before, or tri_m for a triangle new to the patch)
+  std::array<std::array<Vec3, 3>, kMaxTriangles> tri_from_m{};
+  double blend_s = 0.0;  ///< > 0: the servo moves each corner from tri_from_m to tri_m over this long from t_s
 
   // the object's response at the contact between frames (multirate force), valid when has_contact_model:
   // the contact point moves by v0 (t - t_s) + C (F_obj - f0) for a force F_obj pushed on the object

@@ -153,13 +153,15 @@ bool far_side(const std::array<Vec3, 3>& t, const Vec3& side) noexcept {
 }  // namespace
 
 Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, double r, const Vec3& side,
-                     int* active) noexcept {
+                     int* active, double max_path_m) noexcept {
   Vec3 c = from;
   Plane w[kMaxActive];
   int nw = 0;
   int skipped[kMaxSkipped];
   int ns = 0;
-  for (int round = 0; round < kMaxRounds; ++round) {
+  double left_m = max_path_m > 0.0 ? max_path_m : INFINITY;
+  bool cut_short = false;
+  for (int round = 0; round < kMaxRounds && !cut_short; ++round) {
     // a plane whose triangle the slide has left (past a convex edge, off a corner) holds nothing any more
     int gone = -1;
     for (int k = 0; k < nw && gone < 0; ++k) {
@@ -173,7 +175,11 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
       ns = 0;  // with a plane fewer, the sweep may meet what it passed over
       continue;
     }
-    const Vec3 d = project(goal, c, w, nw) - c;
+    Vec3 d = project(goal, c, w, nw) - c;
+    if (d.norm() > left_m) {
+      d *= std::max(0.0, left_m) / d.norm();
+      cut_short = true;
+    }
     if (d.squaredNorm() <= kStill_m2) {
       const int drop = most_negative(goal, c, w, nw);
       if (drop < 0) break;  // the goal presses c into every plane holding it: c is the answer
@@ -204,9 +210,12 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
     }
     if (first < 0) {
       c += d;
+      left_m -= d.norm();
       continue;
     }
     c += t_first * d;
+    left_m -= t_first * d.norm();
+    cut_short = false;  // the sweep stopped on the surface before the bound
     if (nw < kMaxActive && independent(w, nw, n_first)) {
       w[nw].n = n_first;
       w[nw].at = c;
@@ -217,6 +226,20 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
     } else {
       break;  // wedged: stay here
     }
+  }
+  if (cut_short) {
+    // stopped by the bound, perhaps off the surface (past a convex edge): toward the goal until it touches
+    const Vec3 d = goal - c;
+    double t_first = INFINITY;
+    for (int i = 0; i < m.num_triangles; ++i) {
+      const auto& t = m.tri_m[i];
+      if (far_side(t, side)) continue;
+      double th = 0.0;
+      Vec3 nh = Vec3::Zero();
+      if (sweep_triangle(c, d, r, t, &th, &nh) && th < t_first) t_first = th;
+    }
+    if (t_first <= 1.0) c += t_first * d;  // (nothing between: it stays where the bound stopped it)
+    nw = std::max(nw, 1);
   }
   *active = nw;
   return c;

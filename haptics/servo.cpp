@@ -38,6 +38,35 @@ bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3
   return best < INFINITY;
 }
 
+const LocalModel& Servo::surface_at(const LocalModel& src, double t_s) noexcept {
+  surface_moved_ = src.frame != seen_frame_;
+  seen_frame_ = src.frame;
+  if (!(src.blend_s > 0.0)) return src;
+  const double period_s = rates_.servo_period_s();
+  if (src.frame != surface_.frame) {
+    // the contact model's force and compliance move from the last frame's to this one's with the corners
+    const bool had = surface_.has_contact_model && src.has_contact_model;
+    from_f0_N_ = had ? surface_.contact_f0_N : src.contact_f0_N;
+    from_compliance_m_per_N_ = had ? surface_.compliance_m_per_N : src.compliance_m_per_N;
+    surface_ = src;
+    surface_start_s_ = t_s;
+    surface_alpha_ = -1.0;
+  }
+  // the first tick moves a tick's share, the last tick before the next frame arrives at the frame's corners
+  const double span_s = std::max(period_s, src.blend_s - period_s);
+  const double a = std::clamp((t_s - surface_start_s_ + period_s) / span_s, 0.0, 1.0);
+  if (a != surface_alpha_) {
+    for (int i = 0; i < src.num_triangles; ++i)
+      for (int c = 0; c < 3; ++c)
+        surface_.tri_m[i][c] = src.tri_from_m[i][c] + a * (src.tri_m[i][c] - src.tri_from_m[i][c]);
+    surface_moved_ = true;
+    surface_.contact_f0_N = from_f0_N_ + a * (src.contact_f0_N - from_f0_N_);
+    surface_.compliance_m_per_N = from_compliance_m_per_N_ + a * (src.compliance_m_per_N - from_compliance_m_per_N_);
+    surface_alpha_ = a;
+  }
+  return surface_;
+}
+
 bool Servo::held_point(const LocalModel& m, Vec3* point) const noexcept {
   for (int i = 0; i < m.num_triangles; ++i)
     if (m.tri_ids[i] == tri_) {
@@ -91,12 +120,11 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     // the god-object starts where the tool was, outside
     contact_ = ContactState::kTouch;
     god_m_ = prev_tool_m_;
-    god_frame_ = m.frame;
-  } else if (m.frame != god_frame_) {
-    // a new frame moved the surface under the held proxy: it goes with the material point under it
+  } else if (surface_moved_) {
+    // the surface moved under the held proxy (a new frame, or the blend toward it): it goes with the material
+    // point under it
     Vec3 p = Vec3::Zero();
     if (held_point(m, &p)) god_m_ += p - contact_frame_m_;
-    god_frame_ = m.frame;
   }
   // from where it was (out of any overlap the surface's move made), toward the device as far as the surface lets it
   Vec3 held = god_m_;
@@ -116,10 +144,18 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     proxy_m_ = contact_point_m_ = tool;
     return;
   }
+  // with a jump limit the proxy goes at most the device's step and the limit's share of the coupling a tick: where
+  // the surface alone would snap it over (a convex ridge or facet edge), it rolls over in bounded steps (the
+  // friction cone and the release still judge from where the surface alone would put it)
+  const double path_m = params_.jump_limit_N_per_tick > 0.0 && params_.coupling_N_per_m > 0.0
+                            ? (tool - prev_tool_m_).norm() + params_.jump_limit_N_per_tick / params_.coupling_N_per_m
+                            : 0.0;
   Vec3 c = free;
   if (params_.friction.on()) {
     const FrictionStep f = friction_step(params_.friction, held, free, tool, tool_vel_m_per_s_, &friction_);
-    c = f.stick ? held : god_object_move(m, held, f.goal, r, contact_normal_, &active);
+    c = f.stick ? held : god_object_move(m, held, f.goal, r, contact_normal_, &active, path_m);
+  } else if (path_m > 0.0 && (free - held).norm() > path_m) {
+    c = god_object_move(m, held, tool, r, contact_normal_, &active, path_m);
   }
   // the contact point under the centre, and the surface's smooth normal there (the side later ticks hold to)
   int slot = -1;
@@ -202,7 +238,9 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
   const double tau = std::max(0.0, t_s - m.t_s);
   const Mat3& c = m.compliance_m_per_N;
   const Mat3 a = Mat3::Identity() + k * c;
-  const Vec3 rhs = proxy_m_ + tau * m.contact_v0_m_per_s - c * m.contact_f0_N + k * (c * tool);
+  // a blended patch moves the surface over the frame itself: only the response to the force is predicted
+  const double drift_s = m.blend_s > 0.0 ? 0.0 : tau;
+  const Vec3 rhs = proxy_m_ + drift_s * m.contact_v0_m_per_s - c * m.contact_f0_N + k * (c * tool);
   const Vec3 p = a.inverse() * rhs;
   return p.allFinite() ? p : proxy_m_;
 }
@@ -245,7 +283,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   tool_vel_m_per_s_ += low_pass_weight(params_.velocity_cutoff_hz, period_s) * (vel - tool_vel_m_per_s_);
 
   const bool button = (pose.buttons & 1u) != 0;
-  const LocalModel& m = model_->read();
+  const LocalModel& m = surface_at(model_->read(), t_s);
   const ContactState contact_before = contact_;
   Vec3 axis = pose.orientation * Vec3::UnitZ();
   if (!axis.allFinite() || axis.squaredNorm() < 1e-12) axis = Vec3::UnitZ();
@@ -287,7 +325,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   if (params_.passivity && !rejected) {
     const int64_t before = guard_.activations();
     // the observer runs on every tick; its damping acts only through a contact (never as drag in free air)
-    const Vec3 guarded = guard_.filter(force, tool - prev_tool_m_, period_s);
+    const Vec3 guarded = guard_.filter(force, tool - prev_tool_m_, period_s, params_.jump_limit_N_per_tick);
     if (contact_ != ContactState::kFree) force = guarded;
     counters_.passivity_activations += guard_.activations() - before;
     counters_.passivity_dissipated_J = guard_.dissipated_J();

@@ -94,6 +94,9 @@ class Servo {
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
   // cut: the blade cuts while the button is held and the edge crosses the surface or its tip is inside
   void update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, bool button) noexcept;
+  // the surface the tick feels: the latest patch, moved from the frame before's corners toward its own over the
+  // frame (src.blend_s > 0), so a frame's change reaches the hand in steps of a tick's share; src otherwise
+  const LocalModel& surface_at(const LocalModel& src, double t_s) noexcept;
   // closest point on the patch to p; returns false when the patch is empty
   // (side: when non-null, only triangles facing the same way, so the far side of a thin part is never taken)
   bool closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
@@ -122,13 +125,20 @@ class Servo {
   Vec3 cut_force_N_ = Vec3::Zero();      // cut: blade resistance this tick
   Vec3 god_m_ = Vec3::Zero();            // touch: the god-object's centre on the latest frame's surface
   Vec3 contact_frame_m_ = Vec3::Zero();  // touch: the surface point under it on that surface (before prediction)
-  int64_t god_frame_ = -1;               // touch: the frame god_m_ lies on
   FrictionState friction_;               // touch: stick or slide, and the trail
   JumpLimit jump_;                       // the step at an event, returning to zero at jump_limit_N_per_tick
   int64_t jump_frame_ = -1;              // the frame the limit last saw
   bool jump_model_ = false;              // whether that frame had a contact model
   // the proxy moved by the object's response predicted since the frame (kLocalModel)
   Vec3 predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept;
+
+  LocalModel surface_;             // the blended patch (surface_at)
+  bool surface_moved_ = false;     // this tick's surface differs from the last tick's
+  int64_t seen_frame_ = -1;        // the frame the last tick read
+  double surface_start_s_ = 0.0;   // the first tick that saw surface_'s frame
+  double surface_alpha_ = -1.0;    // its corners' share of the way from tri_from_m to tri_m
+  Vec3 from_f0_N_ = Vec3::Zero();  // the contact model's force and compliance at the frame before
+  Mat3 from_compliance_m_per_N_ = Mat3::Zero();
 
   PassivityGuard guard_;
   Vec3 held_force_N_ = Vec3::Zero();  // kHoldFrame: force of the last frame

@@ -16,8 +16,9 @@ using PathDevice = test::FixedDevice;
 using test::add_quad;
 
 std::unique_ptr<Servo> make_servo(PathDevice* dev, SpscQueue<HapticSample>* q, TripleBuffer<LocalModel>* tb,
-                                  double tool_radius_m = 0.0) {
+                                  double tool_radius_m = 0.0, double jump_limit_N_per_tick = 0.0) {
   ServoParams p;
+  p.jump_limit_N_per_tick = jump_limit_N_per_tick;
   p.tool_radius_m = tool_radius_m;
   p.coupling_N_per_m = 300;
   p.coupling_damping_Ns_per_m = 0;
@@ -230,10 +231,7 @@ TEST(SphereTool, PushedThroughAThinSlabStaysOnTheEntryFace) {
   }
 }
 
-// Disabled: the sweeping god-object (haptics/proxy_solver.h) holds to the left face's offset until the device's
-// projection leaves it and then crosses a sharp 60-degree ridge in a step of about 1.4 r (docs/feel.md, what is
-// left); it settles on faces, edges, vertices, creases and dents (proxy_settle_test.cpp).
-TEST(SphereTool, DISABLED_RollsOverAConvexRidgeOneRadiusFromTheSurface) {
+TEST(SphereTool, RollsOverAConvexRidgeOneRadiusFromTheSurface) {
   // the 30-degree roof of the point-tool test, the device 1 mm under the roof line from x = -10 mm to +10 mm,
   // a 4 mm sphere: in contact all the way, its centre exactly one radius from the roof (never inside it), and it
   // rolls over the ridge line (its centre passes r above it) instead of jumping from one face's offset to the
@@ -248,7 +246,7 @@ TEST(SphereTool, DISABLED_RollsOverAConvexRidgeOneRadiusFromTheSurface) {
   add_quad(&m, Vec3(0, -w, 0), Vec3(w, -w, -drop), Vec3(w, w, -drop), Vec3(0, w, 0));
   m.frame = 0;
   tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get(), r);
+  auto servo = make_servo(&dev, &q, tb.get(), r, 0.02);  // the jump limit bounds the proxy's step
   HapticSample sink;
   dev.pos_m = Vec3(-0.01, 0, 0.01);
   servo->tick(0, 0);

@@ -94,5 +94,30 @@ TEST(PassivityGuard, LeavesAPassiveSpringAloneAndDampsAnActiveOne) {
   EXPECT_LT(out.x(), 1.0);
 }
 
+TEST(PassivityGuard, ItsDampingSwitchesOnAndOffNoFasterThanTheStatedStep) {
+  // an environment that pushes along the motion for 50 ticks, then a passive one: the damping the controller adds
+  // changes by at most 0.02 N a tick (without the bound it comes in and leaves in one tick), and over the run it
+  // still dissipates what the active part put in
+  const double dt = 1e-3, v = 0.05;
+  for (double step : {0.0, 0.02}) {
+    PassivityGuard g;
+    double largest = 0.0, last_damp = 0.0;
+    for (int i = 0; i < 300; ++i) {
+      const Vec3 env = i < 50 ? Vec3(1.0, 0, 0) : Vec3(-0.2, 0, 0);
+      const Vec3 out = g.filter(env, Vec3(v * dt, 0, 0), dt, step);
+      const double damp = out.x() - env.x();
+      largest = std::max(largest, std::abs(damp - last_damp));
+      last_damp = damp;
+    }
+    if (step > 0.0) {
+      EXPECT_LE(largest, step + 1e-12);
+      EXPECT_GE(g.energy_J(), -0.02 * v * dt);  // passive again by the end, within a tick's bounded damping
+    } else {
+      EXPECT_GT(largest, 0.5);  // unbounded: the whole damping force at once
+    }
+    EXPECT_GT(g.activations(), 40);
+  }
+}
+
 }  // namespace
 }  // namespace palpate

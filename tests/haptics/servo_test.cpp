@@ -182,8 +182,12 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     m.has_contact_model = true;
     m.compliance_m_per_N = Mat3::Identity() * 0.01;
     m.model_radius_m = 1.0;
+    m.blend_s = 1.0 / 60.0;
+    m.tri_from_m = m.tri_m;
     tb->publish();
   }
+  // the frames published while it runs (copied from here: a copy allocates nothing)
+  auto frame = std::make_unique<LocalModel>(tb->read());
   // touch with a point tool, with a 5 mm sphere, pull, cut; then touch with friction and every mode with the
   // jump limit
   struct RunSpec {
@@ -209,6 +213,16 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     {
       test::AllocationGuard guard;
       for (int i = 0; i < 10000; ++i) {
+        if (i % 17 == 5) {
+          // a new frame whose surface the servo blends from the last one's corners over the frame
+          LocalModel& w = tb->write_buffer();
+          w = *frame;
+          w.frame = i;
+          w.t_s = i * 1e-3;
+          for (int t = 0; t < w.num_triangles; ++t)
+            for (int c = 0; c < 3; ++c) w.tri_m[t][c].z() = 1e-4 * ((i / 17) % 3);
+          tb->publish();
+        }
         servo.tick(i, i * 1e-3);
         if (i % 17 == 0)
           while (q.try_pop(&sink)) {

@@ -221,17 +221,25 @@ void FrameStage::publish_patch() {
     for (std::size_t i = 0; i < near_tris_.size(); ++i) near_tris_[i] = near_keys_[i].second;
   }
   int n = 0;
+  // the servo moves the surface from the last patch to this one over the frame, so the hand never feels the
+  // frame's step (a cut renumbers triangles: its patches are not blended)
+  const bool blend = scene_.mode != InteractionMode::kCut;
   auto put = [&](int32_t t) {
     const auto& tr = tris[static_cast<std::size_t>(t)];
     m.tri_ids[n] = t;
     m.tri_m[n] = {vertices_m_[tr[0]], vertices_m_[tr[1]], vertices_m_[tr[2]]};
     m.normal[n] = {normals_[tr[0]], normals_[tr[1]], normals_[tr[2]]};
+    const auto it = blend ? published_.find(t) : published_.end();
+    m.tri_from_m[n] = it != published_.end() ? it->second : m.tri_m[n];
     ++n;
   };
   if (held >= 0) put(held);
   for (int32_t t : near_tris_)
     if (t != held && n < LocalModel::kMaxTriangles) put(t);
   m.num_triangles = n;
+  m.blend_s = blend ? scene_.rates.frame_period_s() : 0.0;
+  published_.clear();
+  for (int i = 0; i < n; ++i) published_[m.tri_ids[i]] = m.tri_m[i];
   m.frame = stats_.frames;
   m.t_s = t_s_;
   fill_contact_model(&m);

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -129,6 +130,7 @@ class FrameStage {
   std::vector<Vec3> rest_scratch_;   // forces for the rest check (n)
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
+  std::unordered_map<int32_t, std::array<Vec3, 3>> published_;  // the last patch's corners by triangle id
   std::vector<Vec3> normals_;        // per vertex (n_v)
   std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
   std::optional<MeshLod> lod_;       // what frames are drawn with when the mesh is finer than the image

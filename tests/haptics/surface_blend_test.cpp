@@ -1,0 +1,81 @@
+// Between sim frames the servo moves the surface from the last frame's corners to the new frame's over the frame,
+// so a surface that moved (the lattice stepped, a region placed or moved) reaches the hand in steps of a tick's
+// share, not in one step at the frame.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "haptics/servo.h"
+#include "support/haptic_fixtures.h"
+
+namespace palpate {
+namespace {
+
+constexpr double kK = 300.0;
+
+// the floor of haptic_fixtures at height z_m, published as frame `frame` at t_s; blend: its corners were at
+// from_z_m the frame before (blend_s one frame), else no blend
+void publish_floor_at(TripleBuffer<LocalModel>* tb, double z_m, double from_z_m, int64_t frame, double t_s, bool blend) {
+  LocalModel& m = tb->write_buffer();
+  m.num_triangles = 0;
+  const double h = 0.05;
+  test::add_quad(&m, Vec3(-h, -h, z_m), Vec3(h, -h, z_m), Vec3(h, h, z_m), Vec3(-h, h, z_m));
+  for (int i = 0; i < m.num_triangles; ++i)
+    for (int c = 0; c < 3; ++c) m.tri_from_m[i][c] = m.tri_m[i][c] + Vec3(0, 0, from_z_m - z_m);
+  m.frame = frame;
+  m.t_s = t_s;
+  m.blend_s = blend ? test::kTestRates.frame_period_s() : 0.0;
+  tb->publish();
+}
+
+struct Steps {
+  double largest_N = 0.0;   // largest force step per tick after the surface moved
+  double settled_N = 0.0;   // the force 20 ticks after the frame
+};
+
+// a still device 2 mm under the floor z = 0; at tick 100 a frame moves the floor down 1 mm
+Steps run(double radius, bool blend) {
+  test::FixedDevice dev;
+  dev.specs_.max_force_N = 100;
+  SpscQueue<HapticSample> q(4096);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  publish_floor_at(tb.get(), 0.0, 0.0, 0, 0.0, blend);
+  ServoParams p = test::static_surface_params(kK);
+  p.tool_radius_m = radius;
+  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  Steps s;
+  HapticSample sink;
+  Vec3 prev = Vec3::Zero();
+  for (int i = 0; i < 130; ++i) {
+    dev.pos_m = Vec3(0.001, 0.002, radius + 0.002 - std::min(1.0, i / 50.0) * 0.004);
+    if (i == 100) publish_floor_at(tb.get(), -0.001, 0.0, 1, i * 1e-3, blend);
+    servo.tick(i, i * 1e-3);
+    while (q.try_pop(&sink)) {
+    }
+    EXPECT_EQ(servo.last_sample().contact, i < 50 ? servo.last_sample().contact : ContactState::kTouch) << i;
+    if (i >= 100) s.largest_N = std::max(s.largest_N, (dev.force_N - prev).norm());
+    if (i == 120) s.settled_N = dev.force_N.z();
+    prev = dev.force_N;
+  }
+  return s;
+}
+
+TEST(SurfaceBlend, AFrameThatMovesTheSurfaceReachesAStillDeviceInTicksShares) {
+  for (double radius : {0.0, 0.005}) {
+    SCOPED_TRACE(radius > 0 ? "sphere tool" : "point tool");
+    // the floor drops 1 mm under a device held 2 mm deep: 0.6 N becomes 0.3 N
+    const Steps blended = run(radius, true), stepped = run(radius, false);
+    EXPECT_NEAR(blended.settled_N, kK * 0.001, 1e-9);
+    EXPECT_NEAR(stepped.settled_N, kK * 0.001, 1e-9);
+    EXPECT_NEAR(stepped.largest_N, kK * 0.001, 1e-9);  // without the blend: all of it in one tick
+    // blended: over the frame's ticks (16 at 1 kHz / 60 Hz), each a share 1 / (frame - tick) of 0.3 N
+    const double share = kK * 0.001 * test::kTestRates.servo_period_s() /
+                         (test::kTestRates.frame_period_s() - test::kTestRates.servo_period_s());
+    EXPECT_LE(blended.largest_N, share + 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace palpate
