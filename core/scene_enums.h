@@ -32,7 +32,7 @@ inline constexpr double kLodMinEdgePxDefault = 1.5;
 /// Which off-screen GL the renderer asks for (auto: OSMesa, else EGL surfaceless).
 enum class RenderBackend { kAuto, kOsmesa, kEgl };
 /// Where the device's poses come from.
-enum class DeviceDriver { kScripted, kShm, kPlugin, kReplay };
+enum class DeviceDriver { kScripted, kShm, kPlugin, kReplay, kBrowser };
 
 /// An enum's names, in the order they are listed in errors and help.
 template <typename E, std::size_t N>
@@ -81,11 +81,12 @@ constexpr NameTable<RenderStyle, 3> names(RenderStyle) {
 constexpr NameTable<RenderBackend, 3> names(RenderBackend) {
   return {{{{RenderBackend::kAuto, "auto"}, {RenderBackend::kOsmesa, "osmesa"}, {RenderBackend::kEgl, "egl"}}}};
 }
-constexpr NameTable<DeviceDriver, 4> names(DeviceDriver) {
+constexpr NameTable<DeviceDriver, 5> names(DeviceDriver) {
   return {{{{DeviceDriver::kScripted, "scripted"},
             {DeviceDriver::kShm, "shm"},
             {DeviceDriver::kPlugin, "plugin"},
-            {DeviceDriver::kReplay, "replay"}}}};
+            {DeviceDriver::kReplay, "replay"},
+            {DeviceDriver::kBrowser, "browser"}}}};
 }
 
 /// The name of an enum value as scenes and summary.json write it.

@@ -26,6 +26,7 @@ struct DevicePose {
   Vec3 pos_m = Vec3::Zero();          ///< handle position (world)
   Quat orientation = Quat::Identity();///< handle orientation (world)
   uint32_t buttons = 0;               ///< bit 0 = main button
+  double force_scale = 1.0;           ///< the driver's own fade, 0..1 (a link's watchdog): the servo scales its force
 };
 
 /// A haptic device. Thread: read() and write_force() are called by the servo thread only;

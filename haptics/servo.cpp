@@ -337,6 +337,9 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     if (jump_event(m, contact_before)) jump_.absorb(last_.force_N, force);
     force = jump_.apply(force, params_.jump_limit_N_per_tick);
   }
+  // a driver fading its link out (browser watchdog) scales the force; anything but 0..1 counts as 0 or 1
+  if (!rejected && pose.force_scale != 1.0)
+    force *= pose.force_scale > 0.0 ? std::min(pose.force_scale, 1.0) : 0.0;
   force = limit_force(force, device_->specs().max_force_N);
   guard_.sent(force);
   device_->write_force(force);

@@ -6,7 +6,8 @@
 # build-fuzz/findings/<target>-crash-<hash> (replay: build-fuzz/bin/palpate_fuzz_<target> FILE).
 # SECONDS 0 runs every committed seed of each target once (a regression check that cannot find anything new).
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   targets: scene replay_csv shm_pose mesh_check (the project's
-#   checks before the reader) http_head (the live view's request parser) mesh_off mesh_ply mesh_obj
+#   checks before the reader) http_head (the live view's request parser) ws_frame (its WebSocket frames and page
+#   messages) mesh_off mesh_ply mesh_obj
 #   mesh_stl mesh_dae (the mesh load path, one per format hint; OFF, PLY and STL by the project's own readers).
 #   mesh_dae runs only when named: it still finds a crash inside the system's assimp within a minute (a null
 #   pointer in the Collada reader), not yet refused before the reader.
@@ -15,7 +16,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene replay_csv shm_pose mesh_check http_head mesh_off mesh_ply mesh_obj mesh_stl)
+[ ${#targets[@]} -gt 0 ] || targets=(scene replay_csv shm_pose mesh_check http_head ws_frame mesh_off mesh_ply mesh_obj mesh_stl)
 
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DPALPATE_FUZZ=ON -DPALPATE_BUILD_TESTS=OFF -DPALPATE_BUILD_BENCH=OFF -DPALPATE_WERROR=OFF >/dev/null

@@ -69,7 +69,7 @@ TEST(SceneEnums, SceneKeysBecomeEnumsOrNameTheChoices) {
   expect_error("{" + box + R"("render": {"backend": "vulkan"}, )" + traj + "}",
                "render.backend: 'vulkan' is not one of: auto, osmesa, egl");
   expect_error("{" + box + R"("device": {"driver": "usb"}, )" + traj + "}",
-               "device.driver: 'usb' is not one of: scripted, shm, plugin, replay");
+               "device.driver: 'usb' is not one of: scripted, shm, plugin, replay, browser");
   expect_error("{" + box + R"("interaction": {"mode": "poke"}, )" + traj + "}",
                "interaction.mode: 'poke' is not one of: touch, pull, cut");
   expect_error("{" + box + R"("run_mode": "fast", )" + traj + "}", "run_mode: 'fast' is not one of: lockstep, realtime");

@@ -13,6 +13,7 @@
 #include "core/scene.h"
 #include "support/fixtures.h"
 #include "tools/record/record_plan.h"
+#include "tools/session/device_factory.h"
 #include "tools/record/recorder.h"
 
 namespace palpate {
@@ -92,6 +93,28 @@ TEST(RecordPlan, ADeviceInAnotherProcessRecordsOnTheWallClockUnlessTold) {
   auto bad = plan_record(s, o);
   ASSERT_FALSE(bad);
   EXPECT_NE(bad.error().message.find("device 'bogus': unknown driver"), std::string::npos) << bad.error().message;
+}
+
+// A person's pointer runs on the wall clock: the browser device records in realtime and refuses lockstep.
+TEST(RecordPlan, TheBrowserDeviceRecordsInRealtimeAndRefusesLockstep) {
+  const Scene s = cube();
+  RecordOptions o;
+  o.device = "browser";
+  auto p = plan_record(s, o);
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p.value().driver, DeviceDriver::kBrowser);
+  EXPECT_FALSE(p.value().lockstep);
+  EXPECT_EQ(p.value().mode_from, "browser device");
+  o.override_mode = true;
+  o.mode = RunMode::kLockstep;
+  auto bad = plan_record(s, o);
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message.find("--device browser: a person's pointer runs on the wall clock; --mode lockstep"),
+            std::string::npos)
+      << bad.error().message;
+  // without the live view there is no page to be the device
+  EXPECT_FALSE(make_device(s, "browser"));
+  EXPECT_NE(make_device(s, "browser").error().message.find("needs the live view"), std::string::npos);
 }
 
 TEST(RecordPlan, AVideoOnTheRecordingsOwnOutputsIsRefused) {

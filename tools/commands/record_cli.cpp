@@ -98,10 +98,21 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
     return 1;
   }
+  if (plan.driver == DeviceDriver::kBrowser && a.serve.empty()) {
+    std::fprintf(stderr, "palpate: --device browser: the live page is the device; give --serve [ADDR:]PORT (e.g. "
+                         "--serve 8080, then open http://127.0.0.1:8080/)\n");
+    return 2;
+  }
   for (const std::string& w : plan.warnings) std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   // the live view listens before anything is recorded: an address in use leaves no output behind
+  // the link outlives the server and the recording that both use it
+  std::unique_ptr<BrowserLink> browser;
   std::unique_ptr<LiveFeed> feed;
   std::unique_ptr<LiveServer> server;
+  if (plan.driver == DeviceDriver::kBrowser) {
+    browser = std::make_unique<BrowserLink>();
+    opt.browser = browser.get();
+  }
   if (!a.serve.empty()) {
     auto address = parse_serve_address(a.serve);
     if (!address) {
@@ -111,7 +122,7 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     feed = std::make_unique<LiveFeed>(plan.scene.render.width, plan.scene.render.height, a.scene_path,
                                       plan.lockstep ? "lockstep" : "realtime");
     if (a.serve_linger_s > 0.0) feed->keep_frames();
-    server = std::make_unique<LiveServer>(feed.get());
+    server = std::make_unique<LiveServer>(feed.get(), browser.get());
     if (auto st = server->start(address.value()); !st) {
       std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
       return 2;
@@ -160,7 +171,8 @@ Subcommand add_record_command(CLI::App& app) {
   rec->add_flag("--full-redraw", opt.full_redraw,
                 "Draw the whole mesh every frame instead of a cached static layer plus what moves (same pixels)");
   rec->add_option("--device", opt.device,
-                  "Device: scripted | shm:NAME (palpate-device) | plugin:PATH.so | replay:PATH (haptic.csv or recording folder)");
+                  "Device: scripted | shm:NAME (palpate-device) | plugin:PATH.so | replay:PATH (haptic.csv or recording folder) | "
+                  "browser (the --serve page's pointer steers the tool; realtime)");
   rec->add_option("--spin-us", opt.spin_us,
                   "realtime: spin this many us before each servo deadline (0 = sleep only; default: adaptive, the sleep's "
                   "p99 lateness + 10 us, at most 60 % of the period and 200 us)")

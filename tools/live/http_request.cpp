@@ -68,6 +68,7 @@ HttpHeadParse parse_http_head(std::string_view head, const HttpHeadLimits& limit
   HttpHeadParse p;
   p.request.keep_alive = version == "HTTP/1.1";
   int headers = 0;
+  bool upgrade_asked = false, websocket_asked = false;
   for (std::string_view rest = head.substr(eol + 2); !rest.empty();) {
     eol = rest.find("\r\n");
     if (eol == std::string_view::npos) return refuse(400, "a header line without CRLF");
@@ -87,10 +88,22 @@ HttpHeadParse parse_http_head(std::string_view head, const HttpHeadLimits& limit
     } else if (iequals(name, "Connection")) {
       if (has_token(value, "close")) p.request.keep_alive = false;
       if (has_token(value, "keep-alive")) p.request.keep_alive = true;
+      if (has_token(value, "upgrade")) upgrade_asked = true;
+    } else if (iequals(name, "Upgrade")) {
+      if (has_token(value, "websocket")) websocket_asked = true;
+    } else if (iequals(name, "Sec-WebSocket-Key")) {
+      p.request.ws_key = std::string(value);
+    } else if (iequals(name, "Sec-WebSocket-Version")) {
+      p.request.ws_version = std::string(value);
+    } else if (iequals(name, "Host")) {
+      p.request.host = std::string(value);
+    } else if (iequals(name, "Origin")) {
+      p.request.origin = std::string(value);
     }
   }
   if (method != "GET" && method != "HEAD") return refuse(405, "only GET and HEAD are served");
   p.request.method = std::string(method);
+  p.request.upgrade_websocket = upgrade_asked && websocket_asked && method == "GET";
   const auto q = target.find('?');
   p.request.path = std::string(target.substr(0, q));
   if (q != std::string_view::npos) p.request.query = std::string(target.substr(q + 1));
@@ -118,14 +131,17 @@ int64_t query_int(std::string_view query, std::string_view key, int64_t fallback
 
 const char* http_reason(int status) {
   switch (status) {
+    case 101: return "Switching Protocols";
     case 200: return "OK";
     case 204: return "No Content";
     case 400: return "Bad Request";
+    case 403: return "Forbidden";
     case 404: return "Not Found";
     case 405: return "Method Not Allowed";
     case 408: return "Request Timeout";
     case 413: return "Content Too Large";
     case 414: return "URI Too Long";
+    case 426: return "Upgrade Required";
     case 431: return "Request Header Fields Too Large";
     case 503: return "Service Unavailable";
     case 505: return "HTTP Version Not Supported";

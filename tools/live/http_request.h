@@ -22,6 +22,11 @@ struct HttpRequest {
   std::string path;         ///< target before '?', e.g. "/frame.png"
   std::string query;        ///< target after '?', e.g. "after=12" (empty when none)
   bool keep_alive = false;  ///< HTTP/1.1 without "Connection: close", or HTTP/1.0 with "keep-alive"
+  bool upgrade_websocket = false;  ///< "Connection: upgrade" and "Upgrade: websocket" (RFC 6455 §4.1)
+  std::string ws_key;       ///< Sec-WebSocket-Key (empty when absent)
+  std::string ws_version;   ///< Sec-WebSocket-Version (empty when absent)
+  std::string host;         ///< Host (empty when absent)
+  std::string origin;       ///< Origin (empty when absent: not a browser)
 };
 
 /// What parsing a head gave: a request (status 0) or the status to refuse it with (400, 405, 413, 414, 431, 505).

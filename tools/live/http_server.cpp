@@ -17,6 +17,7 @@
 #include <exception>
 
 #include "core/clock.h"
+#include "tools/live/sha1.h"
 
 namespace palpate {
 namespace {
@@ -48,8 +49,9 @@ int open_descriptors() {
 }  // namespace
 
 struct HttpServer::Conn {
-  enum class State { kReading, kWaiting, kWriting, kDraining };
+  enum class State { kReading, kWaiting, kWriting, kDraining, kSocket };
   int fd = -1;
+  int64_t id = 0;
   State state = State::kReading;
   std::string in;                          // received, not yet parsed (at most the head limit)
   HttpRequest request;                     // the request being answered
@@ -62,6 +64,10 @@ struct HttpServer::Conn {
   int64_t deadline_ns = 0;                 // reading: head/idle; waiting: must answer; writing/draining: whole
   int64_t progress_ns = 0;                 // writing: last byte sent
   int64_t reading_since_ns = 0;            // reading: when it began to wait for this request head
+  bool upgrade_after = false;              // the reply under way is a 101: a WebSocket after it
+  bool ws_open = false;                    // a WebSocket whose close callback has not run yet
+  bool ws_closing = false;                 // its close frame is queued: nothing more is read or sent
+  std::string ws_out;                      // a WebSocket's frames not yet sent
   ~Conn() {
     if (fd >= 0) ::close(fd);
   }
@@ -130,6 +136,7 @@ void HttpServer::loop() {
   // the view runs at nice 10: when the cores are short the recording's threads go first
   ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 10);
   std::vector<std::unique_ptr<Conn>> conns;
+  conns_ = &conns;
   std::vector<pollfd> pfds;
   std::vector<Conn*> polled;
   int64_t next_tick_ns = 0, stop_at_ns = 0;
@@ -142,6 +149,7 @@ void HttpServer::loop() {
       stop_at_ns = now + limits_.shutdown_grace_ms * kMs;
       for (auto& c : conns) {
         if (c->state == Conn::State::kReading || c->state == Conn::State::kDraining) c->dead = true;
+        if (c->state == Conn::State::kSocket && !c->ws_closing) socket_close(c.get(), 1001, "server stopping");
         c->close_after = true;
       }
     }
@@ -154,14 +162,18 @@ void HttpServer::loop() {
     now = monotonic_ns();
     for (auto& c : conns) {
       if (c->dead) continue;
-      const bool late = (c->state != Conn::State::kWaiting && now >= c->deadline_ns) ||
-                        (c->state == Conn::State::kWriting && now - c->progress_ns >= limits_.write_stall_ms * kMs) ||
+      const bool stalled = (c->state == Conn::State::kWriting ||
+                            (c->state == Conn::State::kSocket && !c->ws_out.empty())) &&
+                           now - c->progress_ns >= limits_.write_stall_ms * kMs;
+      const bool late = (c->state != Conn::State::kWaiting && now >= c->deadline_ns) || stalled ||
                         (stop_seen && now >= stop_at_ns);
       if (late) {
         c->dead = true;
         if (c->state != Conn::State::kDraining) timed_out_.fetch_add(1, std::memory_order_relaxed);
       }
     }
+    for (auto& c : conns)
+      if (c->dead) socket_end(c.get(), "connection closed");
     conns.erase(std::remove_if(conns.begin(), conns.end(),
                                [this](const std::unique_ptr<Conn>& c) {
                                  if (!c->dead) return false;
@@ -194,6 +206,13 @@ void HttpServer::loop() {
           wake_at_ns = std::min(wake_at_ns, c->progress_ns + limits_.write_stall_ms * kMs);
           break;
         case Conn::State::kWaiting: wake_at_ns = std::min(wake_at_ns, now + kWaitPoll_ms * kMs); break;
+        case Conn::State::kSocket:
+          events = c->ws_closing ? 0 : POLLIN;
+          if (!c->ws_out.empty()) {
+            events |= POLLOUT;
+            wake_at_ns = std::min(wake_at_ns, c->progress_ns + limits_.write_stall_ms * kMs);
+          }
+          break;
       }
       wake_at_ns = std::min(wake_at_ns, c->deadline_ns);
       pfds.push_back({c->fd, events, 0});
@@ -214,6 +233,9 @@ void HttpServer::loop() {
       if (ev == 0 || c->dead) continue;
       if (ev & POLLNVAL) {
         c->dead = true;
+      } else if (c->state == Conn::State::kSocket) {
+        if (ev & POLLOUT) socket_write(c, now);
+        if (!c->dead && c->state == Conn::State::kSocket && (ev & (POLLIN | POLLERR | POLLHUP))) socket_read(c, now);
       } else if (c->state == Conn::State::kWriting && (ev & (POLLOUT | POLLERR | POLLHUP))) {
         write_ready(c, now);
       } else if (ev & (POLLIN | POLLERR | POLLHUP)) {
@@ -222,6 +244,8 @@ void HttpServer::loop() {
     }
     if (accepting && pfds[1].revents) accept_ready(now, &conns);
   }
+  for (auto& c : conns) socket_end(c.get(), "server stopped");
+  conns_ = nullptr;
   open_.store(0, std::memory_order_relaxed);
 }
 
@@ -259,6 +283,7 @@ void HttpServer::accept_ready(int64_t now_ns, std::vector<std::unique_ptr<Conn>>
       --live;
     }
     ++live;
+    c->id = next_id_++;
     c->reading_since_ns = now_ns;
     const int yes = 1;
     ::setsockopt(c->fd, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
@@ -344,12 +369,33 @@ void HttpServer::answer(Conn* c, int64_t now_ns, bool must) {
   }
   if (r.wait && !must) return;
   if (r.wait) r.status = 503;
+  if (r.upgrade && (!ws_.message || sockets_.load() >= limits_.max_sockets || stopping_.load())) {
+    r = HttpReply{};
+    r.status = 503;
+    r.content_type = "text/plain; charset=utf-8";
+    r.body = std::make_shared<const std::string>("503 Service Unavailable: " + std::to_string(limits_.max_sockets) +
+                                                 " live sockets are open already\n");
+  }
   queue_reply(c, r, c->request.method == "HEAD", c->request.keep_alive && !c->close_after && !stopping_.load(), now_ns);
 }
 
 void HttpServer::queue_reply(Conn* c, const HttpReply& r, bool head_only, bool keep_alive, int64_t now_ns) {
   const std::size_t body = r.body ? r.body->size() : 0;
   std::string h = "HTTP/1.1 " + std::to_string(r.status) + " " + http_reason(r.status) + "\r\n";
+  if (r.upgrade) {
+    // a 101 has no body; the connection is the WebSocket's once it is sent
+    for (const auto& [k, v] : r.headers) h += k + ": " + v + "\r\n";
+    c->out_head = h + "\r\n";
+    c->out_body = nullptr;
+    c->sent = 0;
+    c->close_after = false;
+    c->upgrade_after = true;
+    c->state = Conn::State::kWriting;
+    c->progress_ns = now_ns;
+    c->deadline_ns = now_ns + limits_.write_timeout_ms * kMs;
+    write_ready(c, now_ns);
+    return;
+  }
   if (!r.content_type.empty()) h += "Content-Type: " + r.content_type + "\r\n";
   h += "Content-Length: " + std::to_string(body) + "\r\n";
   for (const auto& [k, v] : r.headers) h += k + ": " + v + "\r\n";
@@ -384,6 +430,16 @@ void HttpServer::write_ready(Conn* c, int64_t now_ns) {
   }
   c->out_head.clear();
   c->out_body.reset();
+  if (c->upgrade_after) {
+    c->upgrade_after = false;
+    c->state = Conn::State::kSocket;
+    c->ws_open = true;
+    sockets_.fetch_add(1, std::memory_order_relaxed);
+    c->deadline_ns = now_ns + limits_.ws_idle_timeout_ms * kMs;
+    if (ws_.open) ws_.open(c->id, c->request);
+    if (!c->in.empty()) socket_read(c, now_ns);  // frames sent right behind the request
+    return;
+  }
   if (c->close_after) {
     // the reply is out: read what the client still sends (bounded) until it closes, then close
     ::shutdown(c->fd, SHUT_WR);
@@ -396,6 +452,145 @@ void HttpServer::write_ready(Conn* c, int64_t now_ns) {
   c->reading_since_ns = now_ns;
   c->deadline_ns = now_ns + limits_.idle_timeout_ms * kMs;
   parse(c, now_ns);  // a request sent behind the last one
+}
+
+}  // namespace palpate
+
+namespace palpate {
+
+HttpReply websocket_upgrade(const HttpRequest& req) {
+  HttpReply r;
+  auto refuse = [&r](int status, const std::string& why) {
+    r.status = status;
+    r.content_type = "text/plain; charset=utf-8";
+    r.body = std::make_shared<const std::string>(std::to_string(status) + " " + http_reason(status) + ": " + why + "\n");
+    return r;
+  };
+  if (!req.upgrade_websocket) return refuse(400, "a WebSocket upgrade needs Connection: Upgrade and Upgrade: websocket");
+  if (req.ws_version != "13") {
+    r.headers.emplace_back("Sec-WebSocket-Version", "13");
+    return refuse(426, "Sec-WebSocket-Version '" + req.ws_version + "' is not 13");
+  }
+  // 16 bytes in base64: 22 characters of the alphabet and "=="
+  const std::string& k = req.ws_key;
+  if (k.size() != 24 || k.compare(22, 2, "==") != 0 ||
+      k.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/") != 22)
+    return refuse(400, "Sec-WebSocket-Key is not 16 bytes in base64");
+  if (!req.origin.empty() && req.origin != "http://" + req.host)
+    return refuse(403, "Origin '" + req.origin + "' is not this server's page (http://" + req.host + ")");
+  r.status = 101;
+  r.upgrade = true;
+  r.headers.emplace_back("Upgrade", "websocket");
+  r.headers.emplace_back("Connection", "Upgrade");
+  r.headers.emplace_back("Sec-WebSocket-Accept", websocket_accept(k));
+  return r;
+}
+
+HttpServer::Conn* HttpServer::socket(int64_t id) const {
+  if (!conns_) return nullptr;
+  for (const auto& c : *conns_)
+    if (c->id == id && c->state == Conn::State::kSocket && !c->dead) return c.get();
+  return nullptr;
+}
+
+bool HttpServer::ws_send(int64_t id, std::string_view text) {
+  Conn* c = socket(id);
+  if (!c || c->ws_closing) return false;
+  const std::string frame = ws_encode_frame(WsOpcode::kText, text);
+  if (c->ws_out.size() + frame.size() > limits_.ws_max_out_bytes) return false;
+  if (c->ws_out.empty()) c->progress_ns = monotonic_ns();
+  c->ws_out += frame;
+  socket_write(c, monotonic_ns());
+  return true;
+}
+
+void HttpServer::ws_close(int64_t id, uint16_t code, std::string_view reason) {
+  if (Conn* c = socket(id); c && !c->ws_closing) socket_close(c, code, reason);
+}
+
+void HttpServer::socket_end(Conn* c, const std::string& why) {
+  if (!c->ws_open) return;
+  c->ws_open = false;
+  sockets_.fetch_sub(1, std::memory_order_relaxed);
+  if (ws_.close) ws_.close(c->id, why);
+}
+
+void HttpServer::socket_close(Conn* c, uint16_t code, std::string_view reason) {
+  // the close frame goes out after what is queued; nothing is read or queued after it
+  if (c->ws_out.empty()) c->progress_ns = monotonic_ns();
+  c->ws_out += ws_encode_frame(WsOpcode::kClose, ws_close_payload(code, reason));
+  c->ws_closing = true;
+  c->in.clear();
+  socket_end(c, std::string(reason));
+  socket_write(c, monotonic_ns());
+}
+
+void HttpServer::socket_read(Conn* c, int64_t now_ns) {
+  // an incomplete frame is always shorter than the largest frame allowed (ws_parse_frame refuses a longer one from
+  // its header), so after the whole frames are handled there is room to read again; one call reads a bounded amount
+  const std::size_t hold = 4 * ws_max_frame_bytes(limits_.ws);
+  char buf[1024];
+  std::size_t taken = 0;
+  while (!c->ws_closing && !c->dead && taken < kDrainBytes) {
+    // every whole frame received is handled; the idle deadline restarts at each
+    for (;;) {
+      WsParse p = ws_parse_frame(c->in, limits_.ws);
+      if (p.kind == WsParse::Kind::kIncomplete) break;
+      if (p.kind == WsParse::Kind::kError) {
+        ws_refused_.fetch_add(1, std::memory_order_relaxed);
+        socket_close(c, p.close_code, p.reason);
+        return;
+      }
+      c->in.erase(0, p.consumed);
+      c->deadline_ns = now_ns + limits_.ws_idle_timeout_ms * kMs;
+      if (p.opcode == WsOpcode::kPing) {
+        if (c->ws_out.size() + p.payload.size() + 4 <= limits_.ws_max_out_bytes) {
+          if (c->ws_out.empty()) c->progress_ns = now_ns;
+          c->ws_out += ws_encode_frame(WsOpcode::kPong, p.payload);
+        }
+      } else if (p.opcode == WsOpcode::kClose) {
+        socket_close(c, kWsCloseNormal, "closed by the page");
+        return;
+      } else if (p.opcode != WsOpcode::kPong && ws_.message) {
+        ws_.message(c->id, p.opcode, p.payload);
+      }
+      if (c->ws_closing || c->dead) return;  // closed by the callback
+    }
+    const std::size_t room = hold - std::min(c->in.size(), hold);
+    const ssize_t n = ::recv(c->fd, buf, std::min(room, sizeof buf), 0);
+    if (n > 0) {
+      c->in.append(buf, static_cast<std::size_t>(n));
+      taken += static_cast<std::size_t>(n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
+    c->dead = true;  // closed by the page (a closed tab), or an error
+    socket_end(c, "page gone");
+    return;
+  }
+  if (!c->dead) socket_write(c, now_ns);
+}
+
+void HttpServer::socket_write(Conn* c, int64_t now_ns) {
+  while (!c->ws_out.empty()) {
+    const ssize_t w = ::send(c->fd, c->ws_out.data(), c->ws_out.size(), MSG_NOSIGNAL);
+    if (w > 0) {
+      c->ws_out.erase(0, static_cast<std::size_t>(w));
+      c->progress_ns = now_ns;
+      continue;
+    }
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
+    c->dead = true;  // the loop ends the socket (its close callback runs there, never inside ws_send)
+    return;
+  }
+  if (c->ws_closing) {
+    // the close frame is out: the page's own close and anything else it sends is read and dropped, bounded
+    ::shutdown(c->fd, SHUT_WR);
+    c->state = Conn::State::kDraining;
+    c->deadline_ns = now_ns + kDrain_ms * kMs;
+  }
 }
 
 }  // namespace palpate

@@ -4,7 +4,9 @@
 /// can make it hold is bounded: the request head (HttpHeadLimits), no body at all, one reply in flight per
 /// connection, a connection cap kept below the process's descriptor limit with descriptors reserved for the
 /// recording, a deadline for a whole request head, for an idle keep-alive connection and for a reply, and a stop()
-/// that waits for no client longer than the shutdown grace.
+/// that waits for no client longer than the shutdown grace. A request may be upgraded to a WebSocket (RFC 6455):
+/// the socket then carries small masked frames (WsLimits) on the same loop, with its own idle deadline, a bounded
+/// outgoing buffer and a cap on open sockets; a frame that breaks a rule closes it.
 
 #include <atomic>
 #include <cstdint>
@@ -17,6 +19,7 @@
 
 #include "core/result.h"
 #include "tools/live/http_request.h"
+#include "tools/live/ws_frame.h"
 
 namespace palpate {
 
@@ -31,6 +34,10 @@ struct HttpLimits {
   int64_t write_timeout_ms = 10000;        ///< a whole reply must be written within this
   int64_t max_wait_ms = 1000;              ///< a handler may defer its reply this long (long-poll)
   int64_t shutdown_grace_ms = 500;         ///< stop() waits at most this for replies under way
+  WsLimits ws;                             ///< frames a WebSocket client may send
+  int max_sockets = 4;                     ///< open WebSockets at most (further upgrades get 503)
+  int64_t ws_idle_timeout_ms = 10000;      ///< a WebSocket with no frame from the client this long is closed
+  std::size_t ws_max_out_bytes = 65536;    ///< a WebSocket's unsent output at most (ws_send refuses beyond)
 };
 
 /// A reply. wait = true defers it: the handler is asked again every few ms until it answers or must.
@@ -40,6 +47,19 @@ struct HttpReply {
   std::shared_ptr<const std::string> body;         ///< may be shared between connections; null = empty
   std::vector<std::pair<std::string, std::string>> headers;  ///< extra headers
   bool wait = false;                               ///< nothing to send yet (allowed only when !must_answer)
+  bool upgrade = false;                            ///< a 101 that turns the connection into a WebSocket
+};
+
+/// The reply to a WebSocket upgrade request (RFC 6455 §4.2.2): 101 with Sec-WebSocket-Accept, or 400 (not an upgrade,
+/// a key that is not 16 bytes in base64), 426 (a version other than 13) or 403 (an Origin that is not this server's
+/// own, i.e. not "http://" + Host: a page from another site may not steer the device).
+HttpReply websocket_upgrade(const HttpRequest& request);
+
+/// What a server does with its WebSockets. Each callback runs on the server's loop thread; any may be empty.
+struct WsCallbacks {
+  std::function<void(int64_t id, const HttpRequest& request)> open;      ///< a socket opened (after its 101)
+  std::function<void(int64_t id, WsOpcode opcode, std::string_view payload)> message;  ///< a text or binary frame
+  std::function<void(int64_t id, const std::string& why)> close;        ///< a socket ended, once, whatever ended it
 };
 
 /// Answers a request; must_answer is true at the wait deadline and while stopping. Thread: the server's loop.
@@ -50,6 +70,17 @@ class HttpServer {
  public:
   /// handler answers every parsed request; tick (may be empty) runs about every tick_ms on the loop thread.
   HttpServer(HttpHandler handler, std::function<void()> tick, int64_t tick_ms, HttpLimits limits = {});
+  /// The WebSocket callbacks (before start()).
+  void set_websocket(WsCallbacks callbacks) { ws_ = std::move(callbacks); }
+  /// Queues a text frame on socket `id`; false when the socket is gone or closing, or its unsent output would pass
+  /// ws_max_out_bytes (the frame is dropped). Thread: the loop (callbacks, tick, handler).
+  bool ws_send(int64_t id, std::string_view text);
+  /// Closes socket `id` with a close frame (code, reason). Thread: the loop.
+  void ws_close(int64_t id, uint16_t code, std::string_view reason);
+  /// WebSockets open now (any thread).
+  int sockets() const { return sockets_.load(std::memory_order_relaxed); }
+  /// WebSockets closed for a frame that broke a rule (any thread).
+  int64_t ws_refused() const { return ws_refused_.load(std::memory_order_relaxed); }
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
@@ -83,6 +114,11 @@ class HttpServer {
   void answer(Conn* c, int64_t now_ns, bool must);
   void queue_reply(Conn* c, const HttpReply& reply, bool head_only, bool keep_alive, int64_t now_ns);
   void write_ready(Conn* c, int64_t now_ns);
+  void socket_read(Conn* c, int64_t now_ns);
+  void socket_write(Conn* c, int64_t now_ns);
+  void socket_end(Conn* c, const std::string& why);
+  void socket_close(Conn* c, uint16_t code, std::string_view reason);
+  Conn* socket(int64_t id) const;
 
   HttpHandler handler_;
   std::function<void()> tick_;
@@ -94,7 +130,11 @@ class HttpServer {
   int cap_ = 0;
   std::atomic<bool> stopping_{false};
   std::atomic<int> open_{0};
-  std::atomic<int64_t> refused_{0}, timed_out_{0}, evicted_{0};
+  std::atomic<int64_t> refused_{0}, timed_out_{0}, evicted_{0}, ws_refused_{0};
+  std::atomic<int> sockets_{0};
+  WsCallbacks ws_;
+  int64_t next_id_ = 1;
+  std::vector<std::unique_ptr<Conn>>* conns_ = nullptr;  // the loop's connections (loop thread only)
   std::thread thread_;
 };
 

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/clock.h"
+#include "tools/live/browser_control.h"
 #include "tools/live/http_server.h"
 
 namespace palpate {
@@ -26,6 +27,8 @@ namespace {
 
 // the feed's points and figures are taken this often (the feed's queue holds ~8 s of points)
 constexpr int64_t kCollect_ms = 100;
+// with a browser device the loop ticks this often, to send the pages the device force
+constexpr int64_t kFeedback_ms = 16;
 // after a frame request the sim thread keeps copying frames this long
 constexpr int64_t kWantFrames_ns = 3'000'000'000;
 // plot points kept for /stats.json (10 minutes at 60 Hz) and sent in one reply at most
@@ -83,12 +86,16 @@ Result<ServeAddress> parse_serve_address(const std::string& text) {
 }
 
 struct LiveServer::Impl {
-  explicit Impl(LiveFeed* f)
-      : feed(f), http([this](const HttpRequest& r, bool must) { return answer(r, must); }, [this] { collect(); },
-                      kCollect_ms) {}
+  Impl(LiveFeed* f, BrowserLink* link)
+      : feed(f), http([this](const HttpRequest& r, bool must) { return answer(r, must); }, [this] { tick(); },
+                      link ? kFeedback_ms : kCollect_ms) {
+    if (link) browser = std::make_unique<BrowserControl>(&http, link);
+  }
 
   LiveFeed* feed;
   HttpServer http;
+  std::unique_ptr<BrowserControl> browser;
+  int64_t next_collect_ns = 0;
   std::string host;
   int port = 0;
 
@@ -105,6 +112,15 @@ struct LiveServer::Impl {
   const std::shared_ptr<const std::string> page = std::make_shared<const std::string>(live_page_html());
 
   std::atomic<int64_t> frames_sent{0}, frames_encoded{0};
+
+  // the loop's tick: the pages' force (every kFeedback_ms) and the feed's points (every kCollect_ms)
+  void tick() {
+    if (browser) browser->tick(feed->frame_index());
+    const int64_t now = monotonic_ns();
+    if (now < next_collect_ns) return;
+    next_collect_ns = now + kCollect_ms * 1'000'000;
+    collect();
+  }
 
   // takes the feed's new points and figures (every kCollect_ms and every /stats.json)
   void collect() {
@@ -156,6 +172,8 @@ struct LiveServer::Impl {
         r.status = 204;  // nothing newer: the client asks again
       }
       r.headers.emplace_back("X-Frame", std::to_string(index));
+    } else if (req.path == "/ws" && browser) {
+      return websocket_upgrade(req);
     } else if (req.path == "/stats.json") {
       r.content_type = "application/json";
       r.body = std::make_shared<const std::string>(stats(query_int(req.query, "since", 0)));
@@ -186,6 +204,7 @@ struct LiveServer::Impl {
                   {"p99_us", f.servo_p99_us}};
     j["frame"] = feed->frame_index();
     j["points_dropped"] = feed->points_dropped();
+    if (browser) j["browser"] = browser->stats();
     since = std::clamp<int64_t>(since, history_begin, history_begin + static_cast<int64_t>(history.size()));
     const auto first = static_cast<std::size_t>(since - history_begin);
     const std::size_t n = std::min(history.size() - first, kPointsPerReply);
@@ -209,7 +228,7 @@ struct LiveServer::Impl {
   }
 };
 
-LiveServer::LiveServer(LiveFeed* feed) : impl_(std::make_unique<Impl>(feed)) {}
+LiveServer::LiveServer(LiveFeed* feed, BrowserLink* browser) : impl_(std::make_unique<Impl>(feed, browser)) {}
 
 LiveServer::~LiveServer() { stop(); }
 
@@ -233,6 +252,8 @@ void LiveServer::stop() { impl_->http.stop(); }
 int LiveServer::connection_cap() const { return impl_->http.connection_cap(); }
 
 int LiveServer::connections() const { return impl_->http.connections(); }
+
+int LiveServer::sockets() const { return impl_->http.sockets(); }
 
 struct LivePageClient::Impl {
   std::atomic<bool> done{false};

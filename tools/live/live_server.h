@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/result.h"
+#include "haptics/browser_link.h"
 #include "tools/live/live_feed.h"
 
 namespace palpate {
@@ -27,8 +28,10 @@ Result<ServeAddress> parse_serve_address(const std::string& text);
 /// The HTTP server of a live view. Not copyable. Thread: start/stop from one controlling thread.
 class LiveServer {
  public:
-  /// feed must outlive the server.
-  explicit LiveServer(LiveFeed* feed);
+  /// feed must outlive the server. browser (may be null): the page steers the device through it over a WebSocket at
+  /// /ws (the first page to connect controls, later ones watch; a page that leaves or sends garbage releases it);
+  /// it must outlive the server.
+  explicit LiveServer(LiveFeed* feed, BrowserLink* browser = nullptr);
   ~LiveServer();
   LiveServer(const LiveServer&) = delete;
   LiveServer& operator=(const LiveServer&) = delete;
@@ -46,6 +49,8 @@ class LiveServer {
   int connection_cap() const;
   /// Connections open now (any thread).
   int connections() const;
+  /// WebSockets open now (any thread).
+  int sockets() const;
 
   /// Frames sent so far (any thread).
   int64_t frames_sent() const;

@@ -65,9 +65,15 @@ Result<RecordPlan> plan_record(const Scene& scene_in, const RecordOptions& opt) 
   p.driver = driver.value();
   // the mode: asked for, else a device in another process runs on its own wall clock and so does the recording
   p.mode_from = "scene";
+  if (p.driver == DeviceDriver::kBrowser && opt.override_mode && opt.mode == RunMode::kLockstep)
+    return make_error("--device browser: a person's pointer runs on the wall clock; --mode lockstep cannot drive it "
+                      "(record with --mode realtime, then replay its haptic.csv in lockstep with --device replay:DIR)");
   if (opt.override_mode) {
     scene.run_mode = opt.mode;
     p.mode_from = "--mode";
+  } else if (p.driver == DeviceDriver::kBrowser) {
+    scene.run_mode = RunMode::kRealtime;
+    p.mode_from = "browser device";
   } else if (p.driver == DeviceDriver::kShm) {
     scene.run_mode = RunMode::kRealtime;
     p.mode_from = "shm device";

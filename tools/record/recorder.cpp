@@ -19,6 +19,7 @@
 #include "core/atomic_file.h"
 #include "core/clock.h"
 #include "haptics/latency_histogram.h"
+#include "haptics/browser_device.h"
 #include "haptics/replay_device.h"
 #include "haptics/servo_runner.h"
 #include "render/gl_context_factory.h"
@@ -36,6 +37,20 @@
 namespace palpate {
 namespace fs = std::filesystem;
 namespace {
+
+// The view plane of a camera for the browser device: centred on what it looks at, its axes those of the image, as
+// wide and high as the image is there (the tool at depth 0 lies under the pointer), depth +-1 half the box diagonal.
+BrowserView browser_view(const Camera& cam, double aspect, double diagonal_m) {
+  BrowserView v;
+  v.centre_m = cam.target_m;
+  v.forward = (cam.target_m - cam.eye_m).normalized();
+  v.right = v.forward.cross(cam.up).normalized();
+  v.up = v.right.cross(v.forward);
+  v.half_height_m = (cam.target_m - cam.eye_m).norm() * std::tan(0.5 * cam.fov_y_deg * M_PI / 180.0);
+  v.half_width_m = v.half_height_m * aspect;
+  v.half_depth_m = 0.5 * diagonal_m;
+  return v;
+}
 
 
 // Files a recording writes in its output folder besides frames/frame_*.png (and their temporaries); a new run
@@ -137,9 +152,17 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
-  auto device_r = make_device(scene, opt.device);
+  auto device_r = make_device(scene, opt.device, opt.browser);
   if (!device_r) return device_r.error();
   rec->device = std::move(device_r).value();
+  // the page's pointer moves the tool on the plane the view looks at
+  if (auto* b = dynamic_cast<BrowserDevice*>(rec->device.get())) {
+    const Aabb box = Aabb::of(model.rest.vertices_m);
+    b->set_view(browser_view(Camera::framing(box.min_m, box.max_m,
+                                             static_cast<double>(scene.render.width) / scene.render.height),
+                             static_cast<double>(scene.render.width) / scene.render.height,
+                             (box.max_m - box.min_m).norm()));
+  }
   // a video path inside frames/ is never written (the frames folder is the recording's own)
   if (auto st = check_video_beside_frames(plan.video_path, plan.frames_dir); !st) return st.error();
   if (auto st = prepare_output(plan.out_dir, opt.render, &rec->frames_dir); !st) return st.error();

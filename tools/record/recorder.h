@@ -13,6 +13,7 @@
 namespace palpate {
 
 class LiveFeed;
+class BrowserLink;
 struct RecordPlan;
 
 /// PNG encoder threads of a lockstep recording (realtime recordings use one).
@@ -39,6 +40,7 @@ struct RecordOptions {
   std::string video_path;        ///< MP4 of the rendered frames (H.264, yuv420p, frame rate); empty = none
   bool video_optional = false;   ///< a video that cannot be made is a warning (video on by default), not an error
   LiveFeed* live = nullptr;      ///< live view fed by the sim thread while recording (null = none); finished at the end
+  BrowserLink* browser = nullptr;///< the live page's input for --device browser (null = none); outlives the recording
   int png_threads = 0;           ///< PNG encoder threads; 0 = kLockstepPngThreads in lockstep, 1 in realtime
   PngCodec png_codec = PngCodec::kLibdeflate;  ///< the frames' compressor (comparisons: bench png --record)
   bool png_keep_alpha = false;   ///< RGBA frames even when opaque (comparisons: the format before RGB frames)

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "haptics/browser_device.h"
 #include "haptics/plugin_device.h"
 #include "haptics/replay_device.h"
 #include "haptics/scripted_device.h"
@@ -64,7 +65,7 @@ Result<DeviceChoice> device_choice(const Scene& scene, const std::string& spec) 
   const std::string name = spec.substr(0, colon);
   const auto driver = from_name<DeviceDriver>(name);
   if (!driver)
-    return make_error("device '", name, "': unknown driver (known: scripted, shm:NAME, plugin:PATH, replay:PATH)");
+    return make_error("device '", name, "': unknown driver (known: scripted, shm:NAME, plugin:PATH, replay:PATH, browser)");
   return DeviceChoice{*driver, colon == std::string::npos ? "" : spec.substr(colon + 1)};
 }
 
@@ -85,7 +86,7 @@ std::string plugin_config(const Scene& scene) {
   return c;
 }
 
-Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec) {
+Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, BrowserLink* browser) {
   auto choice = device_choice(scene, spec);
   if (!choice) return choice.error();
   const DeviceDriver driver = choice.value().driver;
@@ -103,7 +104,7 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
         return make_error("scene '", scene.path, "': trajectory[", std::to_string(i),
                           "]: pos_rel / surface are resolved against the model, which this command does not load");
   const std::string name = name_of(driver);
-  if (driver != DeviceDriver::kScripted && target.empty())
+  if (driver != DeviceDriver::kScripted && driver != DeviceDriver::kBrowser && target.empty())
     return make_error("device '", name, "': needs a target (", driver == DeviceDriver::kShm ? "shm:NAME" : name + ":PATH",
                       ", or device.link in the scene)");
   switch (driver) {
@@ -123,6 +124,12 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
       if (!d) return d.error();
       return std::unique_ptr<Device>(std::move(d).value());
     }
+    case DeviceDriver::kBrowser:
+      if (!browser)
+        return make_error("device 'browser': the page is the device: it needs the live view (palpate record --serve "
+                          "[ADDR:]PORT --mode realtime)");
+      return std::unique_ptr<Device>(
+          std::make_unique<BrowserDevice>(specs, scene.hand, BrowserParams{}, browser, scene.rates));
     case DeviceDriver::kReplay: {
       auto rows = load_haptic_csv(target);
       if (!rows) return rows.error();

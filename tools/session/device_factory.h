@@ -10,15 +10,17 @@
 
 #include "core/result.h"
 #include "core/scene.h"
+#include "haptics/browser_link.h"
 #include "haptics/device.h"
 #include "haptics/servo.h"
 
 namespace palpate {
 
 /// Creates the device named by `spec`: "scripted", "shm:NAME", "plugin:PATH.so", "replay:PATH" (a haptic.csv or
-/// a recording folder), or empty for the scene's device.driver (+ device.link). Errors name the driver and the problem.
+/// a recording folder), "browser" (the live page, through `browser`, which must then be given and outlive the
+/// device), or empty for the scene's device.driver (+ device.link). Errors name the driver and the problem.
 /// The device reads scene.rates: the scene must outlive it.
-Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec);
+Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, BrowserLink* browser = nullptr);
 
 /// The driver of a spec (shm for "shm:x"; the scene's driver when spec is empty); an unknown driver is an error
 /// naming it.

@@ -1,0 +1,289 @@
+// --device browser end to end: `palpate record --device browser --serve` as a second process. Headless Chromium opens
+// the page and steers the tool with synthetic pointer events (DevTools Input): a drag onto the bunny makes contact
+// and a force in /stats.json; a second page only watches; closing the steering page mid-press fades the force to
+// zero within the watchdog. A recording made through the socket replays (--device replay:) along the same path.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "browser/chromium.h"
+#include "haptics/browser_device.h"
+#include "support/cli_run.h"
+#include "support/fixtures.h"
+#include "support/http_get.h"
+#include "support/read_file.h"
+#include "support/ws_client.h"
+
+namespace palpate {
+namespace {
+namespace fs = std::filesystem;
+using test::Browser;
+using test::Clock;
+using test::read_file;
+
+std::string palpate_bin() {
+  const char* bin = std::getenv("PALPATE_BIN_DIR");
+  return std::string(bin ? bin : "build/bin") + "/palpate";
+}
+
+// A recording with the browser device, killed at the end of the test unless it ended.
+struct Recording {
+  Recording(const std::string& dir, const std::string& scene, double duration_s) {
+    log = dir + "/record.log";
+    out = dir + "/rec";
+    pid = test::spawn({palpate_bin(), "record", test::source_path(scene), "--device", "browser", "--serve",
+                       "127.0.0.1:0", "--duration", std::to_string(duration_s), "--no-video", "--quiet", "--out", out},
+                      log);
+    for (auto end = Clock::now() + std::chrono::seconds(60); url.empty() && Clock::now() < end;) {
+      const std::string text = read_file(log);
+      const auto at = text.find("live view at http://127.0.0.1:");
+      if (at != std::string::npos) url = text.substr(at + 13, text.find('\n', at) - at - 13);
+      else std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (!url.empty()) port = std::stoi(url.substr(url.rfind(':') + 1));
+  }
+  ~Recording() {
+    if (pid > 0 && ::waitpid(pid, nullptr, WNOHANG) == 0) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+  }
+  // waits for the run to end; its exit status (-1 when it did not end in time)
+  int wait(int seconds) {
+    for (auto end = Clock::now() + std::chrono::seconds(seconds); Clock::now() < end;) {
+      int status = 0;
+      if (::waitpid(pid, &status, WNOHANG) == pid) {
+        pid = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return -1;
+  }
+  nlohmann::json stats() const {
+    return nlohmann::json::parse(test::http_get_body(port, "/stats.json"), nullptr, false);
+  }
+  pid_t pid = -1;
+  std::string log, out, url;
+  int port = 0;
+};
+
+double norm(const nlohmann::json& v) { return std::hypot(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); }
+
+// polls /stats.json until pred(stats) holds or `seconds` pass; the last stats
+template <class Pred>
+nlohmann::json stats_until(const Recording& r, double seconds, Pred pred) {
+  nlohmann::json s;
+  for (auto end = Clock::now() + std::chrono::duration<double>(seconds); Clock::now() < end;) {
+    s = r.stats();
+    if (s.is_object() && s.contains("browser") && pred(s)) return s;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return s;
+}
+
+// the page's role once it has one ("control" or "watch"), waiting at most 30 s
+std::string role(Browser& b) {
+  for (int i = 0; i < 300; ++i) {
+    const auto v = b.eval("live.device ? live.device.role : 'none'");
+    if (v.is_string() && v.get<std::string>() != "none") return v.get<std::string>();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return "none";
+}
+
+// the overlay's client rectangle: left, top, width, height
+std::vector<double> overlay_rect(Browser& b) {
+  const auto v = b.eval(
+      "(() => { const r = document.getElementById('overlay').getBoundingClientRect();"
+      " return [r.left, r.top, r.width, r.height]; })()");
+  return v.is_array() ? v.get<std::vector<double>>() : std::vector<double>{};
+}
+
+// a mouse event at view coordinates (x, y in -1..1), the left button held when `held`
+void mouse(Browser& b, const std::vector<double>& rect, const std::string& type, double x, double y, bool held) {
+  b.call("Input.dispatchMouseEvent",
+         {{"type", type},
+          {"x", rect[0] + (x + 1) / 2 * rect[2]},
+          {"y", rect[1] + (1 - y) / 2 * rect[3]},
+          {"button", "left"},
+          {"buttons", held ? 1 : 0},
+          {"clickCount", type == "mouseMoved" ? 0 : 1}},
+         true);
+}
+
+TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesTheForce) {
+  ASSERT_EQ(test::shell("command -v chromium").code, 0)
+      << "chromium is not installed: the browser test needs it (scripts/install_deps.sh installs it)";
+  const std::string dir = test::fresh_dir("browser_device");
+  fs::create_directories(dir);
+  Recording rec(dir, "scenes/bunny_touch.json", 120.0);
+  ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
+
+  Browser browser;
+  ASSERT_TRUE(browser.launch(rec.url, dir));
+  ASSERT_TRUE(browser.attach(rec.url)) << read_file(dir + "/chromium.log");
+  const std::string first_target = browser.target();
+  ASSERT_EQ(role(browser), "control");
+  const auto rect = overlay_rect(browser);
+  ASSERT_EQ(rect.size(), 4u);
+
+  // from above the bunny straight down onto its back, a step every 40 ms until the force passes 0.3 N; then held
+  mouse(browser, rect, "mousePressed", 0.0, 0.95, true);
+  nlohmann::json s;
+  for (double y = 0.95; y > -0.6; y -= 0.01) {
+    mouse(browser, rect, "mouseMoved", 0.0, y, true);
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+    s = rec.stats();
+    if (s.is_object() && s.contains("browser") && norm(s["browser"]["force_N"]) > 0.3) break;
+  }
+  ASSERT_TRUE(s.is_object() && s.contains("browser")) << read_file(rec.log);
+  s = stats_until(rec, 2.0, [](const nlohmann::json& j) { return norm(j["browser"]["force_N"]) > 0.3; });
+  const double pressed_N = norm(s["browser"]["force_N"]);
+  EXPECT_GT(pressed_N, 0.3) << s["browser"].dump();
+  EXPECT_GT(s["max_force_N"].get<double>(), 0.3);
+  EXPECT_TRUE(s["browser"]["controlled"].get<bool>());
+  EXPECT_GT(s["browser"]["messages"].get<int64_t>(), 30);
+  // the page measured its input-to-force latency and reported it
+  s = stats_until(rec, 5.0, [](const nlohmann::json& j) { return j["browser"]["page_input_to_force_ms"]["n"] > 0; });
+  EXPECT_GT(s["browser"]["page_input_to_force_ms"]["n"].get<int>(), 0) << s["browser"].dump();
+  EXPECT_GT(s["browser"]["input_to_force_us"]["n"].get<int>(), 0) << s["browser"].dump();
+  const auto handle = s["browser"]["handle_m"];
+
+  // a second page watches: the server tells it so, and its pointer messages (far to the right) move nothing. (It
+  // speaks the page's protocol directly: a second Chromium window would push the first into the background, where
+  // the browser throttles its timers and the device rightly fades out.)
+  test::WsClient second;
+  ASSERT_EQ(second.open(rec.port, "/ws").rfind("HTTP/1.1 101", 0), 0u);
+  EXPECT_NE(second.read().payload.find("\"role\":\"watch\""), std::string::npos);
+  for (int i = 1; i <= 20; ++i) {
+    ASSERT_TRUE(second.send_text("p " + std::to_string(i) + " 0.9 0.9 0 1"));
+    std::this_thread::sleep_for(std::chrono::milliseconds(15));
+  }
+  s = stats_until(rec, 5.0, [](const nlohmann::json& j) { return j["browser"]["ignored"] >= 20; });
+  EXPECT_EQ(s["browser"]["pages"], 2);
+  EXPECT_EQ(s["browser"]["ignored"], 20) << s["browser"].dump();
+  const auto moved = s["browser"]["handle_m"];
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(moved[k].get<double>(), handle[k].get<double>(), 0.002) << s["browser"].dump();
+  EXPECT_GT(norm(s["browser"]["force_N"]), 0.2);
+  EXPECT_EQ(s["browser"]["force_scale"], 1.0) << "the steering page is still live";
+  second.close_socket();
+
+  // the steering page closes mid-press: the force fades to zero within the watchdog
+  s = stats_until(rec, 5.0, [](const nlohmann::json& j) { return j["browser"]["pages"] == 1; });
+  ASSERT_GT(norm(s["browser"]["force_N"]), 0.2) << "still pressing before the close: " << s["browser"].dump();
+  const nlohmann::json lat = s["browser"];
+  browser.call("Target.closeTarget", {{"targetId", first_target}}, false);
+  const auto closed = Clock::now();
+  s = stats_until(rec, 5.0, [](const nlohmann::json& j) {
+    return j["browser"]["pages"] == 0 && norm(j["browser"]["force_N"]) == 0.0;
+  });
+  const double to_zero_s = std::chrono::duration<double>(Clock::now() - closed).count();
+  EXPECT_EQ(norm(s["browser"]["force_N"]), 0.0) << s["browser"].dump();
+  EXPECT_EQ(s["browser"]["force_scale"], 0.0);
+  // the bound is the watchdog plus the close reaching the server and the polling (generous on a busy machine)
+  EXPECT_LT(to_zero_s, BrowserParams{}.watchdog_s() + 2.0);
+  std::printf("[ figures ] pressed %.2f N; force zero %.0f ms after the page closed (watchdog %.0f ms)\n", pressed_N,
+              to_zero_s * 1e3, BrowserParams{}.watchdog_s() * 1e3);
+  auto p = [&lat](const char* k, double scale) {
+    const auto& v = lat[k];
+    return v.value("n", 0) > 0 ? std::to_string(v["p50"].get<double>() * scale).substr(0, 6) + " / " +
+                                     std::to_string(v["p99"].get<double>() * scale).substr(0, 6) + " ms (n " +
+                                     std::to_string(v["n"].get<int>()) + ")"
+                               : std::string("none");
+  };
+  std::printf("[ figures ] p50 / p99: server receipt -> force %s; page input -> force back %s; page input -> frame %s\n",
+              p("input_to_force_us", 1e-3).c_str(), p("page_input_to_force_ms", 1.0).c_str(),
+              p("page_input_to_frame_ms", 1.0).c_str());
+}
+
+// haptic.csv's tool columns (t_s and tool position) as text, row by row
+std::vector<std::string> tool_path(const std::string& csv) {
+  std::istringstream in(read_file(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::stringstream h(line); std::getline(h, line, ',');) names.push_back(line);
+  std::vector<int> cols;
+  for (const char* want : {"t_s", "tool_x_m", "tool_y_m", "tool_z_m", "buttons"})
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == want) cols.push_back(static_cast<int>(i));
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    for (std::stringstream r(line); std::getline(r, line, ',');) f.push_back(line);
+    std::string row;
+    for (int c : cols) row += f[static_cast<std::size_t>(c)] + ",";
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::string hash_of(const std::string& dir) {
+  return nlohmann::json::parse(read_file(dir + "/summary.json"))["state_hash"].get<std::string>();
+}
+
+// A short recording steered through the socket (as the page does), replayed twice in lockstep: the tool path as
+// recorded, and the same state hash both times.
+TEST(BrowserDevice, ARecordingReplaysAlongItsPath) {
+  const std::string dir = test::fresh_dir("browser_replay");
+  fs::create_directories(dir);
+  Recording rec(dir, "scenes/bunny_touch.json", 3.0);
+  ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
+  test::WsClient page;
+  ASSERT_EQ(page.open(rec.port, "/ws").rfind("HTTP/1.1 101", 0), 0u);
+  EXPECT_NE(page.read().payload.find("\"role\":\"control\""), std::string::npos);
+  // down through the bunny's back and up again at about 60 messages a second, until the run ends
+  int64_t seq = 0;
+  for (auto end = Clock::now() + std::chrono::seconds(30); Clock::now() < end && rec.pid > 0; ++seq) {
+    const double u = static_cast<double>(seq % 120) / 60.0;
+    const double y = 0.95 - 1.1 * (u < 1.0 ? u : 2.0 - u);
+    if (!page.send_text("p " + std::to_string(seq + 1) + " 0 " + std::to_string(y) + " 0 0")) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(16));
+    int status = 0;
+    if (::waitpid(rec.pid, &status, WNOHANG) == rec.pid) {
+      rec.pid = -1;
+      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_file(rec.log);
+    }
+  }
+  // the server closes the socket when the run ends; the process then writes its outputs
+  if (rec.pid > 0) {
+    EXPECT_EQ(rec.wait(60), 0) << read_file(rec.log);
+  }
+  ASSERT_EQ(rec.pid, -1) << "the 3 s recording did not end";
+  const auto summary = nlohmann::json::parse(read_file(rec.out + "/summary.json"));
+  EXPECT_EQ(summary["device"]["driver"], "browser");
+  EXPECT_GT(summary["device"]["messages"].get<int64_t>(), 60);
+  EXPECT_GT(summary["max_force_N"].get<double>(), 0.1) << "the path goes through the bunny";
+
+  std::vector<std::string> hashes;
+  for (const char* tag : {"replay_a", "replay_b"}) {
+    const std::string out = dir + "/" + tag;
+    const auto r = test::shell(palpate_bin() + " record " + test::source_path("scenes/bunny_touch.json") +
+                               " --device replay:" + rec.out + " --mode lockstep --no-render -q --out " + out);
+    ASSERT_EQ(r.code, 0) << r.out;
+    hashes.push_back(hash_of(out));
+    // every row the realtime run logged is in the replay, in order (the replay also has the ticks a realtime servo
+    // missed, holding the row before, as the recording's servo held its pose)
+    const auto replayed = tool_path(out + "/haptic.csv"), recorded = tool_path(rec.out + "/haptic.csv");
+    std::size_t at = 0;
+    for (const std::string& row : replayed)
+      if (at < recorded.size() && row == recorded[at]) ++at;
+    EXPECT_EQ(at, recorded.size()) << "recorded row " << at << " not replayed: " << recorded[std::min(at, recorded.size() - 1)];
+    EXPECT_GT(recorded.size(), 2000u);
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+  EXPECT_FALSE(hashes[0].empty());
+}
+
+}  // namespace
+}  // namespace palpate

@@ -1,0 +1,191 @@
+// The browser driver on a fake clock: the target moves between messages without steps, the hand model settles where
+// its spring balances the device force (offset F / k), the watchdog fades the force to zero within stall_s + fade_s
+// of a page's close or silence, and a servo driving it allocates nothing.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "haptics/browser_device.h"
+#include "haptics/servo.h"
+#include "support/alloc_counter.h"
+#include "support/haptic_fixtures.h"
+
+namespace palpate {
+namespace {
+
+int64_t g_now_ns = 0;
+int64_t fake_clock() { return g_now_ns; }
+
+// A device on the fake clock with a 10 cm square view plane (x, y in the world's x, z) and a stiff, heavy-damped hand.
+struct Rig {
+  explicit Rig(BrowserParams p = {}) : dev(DeviceSpecs{}, HandSpec{}, p, &link, test::kTestRates, fake_clock) {
+    g_now_ns = 1'000'000'000;
+    BrowserView v;
+    v.right = Vec3::UnitX();
+    v.up = Vec3::UnitZ();
+    v.forward = Vec3::UnitY();
+    dev.set_view(v);
+  }
+  void post(double x, double y, uint32_t buttons = 0) {
+    BrowserInput in;
+    in.seq = ++seq;
+    in.x = x;
+    in.y = y;
+    in.buttons = buttons;
+    in.received_ns = g_now_ns;
+    link.post(in);
+  }
+  // one servo period on the fake clock, then a read; false when there was no reading
+  bool tick(DevicePose* pose) {
+    g_now_ns += 1'000'000;
+    return dev.read(0.0, pose);
+  }
+  BrowserLink link;
+  BrowserDevice dev;
+  int64_t seq = 0;
+};
+
+TEST(BrowserDevice, NoReadingBeforeTheFirstMessage) {
+  Rig r;
+  DevicePose p;
+  EXPECT_FALSE(r.tick(&p));
+  r.post(0.2, -0.4);
+  ASSERT_TRUE(r.tick(&p));
+  // the first message places the handle on the view plane at once: x 0.2 * 5 cm, z -0.4 * 5 cm
+  EXPECT_NEAR(p.pos_m.x(), 0.01, 1e-12);
+  EXPECT_NEAR(p.pos_m.z(), -0.02, 1e-12);
+}
+
+// A pointer moving at 0.1 m/s with messages every 12..22 ms: the target's step per tick stays near v dt (1e-4 m),
+// where holding each message would step by v times the message gap (up to 2.2e-3 m).
+double max_target_step(const BrowserParams& params) {
+  Rig r(params);
+  DevicePose p;
+  const double v_view_per_s = 0.1 / 0.05;  // 0.1 m/s in view units
+  const int gaps_ms[] = {16, 12, 22, 17, 14, 19, 16, 21, 13, 17};
+  r.post(-1.0, 0.0);
+  r.tick(&p);
+  double x = -1.0, max_step = 0.0;
+  Vec3 last = r.link.feedback().target_m;
+  for (int k = 0; k < 60; ++k) {
+    const int gap = gaps_ms[k % 10];
+    for (int i = 0; i < gap; ++i) {
+      r.tick(&p);
+      r.dev.write_force(Vec3::Zero());
+      const Vec3 target = r.link.feedback().target_m;
+      if (k > 5) max_step = std::max(max_step, (target - last).norm());  // after the interval estimate settles
+      last = target;
+    }
+    x += v_view_per_s * gap * 1e-3;
+    r.post(x, 0.0);
+  }
+  return max_step;
+}
+
+TEST(BrowserDevice, TargetMovesBetweenMessagesWithoutSteps) {
+  const double step = max_target_step(BrowserParams{});
+  EXPECT_LT(step, 2.0 * 1e-4) << "the target steps more than twice v dt";
+  EXPECT_GT(step, 0.5 * 1e-4);
+  // without interpolation (a segment of 1 ns) the same pointer steps by a whole message gap
+  BrowserParams held;
+  held.min_interval_s = held.max_interval_s = 1e-9;
+  EXPECT_GT(max_target_step(held), 1.0e-3);
+}
+
+TEST(BrowserDevice, HandSettlesWhereItsSpringBalancesTheForce) {
+  Rig r;
+  DevicePose p;
+  const HandSpec hand;
+  const Vec3 force(0.0, 0.0, 1.5);
+  for (int i = 0; i < 3000; ++i) {
+    if (i % 16 == 0) r.post(0.0, 0.0);
+    ASSERT_TRUE(r.tick(&p));
+    r.dev.write_force(force);
+  }
+  // k (target - x) + F = 0: the handle sits F / k above the target
+  EXPECT_NEAR(p.pos_m.z(), force.z() / hand.stiffness_N_per_m, 1e-6);
+  EXPECT_NEAR(p.pos_m.x(), 0.0, 1e-9);
+}
+
+// The fade after the last message at time 0: full until `from_ms`, zero from from_ms + fade; returns the scale
+// at every ms (-1 where there was no reading).
+std::vector<double> fade_after(bool close_page) {
+  Rig r;
+  DevicePose p;
+  for (int i = 0; i < 400; ++i) {
+    if (i % 16 == 0) r.post(0.0, 0.0, 1);
+    r.tick(&p);
+    r.dev.write_force(Vec3::Zero());
+  }
+  r.post(0.0, 0.0, 1);
+  if (close_page) r.link.release();
+  std::vector<double> scale;
+  for (int i = 0; i < 600; ++i) scale.push_back(r.tick(&p) ? p.force_scale : -1.0);
+  EXPECT_EQ(r.dev.counters().releases, close_page ? 1 : 0);
+  EXPECT_EQ(r.dev.counters().stalls, 1) << "silent past stall_s once (closed or not)";
+  return scale;
+}
+
+TEST(BrowserDevice, AClosedPageFadesTheForceOutOverFade) {
+  const BrowserParams params;
+  const auto s = fade_after(true);
+  const int fade_ms = static_cast<int>(params.fade_s * 1e3);
+  EXPECT_NEAR(s[fade_ms / 2 - 1], 0.5, 0.02);
+  EXPECT_EQ(s[fade_ms], -1.0) << "no reading once faded out";
+  for (int i = 1; i < fade_ms; ++i) EXPECT_LE(s[i], s[i - 1]) << i;
+}
+
+TEST(BrowserDevice, ASilentPageFadesTheForceOutWithinTheWatchdog) {
+  const BrowserParams params;
+  const auto s = fade_after(false);
+  const int stall_ms = static_cast<int>(params.stall_s * 1e3), watchdog_ms = static_cast<int>(params.watchdog_s() * 1e3);
+  EXPECT_EQ(s[stall_ms - 2], 1.0) << "full force while the page is within stall_s";
+  EXPECT_GT(s[stall_ms + 10], 0.0);
+  EXPECT_LT(s[stall_ms + 10], 1.0);
+  EXPECT_EQ(s[watchdog_ms], -1.0) << "zero force at the watchdog time";
+}
+
+// A servo pressing the pointer 2 cm into a floor: a force while the page is live, exactly zero from the watchdog time
+// after its close on, and no allocation in 10,000 ticks with messages arriving.
+TEST(BrowserDevice, ServoForceEndsAtTheWatchdogAndAllocatesNothing) {
+  Rig r;
+  SpscQueue<HapticSample> q(64);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  test::publish_floor(tb.get());
+  ServoParams sp = test::static_surface_params(300.0);
+  Servo servo(sp, test::kTestRates, &r.dev, &q, tb.get());
+  HapticSample sink;
+  int64_t allocs = 0;
+  {
+    test::AllocationGuard guard;
+    for (int i = 0; i < 10000; ++i) {
+      // from above the floor down to 2 cm below it (y is the world's z on this view plane)
+      if (i % 16 == 0) r.post(0.0, i < 500 ? 0.2 : -0.4);
+      g_now_ns += 1'000'000;
+      servo.tick(i, i * 1e-3);
+      while (q.try_pop(&sink)) {
+      }
+    }
+    allocs = guard.count();
+  }
+  EXPECT_EQ(allocs, 0);
+  const double pressed_N = servo.last_sample().force_N.z();
+  EXPECT_GT(pressed_N, 1.0);
+  r.link.release();
+  const BrowserParams params;
+  const int fade_ticks = static_cast<int>(params.fade_s * 1e3);
+  double half = -1.0;
+  for (int i = 0; i <= fade_ticks; ++i) {
+    g_now_ns += 1'000'000;
+    servo.tick(10000 + i, (10000 + i) * 1e-3);
+    if (i == fade_ticks / 2) half = servo.last_sample().force_N.z();
+  }
+  EXPECT_GT(half, 0.2 * pressed_N) << "a ramp, not a step";
+  EXPECT_LT(half, 0.8 * pressed_N);
+  EXPECT_EQ(servo.last_sample().force_N.norm(), 0.0);
+}
+
+}  // namespace
+}  // namespace palpate

@@ -1,0 +1,31 @@
+#pragma once
+/// The messages a live page sends over its WebSocket (ASCII text, one per frame), parsed strictly: anything else is
+/// garbage and closes the socket. Pure functions, no I/O (fuzzed by tests/fuzz/ws_frame_fuzz.cpp).
+///
+///   p SEQ X Y DEPTH BUTTONS   the pointer: SEQ a positive integer, X Y DEPTH in -1..1 (the view plane and depth),
+///                             BUTTONS 0..3 (bit 0 the main button)
+///   l FORCE_MS FRAME_MS       latencies the page measured: input event to the force computed from it coming back,
+///                             and to the first frame drawn after it (0..60000 ms each; -1 = not measured yet)
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace palpate {
+
+/// A parsed page message. Plain data.
+struct BrowserMessage {
+  enum class Kind { kPose, kLatency, kError };
+  Kind kind = Kind::kError;
+  int64_t seq = 0;             ///< kPose
+  double x = 0.0, y = 0.0, depth = 0.0;  ///< kPose, each -1..1
+  uint32_t buttons = 0;        ///< kPose
+  double force_ms = -1.0;      ///< kLatency
+  double frame_ms = -1.0;      ///< kLatency
+  std::string reason;          ///< kError: what was wrong, quoting the field
+};
+
+/// Parses one message (see the file comment); errors name the field and the value.
+BrowserMessage parse_browser_message(std::string_view text);
+
+}  // namespace palpate
