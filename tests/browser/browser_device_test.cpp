@@ -1,11 +1,14 @@
 // --device browser end to end: `palpate record --device browser --serve` as a second process. Headless Chromium opens
 // the page and steers the tool with synthetic pointer events (DevTools Input): a drag onto the bunny makes contact
 // and a force in /stats.json; a second page only watches; closing the steering page mid-press fades the force to
-// zero within the watchdog. A recording made through the socket replays (--device replay:) along the same path.
+// zero within the watchdog. A recording made through the socket replays (--device replay:) along the same path. The
+// page's button grabs and pulls in pull mode and lowers the blade in cut mode.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -230,6 +233,105 @@ std::vector<std::string> tool_path(const std::string& csv) {
 
 std::string hash_of(const std::string& dir) {
   return nlohmann::json::parse(read_file(dir + "/summary.json"))["state_hash"].get<std::string>();
+}
+
+// haptic.csv's rows whose contact column is `state` (2 grab, 3 cut), and the largest force among them
+std::pair<int, double> rows_in_state(const std::string& csv, int state) {
+  std::istringstream in(read_file(csv));
+  std::string line;
+  std::getline(in, line);
+  int rows = 0;
+  double max_N = 0.0;
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) v.push_back(std::atof(c.c_str()));
+    if (v.size() < 12 || static_cast<int>(v[11]) != state) continue;
+    ++rows;
+    max_N = std::max(max_N, std::hypot(v[8], v[9], v[10]));
+  }
+  return {rows, max_N};
+}
+
+// Steers a recording through the socket as the page does (a message every 16 ms) along `path(seq)` -> "X Y DEPTH
+// BUTTONS" until the run ends; the run's exit status.
+template <class Path>
+int steer_until_the_end(Recording& rec, Path path) {
+  test::WsClient page;
+  if (page.open(rec.port, "/ws").rfind("HTTP/1.1 101", 0) != 0) return -2;
+  for (int64_t seq = 1; rec.pid > 0; ++seq) {
+    if (!page.send_text("p " + std::to_string(seq) + " " + path(seq))) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(16));
+    int status = 0;
+    if (::waitpid(rec.pid, &status, WNOHANG) == rec.pid) {
+      rec.pid = -1;
+      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+  }
+  return rec.pid > 0 ? rec.wait(60) : -1;
+}
+
+// Pull: down onto the bunny's back pressing the button until it grabs, then up with it held; the surface follows
+// (grab rows with a force), and it is lifted. Cut: the button (the blade) held from the start, lowered beside the
+// bunny and drawn across it: springs are cut.
+TEST(BrowserDevice, TheButtonGrabsAndPullsInPullModeAndCutsInCutMode) {
+  const std::string dir = test::fresh_dir("browser_button");
+  fs::create_directories(dir + "/pull");
+  fs::create_directories(dir + "/cut");
+  {
+    Recording rec(dir + "/pull", "scenes/bunny_pull.json", 6.0);
+    ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
+    // in pull mode the tool passes freely until the button grabs the surface within the grab radius: down onto the
+    // back pressing and releasing the button every 3 messages; once a press held something (a force), it stays
+    // down, and the tool goes back up
+    int64_t grabbed = -1;
+    double y = 0.95;
+    nlohmann::json last;
+    const int code = steer_until_the_end(rec, [&](int64_t seq) {
+      if (grabbed < 0) {
+        const auto st = rec.stats();
+        if (st.is_object() && st.contains("browser")) {
+          last = st["browser"];
+          if (norm(last["force_N"]) > 0.05) grabbed = seq;
+        }
+      }
+      if (grabbed < 0) {
+        y = std::max(-1.0, y - 0.006);
+        return "0 " + std::to_string(y) + " 0 " + std::to_string((seq / 3) % 2);
+      }
+      const int64_t since = seq - grabbed;
+      if (since > 10 && since < 70) y = std::min(1.0, y + 0.004);
+      return "0 " + std::to_string(y) + " 0 1";
+    });
+    ASSERT_EQ(code, 0) << read_file(rec.log);
+    ASSERT_GT(grabbed, 0) << "the button never grabbed the bunny; last: " << last.dump();
+    const auto [grab_rows, grab_N] = rows_in_state(rec.out + "/haptic.csv", 2);
+    EXPECT_GT(grab_rows, 300) << "the button did not grab";
+    EXPECT_GT(grab_N, 0.2) << "the grabbed surface did not pull back";
+    const auto summary = nlohmann::json::parse(read_file(rec.out + "/summary.json"));
+    EXPECT_GT(summary["max_displacement_m"].get<double>(), 2e-3) << "the surface was not lifted";
+  }
+  {
+    Recording rec(dir + "/cut", "scenes/bunny_cut.json", 3.0);
+    ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
+    // the blade stands up from the tool: lowered into the body beside it, then drawn across it, once the run has
+    // started (cut mode sets its whole-object lattice at rest first)
+    int64_t start = -1;
+    const int code = steer_until_the_end(rec, [&](int64_t seq) {
+      if (start < 0 && seq % 4 == 0) {
+        const auto st = rec.stats();
+        if (st.is_object() && st.contains("servo") && st["servo"]["ticks"].get<int64_t>() > 0) start = seq;
+      }
+      const double t = start < 0 ? 0.0 : static_cast<double>(seq - start);
+      const double y = std::max(0.0, 0.95 - 0.016 * t);
+      const double x = t <= 60 ? -0.7 : std::min(0.7, -0.7 + 0.014 * (t - 60.0));
+      return std::to_string(x) + " " + std::to_string(y) + " 0 1";
+    });
+    ASSERT_EQ(code, 0) << read_file(rec.log);
+    const auto summary = nlohmann::json::parse(read_file(rec.out + "/summary.json"));
+    ASSERT_TRUE(summary.contains("cut")) << summary.dump();
+    EXPECT_GT(summary["cut"]["springs_cut"].get<int64_t>(), 0) << "the blade cut nothing";
+  }
 }
 
 // A short recording steered through the socket (as the page does), replayed twice in lockstep: the tool path as
