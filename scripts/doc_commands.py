@@ -4,7 +4,8 @@
 Called by `scripts/readme_figures.sh --commands [--slow] [--timeout S] [--out DIR] [FILE.md...]` from the
 repository root. A command is one line of a ```sh (or ```bash) block, with lines ending in a backslash joined;
 blank lines and lines that are only a comment are not commands. A command whose comment says `# slow:` is skipped
-unless --slow is given. Each runs in `bash -c` from the repository root, in a process group of its own that is
+unless --slow is given; one whose comment says `# elsewhere:` (for another machine, such as an SSH tunnel) is
+never run. Each runs in `bash -c` from the repository root, in a process group of its own that is
 stopped when the command ends or its time is up, with its output kept in OUT/NNN.log.
 """
 import argparse
@@ -17,6 +18,7 @@ import sys
 import time
 
 SLOW = re.compile(r"#\s*slow:")
+ELSEWHERE = re.compile(r"#\s*elsewhere:")
 FENCE_OPEN = re.compile(r"^\s*```(sh|bash)\s*$")
 FENCE_CLOSE = re.compile(r"^\s*```\s*$")
 
@@ -84,6 +86,10 @@ def main():
         for number, command in commands(path):
             where = f"{path}:{number}"
             if "readme_figures.sh --commands" in command:  # this check itself
+                continue
+            if ELSEWHERE.search(command):
+                skipped += 1
+                print(f"skip  {where}  {command}", flush=True)
                 continue
             if SLOW.search(command) and not args.slow:
                 skipped += 1
