@@ -17,18 +17,18 @@
 #include <exception>
 
 #include "core/clock.h"
-#include "tools/live/sha1.h"
+#include "tools/live/http_conn.h"
 
 namespace palpate {
+
+using http_detail::kDrain_ms;
+using http_detail::kDrainBytes;
+using http_detail::kMs;
+
 namespace {
 
-constexpr int64_t kMs = 1'000'000;
 // a parked reply is looked at again this often
 constexpr int64_t kWaitPoll_ms = 10;
-// after a refused request: the client's further bytes are read and thrown away up to this much, this long, so
-// the refusal reaches it before the connection closes (a close with unread data resets it)
-constexpr std::size_t kDrainBytes = 65536;
-constexpr int64_t kDrain_ms = 1000;
 // at the connection cap, a connection that has waited this long for a request head gives its place to a new one:
 // idle and half-sent connections cannot keep a well-behaved client out
 constexpr int64_t kEvictAfter_ms = 10;
@@ -47,31 +47,6 @@ int open_descriptors() {
 }
 
 }  // namespace
-
-struct HttpServer::Conn {
-  enum class State { kReading, kWaiting, kWriting, kDraining, kSocket };
-  int fd = -1;
-  int64_t id = 0;
-  State state = State::kReading;
-  std::string in;                          // received, not yet parsed (at most the head limit)
-  HttpRequest request;                     // the request being answered
-  std::string out_head;                    // the reply's status line and headers
-  std::shared_ptr<const std::string> out_body;
-  std::size_t sent = 0;
-  std::size_t drained = 0;
-  bool close_after = false;
-  bool dead = false;
-  int64_t deadline_ns = 0;                 // reading: head/idle; waiting: must answer; writing/draining: whole
-  int64_t progress_ns = 0;                 // writing: last byte sent
-  int64_t reading_since_ns = 0;            // reading: when it began to wait for this request head
-  bool upgrade_after = false;              // the reply under way is a 101: a WebSocket after it
-  bool ws_open = false;                    // a WebSocket whose close callback has not run yet
-  bool ws_closing = false;                 // its close frame is queued: nothing more is read or sent
-  std::string ws_out;                      // a WebSocket's frames not yet sent
-  ~Conn() {
-    if (fd >= 0) ::close(fd);
-  }
-};
 
 HttpServer::HttpServer(HttpHandler handler, std::function<void()> tick, int64_t tick_ms, HttpLimits limits)
     : handler_(std::move(handler)), tick_(std::move(tick)), tick_ms_(tick_ms), limits_(limits) {}
@@ -452,145 +427,6 @@ void HttpServer::write_ready(Conn* c, int64_t now_ns) {
   c->reading_since_ns = now_ns;
   c->deadline_ns = now_ns + limits_.idle_timeout_ms * kMs;
   parse(c, now_ns);  // a request sent behind the last one
-}
-
-}  // namespace palpate
-
-namespace palpate {
-
-HttpReply websocket_upgrade(const HttpRequest& req) {
-  HttpReply r;
-  auto refuse = [&r](int status, const std::string& why) {
-    r.status = status;
-    r.content_type = "text/plain; charset=utf-8";
-    r.body = std::make_shared<const std::string>(std::to_string(status) + " " + http_reason(status) + ": " + why + "\n");
-    return r;
-  };
-  if (!req.upgrade_websocket) return refuse(400, "a WebSocket upgrade needs Connection: Upgrade and Upgrade: websocket");
-  if (req.ws_version != "13") {
-    r.headers.emplace_back("Sec-WebSocket-Version", "13");
-    return refuse(426, "Sec-WebSocket-Version '" + req.ws_version + "' is not 13");
-  }
-  // 16 bytes in base64: 22 characters of the alphabet and "=="
-  const std::string& k = req.ws_key;
-  if (k.size() != 24 || k.compare(22, 2, "==") != 0 ||
-      k.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/") != 22)
-    return refuse(400, "Sec-WebSocket-Key is not 16 bytes in base64");
-  if (!req.origin.empty() && req.origin != "http://" + req.host)
-    return refuse(403, "Origin '" + req.origin + "' is not this server's page (http://" + req.host + ")");
-  r.status = 101;
-  r.upgrade = true;
-  r.headers.emplace_back("Upgrade", "websocket");
-  r.headers.emplace_back("Connection", "Upgrade");
-  r.headers.emplace_back("Sec-WebSocket-Accept", websocket_accept(k));
-  return r;
-}
-
-HttpServer::Conn* HttpServer::socket(int64_t id) const {
-  if (!conns_) return nullptr;
-  for (const auto& c : *conns_)
-    if (c->id == id && c->state == Conn::State::kSocket && !c->dead) return c.get();
-  return nullptr;
-}
-
-bool HttpServer::ws_send(int64_t id, std::string_view text) {
-  Conn* c = socket(id);
-  if (!c || c->ws_closing) return false;
-  const std::string frame = ws_encode_frame(WsOpcode::kText, text);
-  if (c->ws_out.size() + frame.size() > limits_.ws_max_out_bytes) return false;
-  if (c->ws_out.empty()) c->progress_ns = monotonic_ns();
-  c->ws_out += frame;
-  socket_write(c, monotonic_ns());
-  return true;
-}
-
-void HttpServer::ws_close(int64_t id, uint16_t code, std::string_view reason) {
-  if (Conn* c = socket(id); c && !c->ws_closing) socket_close(c, code, reason);
-}
-
-void HttpServer::socket_end(Conn* c, const std::string& why) {
-  if (!c->ws_open) return;
-  c->ws_open = false;
-  sockets_.fetch_sub(1, std::memory_order_relaxed);
-  if (ws_.close) ws_.close(c->id, why);
-}
-
-void HttpServer::socket_close(Conn* c, uint16_t code, std::string_view reason) {
-  // the close frame goes out after what is queued; nothing is read or queued after it
-  if (c->ws_out.empty()) c->progress_ns = monotonic_ns();
-  c->ws_out += ws_encode_frame(WsOpcode::kClose, ws_close_payload(code, reason));
-  c->ws_closing = true;
-  c->in.clear();
-  socket_end(c, std::string(reason));
-  socket_write(c, monotonic_ns());
-}
-
-void HttpServer::socket_read(Conn* c, int64_t now_ns) {
-  // an incomplete frame is always shorter than the largest frame allowed (ws_parse_frame refuses a longer one from
-  // its header), so after the whole frames are handled there is room to read again; one call reads a bounded amount
-  const std::size_t hold = 4 * ws_max_frame_bytes(limits_.ws);
-  char buf[1024];
-  std::size_t taken = 0;
-  while (!c->ws_closing && !c->dead && taken < kDrainBytes) {
-    // every whole frame received is handled; the idle deadline restarts at each
-    for (;;) {
-      WsParse p = ws_parse_frame(c->in, limits_.ws);
-      if (p.kind == WsParse::Kind::kIncomplete) break;
-      if (p.kind == WsParse::Kind::kError) {
-        ws_refused_.fetch_add(1, std::memory_order_relaxed);
-        socket_close(c, p.close_code, p.reason);
-        return;
-      }
-      c->in.erase(0, p.consumed);
-      c->deadline_ns = now_ns + limits_.ws_idle_timeout_ms * kMs;
-      if (p.opcode == WsOpcode::kPing) {
-        if (c->ws_out.size() + p.payload.size() + 4 <= limits_.ws_max_out_bytes) {
-          if (c->ws_out.empty()) c->progress_ns = now_ns;
-          c->ws_out += ws_encode_frame(WsOpcode::kPong, p.payload);
-        }
-      } else if (p.opcode == WsOpcode::kClose) {
-        socket_close(c, kWsCloseNormal, "closed by the page");
-        return;
-      } else if (p.opcode != WsOpcode::kPong && ws_.message) {
-        ws_.message(c->id, p.opcode, p.payload);
-      }
-      if (c->ws_closing || c->dead) return;  // closed by the callback
-    }
-    const std::size_t room = hold - std::min(c->in.size(), hold);
-    const ssize_t n = ::recv(c->fd, buf, std::min(room, sizeof buf), 0);
-    if (n > 0) {
-      c->in.append(buf, static_cast<std::size_t>(n));
-      taken += static_cast<std::size_t>(n);
-      continue;
-    }
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
-    c->dead = true;  // closed by the page (a closed tab), or an error
-    socket_end(c, "page gone");
-    return;
-  }
-  if (!c->dead) socket_write(c, now_ns);
-}
-
-void HttpServer::socket_write(Conn* c, int64_t now_ns) {
-  while (!c->ws_out.empty()) {
-    const ssize_t w = ::send(c->fd, c->ws_out.data(), c->ws_out.size(), MSG_NOSIGNAL);
-    if (w > 0) {
-      c->ws_out.erase(0, static_cast<std::size_t>(w));
-      c->progress_ns = now_ns;
-      continue;
-    }
-    if (w < 0 && errno == EINTR) continue;
-    if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
-    c->dead = true;  // the loop ends the socket (its close callback runs there, never inside ws_send)
-    return;
-  }
-  if (c->ws_closing) {
-    // the close frame is out: the page's own close and anything else it sends is read and dropped, bounded
-    ::shutdown(c->fd, SHUT_WR);
-    c->state = Conn::State::kDraining;
-    c->deadline_ns = now_ns + kDrain_ms * kMs;
-  }
 }
 
 }  // namespace palpate
