@@ -5,23 +5,20 @@
 #include <limits>
 
 #include "core/tri_mesh.h"
+#include "render/renderer_colors.h"
 
 namespace palpate {
+
+using render_colors::kBackground;
+using render_colors::kMeshColor;
+using render_colors::kWireColor;
+using render_colors::set_color;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kSphereSlices = 24;
 constexpr int kSphereStacks = 16;
-
-// colours (RGBA)
-constexpr float kBackground[4] = {0.97f, 0.97f, 0.98f, 1.0f};
-constexpr float kMeshColor[4] = {0.66f, 0.73f, 0.84f, 1.0f};
-constexpr float kWireColor[4] = {0.16f, 0.18f, 0.24f, 1.0f};
-constexpr float kToolFreeColor[4] = {0.15f, 0.45f, 0.85f, 1.0f};
-constexpr float kToolContactColor[4] = {0.90f, 0.10f, 0.08f, 1.0f};
-constexpr float kProxyColor[4] = {0.10f, 0.55f, 0.22f, 1.0f};
-constexpr float kBladeColor[4] = {0.08f, 0.08f, 0.10f, 1.0f};
 
 // Unit UV sphere: positions double as normals.
 void make_unit_sphere(std::vector<float>* positions, std::vector<uint32_t>* indices) {
@@ -45,7 +42,6 @@ void make_unit_sphere(std::vector<float>* positions, std::vector<uint32_t>* indi
   }
 }
 
-void set_color(const GlApi& gl, const float* c) { gl.Color4f(c[0], c[1], c[2], c[3]); }
 
 // Converts n Vec3 into a grow-only float buffer.
 void to_floats(const std::vector<Vec3>& in, std::vector<float>* out) {
@@ -447,63 +443,6 @@ void Renderer::update_edges(const std::vector<std::array<int32_t, 3>>& triangles
   }
   edges_hash_ = hash;
   edges_triangles_ = triangles.size();
-}
-
-void Renderer::draw_tool(const GlApi& gl, const FrameView& view) const {
-  const Vec3& at = view.tool_at_proxy ? view.proxy_pos_m : view.tool_pos_m;
-  if (!(view.tool_radius_m > 0.0) || !at.allFinite()) return;
-  Eigen::Affine3d model = Eigen::Affine3d::Identity();
-  model.translate(at).scale(view.tool_radius_m);
-  const Eigen::Matrix4d modelview = view_ * model.matrix();
-  gl.LoadMatrixd(modelview.data());
-  gl.Enable(GL_LIGHTING);
-  set_color(gl, view.in_contact ? kToolContactColor : kToolFreeColor);
-  gl.EnableClientState(GL_VERTEX_ARRAY);
-  gl.EnableClientState(GL_NORMAL_ARRAY);
-  gl.VertexPointer(3, GL_FLOAT, 0, sphere_positions_.data());
-  gl.NormalPointer(GL_FLOAT, 0, sphere_positions_.data());
-  gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(sphere_indices_.size()), GL_UNSIGNED_INT,
-                  sphere_indices_.data());
-  gl.DisableClientState(GL_NORMAL_ARRAY);
-  gl.DisableClientState(GL_VERTEX_ARRAY);
-  gl.LoadMatrixd(view_.data());
-}
-
-void Renderer::draw_proxy(const GlApi& gl, const FrameView& view) const {
-  if (!view.show_proxy || !view.proxy_pos_m.allFinite() || !view.tool_pos_m.allFinite()) return;
-  const float line[6] = {static_cast<float>(view.tool_pos_m.x()),  static_cast<float>(view.tool_pos_m.y()),
-                         static_cast<float>(view.tool_pos_m.z()),  static_cast<float>(view.proxy_pos_m.x()),
-                         static_cast<float>(view.proxy_pos_m.y()), static_cast<float>(view.proxy_pos_m.z())};
-  // the spring is an overlay: visible even where the tool has sunk into the surface
-  gl.Disable(GL_LIGHTING);
-  gl.Disable(GL_DEPTH_TEST);
-  set_color(gl, kProxyColor);
-  gl.EnableClientState(GL_VERTEX_ARRAY);
-  gl.VertexPointer(3, GL_FLOAT, 0, line);
-  gl.LineWidth(2.0f);
-  gl.DrawArrays(GL_LINES, 0, 2);
-  gl.PointSize(7.0f);
-  gl.DrawArrays(GL_POINTS, 1, 1);
-  gl.DisableClientState(GL_VERTEX_ARRAY);
-  gl.LineWidth(1.0f);
-  gl.PointSize(1.0f);
-  gl.Enable(GL_DEPTH_TEST);
-}
-
-void Renderer::draw_blade(const GlApi& gl, const FrameView& view) const {
-  if (!view.show_blade || !view.blade_tip_m.allFinite() || !view.blade_end_m.allFinite()) return;
-  const float line[6] = {static_cast<float>(view.blade_tip_m.x()), static_cast<float>(view.blade_tip_m.y()),
-                         static_cast<float>(view.blade_tip_m.z()), static_cast<float>(view.blade_end_m.x()),
-                         static_cast<float>(view.blade_end_m.y()), static_cast<float>(view.blade_end_m.z())};
-  // depth-tested: the part inside the object is hidden by its surface, so the blade is seen entering it
-  gl.Disable(GL_LIGHTING);
-  set_color(gl, kBladeColor);
-  gl.EnableClientState(GL_VERTEX_ARRAY);
-  gl.VertexPointer(3, GL_FLOAT, 0, line);
-  gl.LineWidth(4.0f);
-  gl.DrawArrays(GL_LINES, 0, 2);
-  gl.DisableClientState(GL_VERTEX_ARRAY);
-  gl.LineWidth(1.0f);
 }
 
 }  // namespace palpate
