@@ -1,5 +1,5 @@
 #pragma once
-/// Helpers shared by the render tests: a scratch directory, a box mesh, pixel access.
+/// Helpers shared by the render tests: a scratch directory, a box mesh, pixel access and comparison.
 
 #include <unistd.h>
 
@@ -55,6 +55,13 @@ inline TriMesh make_box_mesh(const Vec3& lo, const Vec3& hi) {
 inline std::array<int, 4> pixel(const std::vector<uint8_t>& rgba, int width, int x, int y) {
   const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 4;
   return {rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3]};
+}
+
+/// Pixels whose RGB differ between two RGBA images of the same size.
+inline int count_different(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  int n = 0;
+  for (std::size_t i = 0; i < a.size(); i += 4) n += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
+  return n;
 }
 
 }  // namespace palpate::test

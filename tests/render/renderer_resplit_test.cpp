@@ -17,14 +17,10 @@
 namespace palpate {
 namespace {
 
+using test::count_different;
+
 constexpr int kW = 160;
 constexpr int kH = 120;
-
-int count_different(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-  int n = 0;
-  for (std::size_t i = 0; i < a.size(); i += 4) n += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
-  return n;
-}
 
 class RendererResplitTest : public ::testing::TestWithParam<std::string> {
  protected:

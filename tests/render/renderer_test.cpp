@@ -17,6 +17,8 @@
 namespace palpate {
 namespace {
 
+using test::count_different;
+
 constexpr int kW = 160;
 constexpr int kH = 120;
 
@@ -28,14 +30,6 @@ bool is_background(const std::array<int, 4>& p) {
 }
 
 bool is_red(const std::array<int, 4>& p) { return p[0] > 170 && p[1] < 90 && p[2] < 90; }
-
-int count_different(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-  int n = 0;
-  for (std::size_t i = 0; i < a.size(); i += 4) {
-    n += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
-  }
-  return n;
-}
 
 class RendererTest : public ::testing::TestWithParam<std::string> {
  protected:
