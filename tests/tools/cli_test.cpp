@@ -359,5 +359,14 @@ TEST(Cli, BenchModelListsTakeNoneAndNameABadItem) {
   EXPECT_NE(high.out.find("--large-strain: '0.5' is not a number in [0, 0.49]"), std::string::npos) << high.out;
 }
 
+// The browser device is the live page: without --serve there is nothing to steer it; refused before any output.
+TEST(Cli, BrowserDeviceWithoutServeIsRefusedBeforeAnyOutput) {
+  const std::string out = tmp("browser_no_serve");
+  const CliRun r = palpate("record scenes/bunny_touch.json --device browser -q --out " + out);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--device browser: the live page is the device; give --serve"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace palpate
