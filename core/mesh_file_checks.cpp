@@ -2,6 +2,7 @@
 
 #include "core/input_file.h"
 #include "core/limits.h"
+#include "core/text_encoding.h"
 
 #include <algorithm>
 #include <cctype>
@@ -172,6 +173,15 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
   std::string head(kHeaderScanBytes, '\0');
   file.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(file.gcount()));
+  // a header written as UTF-16 (or with UTF-8's mark) is checked as the text it stands for, against a file of half
+  // the size for UTF-16
+  const TextEncoding encoding = text_encoding(head);
+  if (encoding != TextEncoding::kPlain) {
+    auto text = decode_text(head, false);
+    if (!text) return text.error().message;
+    head = std::move(text).value();
+    if (encoding != TextEncoding::kUtf8Mark) size_bytes /= 2.0;
+  }
   // CR-only and CRLF line ends read as LF, so the header's lines are seen whatever the file's line ends
   const std::string raw_head = head;
   std::replace(head.begin(), head.end(), '\r', '\n');
@@ -230,8 +240,11 @@ std::string implausible_counts(const std::string& path, double size_bytes) {
     return "header declares " + declared.str() + ", more than the " + std::to_string(std::llround(size_bytes)) +
            "-byte file can hold";
   // every list's length must fit the bytes left (assimp's reader spins on a list of 2^31 entries)
-  const std::size_t body = raw_head.find('\n', end);  // "end_header\n" or "end_header\r\n"
+  std::size_t body = raw_head.find('\n', end);  // "end_header\n" or "end_header\r\n"
   if (body == std::string::npos) return {};
+  // a UTF-16 body is not the file's bytes: the reader checks its lists as it reads the decoded text
+  if (encoding == TextEncoding::kUtf16Little || encoding == TextEncoding::kUtf16Big) return {};
+  if (encoding == TextEncoding::kUtf8Mark) body += 3;
   if (ascii) return ply_ascii_lists_fit(path, elements, static_cast<int64_t>(body + 1), static_cast<int64_t>(size_bytes));
   return ply_binary_lists_fit(path, elements, big_endian, static_cast<int64_t>(body + 1), static_cast<int64_t>(size_bytes));
 }

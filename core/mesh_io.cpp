@@ -8,6 +8,7 @@
 #include "core/off_reader.h"
 #include "core/ply_reader.h"
 #include "core/stl_reader.h"
+#include "core/text_encoding.h"
 #include "core/text_lines.h"
 
 #include <assimp/DefaultLogger.hpp>
@@ -231,6 +232,14 @@ Result<TriMesh> finish_mesh(TriMesh mesh, const std::string& who) {
   return mesh;
 }
 
+// Whether bytes are exactly a binary STL's length: the 84-byte header and count, then 50 bytes per triangle.
+bool is_binary_stl_size(const std::string& bytes) {
+  if (bytes.size() < 84) return false;
+  uint64_t count = 0;
+  for (int k = 0; k < 4; ++k) count |= static_cast<uint64_t>(static_cast<unsigned char>(bytes[80 + static_cast<std::size_t>(k)])) << (8 * k);
+  return 84 + 50 * count == bytes.size();
+}
+
 // The formats read here rather than by assimp: by extension, else by the file's first word.
 enum class OwnFormat { kNone, kOff, kPly, kStl };
 
@@ -249,8 +258,9 @@ OwnFormat own_format(const std::string& path, std::string_view head) {
   return OwnFormat::kNone;
 }
 
-// assimp's reading and the conversion of its scene to one TriMesh (vertices not yet welded)
-Result<TriMesh> read_with_assimp(const std::string& path) {
+// assimp's reading and the conversion of its scene to one TriMesh (vertices not yet welded); text (when not null)
+// is the file's content decoded to UTF-8, read from memory with the file's extension as the format's hint
+Result<TriMesh> read_with_assimp(const std::string& path, const std::string* text = nullptr) {
   const std::string who = "mesh '" + path + "': ";
   TriMesh mesh;
   t_assimp_errors.clear();
@@ -259,7 +269,10 @@ Result<TriMesh> read_with_assimp(const std::string& path) {
     // vertices are welded afterwards with a tolerance that follows the model's size (assimp's join uses 1e-5 units)
     const unsigned flags = aiProcess_Triangulate | aiProcess_ValidateDataStructure;
     // read first, post-processed once each mesh's primitive types say what its faces are (see below)
-    const aiScene* scene = importer.ReadFile(path, 0);
+    std::string hint = std::filesystem::path(path).extension().string();
+    if (!hint.empty()) hint.erase(0, 1);
+    const aiScene* scene = text != nullptr ? importer.ReadFileFromMemory(text->data(), text->size(), 0, hint.c_str())
+                                           : importer.ReadFile(path, 0);
     if (scene != nullptr) {
       // the importer owns the scene and post-processes it in place
       if (const std::string empty = check_faces(const_cast<aiScene*>(scene)); !empty.empty()) return make_error(who, empty);
@@ -294,8 +307,12 @@ Result<TriMesh> read_mesh(const std::string& path) {
     std::string head(256, '\0');
     file.read(head.data(), static_cast<std::streamsize>(head.size()));
     head.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
-    const OwnFormat format = own_format(path, head);
-    if (format == OwnFormat::kNone) {
+    // a text file with a byte order mark (UTF-8's, or UTF-16 of either order) is read as the text it stands for
+    const bool marked = text_encoding(head) != TextEncoding::kPlain;
+    auto head_text = marked ? decode_text(head, false) : Result<std::string>(head);
+    if (!head_text) return make_error(who, head_text.error().message);
+    const OwnFormat format = own_format(path, head_text.value());
+    if (format == OwnFormat::kNone && !marked) {
       file.close();
       auto r = read_with_assimp(path);
       if (!r) return r;
@@ -309,6 +326,18 @@ Result<TriMesh> read_mesh(const std::string& path) {
     file.seekg(0);
     file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     bytes.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
+    // a binary STL's 80-byte header is free text that may begin with a mark's bytes: its size decides first
+    if (marked && !(format == OwnFormat::kStl && is_binary_stl_size(bytes))) {
+      auto text = decode_text(bytes);
+      if (!text) return make_error(who, text.error().message);
+      bytes = std::move(text).value();
+    }
+    if (format == OwnFormat::kNone) {
+      file.close();
+      auto r = read_with_assimp(path, &bytes);
+      if (!r) return r;
+      return finish_mesh(std::move(r).value(), who);
+    }
     Result<TriMesh> r = format == OwnFormat::kOff ? read_off(bytes) : format == OwnFormat::kPly ? read_ply(bytes) : read_stl(bytes);
     if (!r) return make_error(who, r.error().message);
     for (std::size_t v = 0; v < r.value().vertices_m.size(); ++v) {

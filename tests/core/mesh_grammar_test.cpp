@@ -1,7 +1,9 @@
-// Every valid OFF, PLY and STL file loads: one test per grammar case of each format, the same tetrahedron or
+// Every valid OFF, PLY and STL file loads: one test per grammar case of each format (and text files of OBJ too with
+// a byte order mark or in UTF-16), the same tetrahedron or
 // square written every way, and what is refused refused with its reason.
 #include "support/temp_root.h"
 #include "core/mesh_io.h"
+#include "core/text_encoding.h"
 #include "core/aabb.h"
 #include "core/tri_mesh.h"
 
@@ -347,6 +349,64 @@ TEST_F(MeshGrammarTest, StlDamageIsNamed) {
             "line 5: facet 0: expected 'vertex' or 'endloop', found 'vertx'");
   EXPECT_EQ(error("tiny.stl", "hello"),
             "not an STL file: it does not start with 'solid' and is shorter than a binary STL's 84-byte header");
+}
+
+// --- encodings -------------------------------------------------------------------------------------------------
+
+// text with a byte order mark: UTF-8's, or UTF-16 of either byte order (ASCII text, one unit per character)
+std::string utf8_marked(const std::string& text) { return "\xEF\xBB\xBF" + text; }
+std::string utf16(const std::string& text, bool little) {
+  std::string s = little ? "\xFF\xFE" : "\xFE\xFF";
+  for (char c : text) s += little ? std::string{c, '\0'} : std::string{'\0', c};
+  return s;
+}
+
+TEST_F(MeshGrammarTest, TextFilesWithAByteOrderMarkOrInUtf16ReadAsTheirText) {
+  const std::string obj = "# a tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const std::string ply = std::string("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                      "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+                                      "end_header\n") + kTetraVertices + kTetraFaces;
+  const std::string off = std::string("OFF\n4 4 0\n") + kTetraVertices + kTetraFaces;
+  const std::pair<const char*, std::string> files[] = {
+      {"obj", obj}, {"ply", ply}, {"off", off}, {"stl", stl_ascii_tetra("part", false)}};
+  for (const auto& [ext, text] : files) {
+    SCOPED_TRACE(ext);
+    expect_tetrahedron(load(std::string("utf8_mark.") + ext, utf8_marked(text)));
+    expect_tetrahedron(load(std::string("utf16_le.") + ext, utf16(text, true)));
+    expect_tetrahedron(load(std::string("utf16_be.") + ext, utf16(text, false)));
+  }
+  // found by its first word without an extension's help
+  expect_tetrahedron(load("no_extension", utf16(off, true)));
+}
+
+TEST_F(MeshGrammarTest, ABinaryStlWhoseHeaderBeginsWithAMarksBytesStaysBinary) {
+  expect_tetrahedron(load("mark.stl", stl_binary_tetra("\xEF\xBB\xBF exported")));
+  expect_tetrahedron(load("ff_fe.stl", stl_binary_tetra("\xFF\xFE exported")));
+}
+
+TEST_F(MeshGrammarTest, BrokenUtf16IsNamed) {
+  const std::string off = std::string("OFF\n4 4 0\n") + kTetraVertices + kTetraFaces;
+  EXPECT_EQ(error("odd.off", utf16(off, true) + "x"),
+            "UTF-16 text of an odd number of bytes (" + std::to_string(2 * off.size() + 3) + "): its last byte is half a character");
+  // a low surrogate (0xDC00) where a character should be
+  std::string lone = utf16(off, true);
+  lone.insert(10, std::string("\x00\xDC", 2));
+  EXPECT_EQ(error("lone.off", lone), "UTF-16 text: a low surrogate at byte 10 with no high surrogate before it");
+}
+
+TEST(DecodeText, Utf16BecomesUtf8ThroughEveryPlane) {
+  // "e acute" (2 UTF-8 bytes), "euro" (3) and a character past the 16-bit plane (a surrogate pair, 4 bytes)
+  const std::string le16("\xFF\xFE" "a\0" "\xE9\0" "\xAC\x20" "\x3D\xD8\x00\xDE", 12);
+  auto r = decode_text(le16);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r.value(), "a\xC3\xA9\xE2\x82\xAC\xF0\x9F\x98\x80");
+  std::string be16("\xFE\xFF", 2);
+  for (std::size_t i = 2; i < le16.size(); i += 2) be16 += std::string{le16[i + 1], le16[i]};
+  EXPECT_EQ(decode_text(be16).value(), r.value());
+  EXPECT_EQ(decode_text("\xEF\xBB\xBFOFF").value(), "OFF");
+  EXPECT_EQ(decode_text("OFF").value(), "OFF");
+  // a prefix that ends inside a pair decodes up to it
+  EXPECT_EQ(decode_text(le16.substr(0, 10), false).value(), "a\xC3\xA9\xE2\x82\xAC");
 }
 
 // --- scale -----------------------------------------------------------------------------------------------------
