@@ -145,6 +145,8 @@ Result<TriMesh> read_stl(std::string_view bytes) {
   if (binary_bytes > bytes.size())
     return Error{"binary STL: the header declares " + std::to_string(declared) + " triangles (" + std::to_string(binary_bytes) +
                  " bytes), the file has " + std::to_string(bytes.size()) + " bytes"};
+  // a count of 0 before whole triangles: an exporter that streamed the triangles and never wrote the count back
+  if (declared == 0 && bytes.size() > 84 && (bytes.size() - 84) % 50 == 0) return read_binary(bytes, (bytes.size() - 84) / 50);
   return read_binary(bytes, declared);  // bytes after the last triangle are ignored
 }
 

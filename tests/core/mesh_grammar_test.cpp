@@ -337,6 +337,12 @@ TEST_F(MeshGrammarTest, StlBinaryEvenWhenItsHeaderSaysSolid) {
   expect_tetrahedron(load("binary.stl", stl_binary_tetra("made by a CAD program")));
   expect_tetrahedron(load("solid_header.stl", stl_binary_tetra("solid part exported as binary")));
   expect_tetrahedron(load("trailer.stl", stl_binary_tetra("binary", std::string(7, '\0'))));
+  // a count never written back (0) before whole triangles: the triangles the file holds
+  std::string unpatched = stl_binary_tetra("streamed");
+  unpatched.replace(80, 4, le(0, 4));
+  expect_tetrahedron(load("count_zero.stl", unpatched));
+  // ... but not when the bytes after the header are not whole triangles
+  EXPECT_EQ(error("count_zero_odd.stl", unpatched + "x"), "no triangles");
 }
 
 TEST_F(MeshGrammarTest, StlDamageIsNamed) {
