@@ -291,6 +291,24 @@ TEST(Cli, BenchDefaultScenesAreFoundFromAnyFolder) {
   EXPECT_NE(named.out.find("scenes/bunny_pull.json"), std::string::npos) << named.out;
 }
 
+// the feel of a recorded hand: bench feel replaying a recording's haptic.csv gives the figures of the run that wrote
+// it (lockstep reproduces the state), over the log's whole length; a replay log that is not there is named
+TEST(Cli, BenchFeelOfARecordedHandEqualsTheRunThatRecordedIt) {
+  const std::string rec = tmp("feel_rec");
+  const std::string scripted = tmp("feel_scripted.json"), replayed = tmp("feel_replayed.json");
+  ASSERT_EQ(palpate("record scenes/cube_press.json --no-render -q -o " + rec).code, 0);
+  const CliRun a = palpate("bench feel scenes/cube_press.json --json " + scripted);
+  ASSERT_EQ(a.code, 0) << a.out;
+  const CliRun b = palpate("bench feel scenes/cube_press.json --device replay:" + rec + " --json " + replayed);
+  ASSERT_EQ(b.code, 0) << b.out;
+  const auto ja = test::read_json(scripted), jb = test::read_json(replayed);
+  EXPECT_GT(ja["scenes"][0]["contact_ticks"].get<int>(), 500);
+  EXPECT_EQ(ja, jb);
+  const CliRun missing = palpate("bench feel scenes/cube_press.json --device replay:" + tmp("no_such_recording"));
+  EXPECT_NE(missing.code, 0);
+  EXPECT_NE(missing.out.find("no_such_recording"), std::string::npos) << missing.out;
+}
+
 }  // namespace
 }  // namespace palpate
 

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/scene.h"
+#include "haptics/replay_device.h"
 #include "tools/bench/feel_figures.h"
 #include "tools/bench/plot.h"
 #include "tools/session/device_factory.h"
@@ -33,17 +34,22 @@ Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
   if (!model) return model.error();
   const Scene& sc = scene.value();
   const Rates& rates = sc.rates;
-  auto dev = make_device(sc, "scripted");
+  auto dev = make_device(sc, o.device);
   if (!dev) return dev.error();
+  // a replayed hand (a browser or device session recorded in realtime) runs for its log's length: its first to its
+  // last row's time, and that last row's tick
+  double duration_s = o.duration_s > 0.0 ? o.duration_s : sc.duration_s;
+  if (const auto* replay = dynamic_cast<const ReplayDevice*>(dev.value().get()); replay != nullptr && o.duration_s <= 0.0)
+    duration_s = replay->duration_s() + sc.rates.servo_period_s();
   Session session(sc, model.value(), dev.value().get());
   FeelRun run;
   run.name = sc.name;
-  run.trace.reserve(static_cast<std::size_t>(rates.ticks(sc.duration_s)));
+  run.trace.reserve(static_cast<std::size_t>(rates.ticks(duration_s)));
   // a frame that placed or moved the region, or cut, marks the next tick (the first to feel its patch)
   bool had_lattice = false, region_pending = false, cut_pending = false;
   int64_t moves = 0, cut_springs = 0;
   session.run_lockstep(
-      sc.duration_s,
+      duration_s,
       [&](int64_t, double) {
         const FrameStats& st = session.stage().stats();
         const bool has = session.stage().lattice().has_value();

@@ -16,6 +16,8 @@ struct BenchFeelOptions {
   std::string plot_path;            ///< FILE.png: force traces; FILE_spectrum.png: force spectra (gnuplot)
   double step_threshold_N = 0.1;    ///< steps counted above this
   double excess_threshold_N = 0.02; ///< steps beyond the explained part counted above this
+  std::string device = "scripted";  ///< the hand: scripted, or replay:PATH (a recorded haptic.csv or its folder)
+  double duration_s = 0.0;          ///< scene seconds run; 0: the scene's, or the replayed log's whole length
 };
 
 /// Runs the scenes, prints the tables; returns the process exit code.

@@ -92,6 +92,12 @@ void add_feel(CLI::App* bench, BenchArgs& a) {
   c->add_option("--step-threshold", a.feel.step_threshold_N, "Steps counted above this (N)")
       ->check(finite_range(0.0, 100.0))
       ->capture_default_str();
+  c->add_option("--device", a.feel.device,
+                "The hand: scripted (the scene's script) or replay:PATH (a recorded haptic.csv or its folder, e.g. a "
+                "browser or device session recorded in realtime, replayed in lockstep on the scene it was recorded from)")
+      ->capture_default_str();
+  c->add_option("--duration", a.feel.duration_s, "Scene seconds (default: the scene's, or the replayed log's length)")
+      ->check(finite_range(0.001, 86400.0));
 }
 
 void add_sim(CLI::App* bench, BenchArgs& a) {
