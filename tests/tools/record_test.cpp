@@ -1,6 +1,8 @@
 // End to end: lockstep recordings through the real servo, lattice, OSMesa/EGL renderer and PNG writer.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -8,6 +10,7 @@
 
 #include "core/scene.h"
 #include "render/png_io.h"
+#include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
 #include "tools/record/recorder.h"
@@ -136,6 +139,61 @@ TEST(Record, HapticCsvHasOneRowPerServoTick) {
   EXPECT_EQ(summary["haptic_rows"].get<int>(), rows);
   EXPECT_EQ(summary["outputs"]["haptic_csv"], (fs::path(opt.out_dir) / "haptic.csv").string());
   EXPECT_FALSE(summary["outputs"].contains("haptic_csv_error"));
+}
+
+// rows of a haptic.csv after its header
+int csv_rows(const fs::path& csv) {
+  std::ifstream f(csv);
+  std::string line;
+  int rows = -1;
+  while (std::getline(f, line)) ++rows;
+  return rows;
+}
+
+// A stop request (Ctrl-C, SIGTERM) ends a run after the frame under way with every output whole: the frames so far,
+// haptic.csv up to the last tick, summary.json saying where it stopped
+TEST(Record, AStopRequestEndsTheRunWithEveryOutputWhole) {
+  Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  std::atomic<bool> stop{true};
+  RecordOptions opt;
+  opt.quiet = true;
+  opt.out_dir = fresh_dir("stopped");
+  opt.stop = &stop;
+  auto r = record_scene(scene, opt);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r.value().frames_written, 1);
+  EXPECT_NE(r.value().interrupted.find("after 1 frame(s)"), std::string::npos) << r.value().interrupted;
+  const auto summary = read_json(r.value().summary_path);
+  EXPECT_NE(summary.value("interrupted", "").find("after 1 frame(s)"), std::string::npos) << summary.dump();
+  // (frame 0 comes before the first tick: the log holds its header only)
+  EXPECT_EQ(summary["haptic_rows"].get<int>(), csv_rows(fs::path(opt.out_dir) / "haptic.csv"));
+  EXPECT_FALSE(fs::exists(fs::path(opt.out_dir) / "haptic.csv.partial"));
+  // without a request the same run goes to its end
+  stop = false;
+  opt.duration_s = 0.1;
+  auto whole = record_scene(scene, opt);
+  ASSERT_TRUE(whole) << whole.error().message;
+  EXPECT_TRUE(whole.value().interrupted.empty());
+  EXPECT_FALSE(read_json(whole.value().summary_path).contains("interrupted"));
+}
+
+// ... and through the command: SIGINT to a realtime recording of ten minutes ends it, exit 130, outputs whole
+TEST(Record, CtrlCEndsARealtimeRecordingWithItsLogAndSummary) {
+  const std::string out = fresh_dir("ctrl_c");
+  const char* bin_env = std::getenv("PALPATE_BIN_DIR");
+  const std::string bin = bin_env ? bin_env : "build/bin";
+  // the signal goes once the log is open (the handler is in place before it is); timeout passes it on, and ends a
+  // run that ignores it in 2 minutes instead of 10
+  const test::CliRun r = test::shell(
+      "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --no-render -q --duration 600 -o " + out +
+      " & p=$!; n=0; while [ ! -e " + out + "/haptic.csv.partial ] && [ $n -lt 300 ]; do sleep 0.1; n=$((n+1)); done; "
+      "sleep 0.5; kill -INT $p; wait $p; echo \"exit $?\")");
+  EXPECT_NE(r.out.find("exit 130"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("stopped on request"), std::string::npos) << r.out;
+  const auto summary = read_json(out + "/summary.json");
+  EXPECT_TRUE(summary.contains("interrupted")) << summary.dump();
+  EXPECT_GT(summary["haptic_rows"].get<int>(), 0);
+  EXPECT_EQ(summary["haptic_rows"].get<int>(), csv_rows(fs::path(out) / "haptic.csv"));
 }
 
 }  // namespace

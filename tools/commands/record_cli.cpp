@@ -1,5 +1,6 @@
 #include "tools/commands/record_cli.h"
 
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -20,6 +21,35 @@ namespace palpate {
 namespace {
 
 volatile std::sig_atomic_t g_interrupted = 0;
+
+// Ctrl-C or SIGTERM during a recording: the run ends after the frame under way and every output is finished
+// (frames, haptic.csv, summary.json "interrupted"); the handler is reset by the first signal, so a second one ends
+// the process at once
+std::atomic<bool> g_stop_recording{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "a signal handler sets it");
+extern "C" void on_record_signal(int) { g_stop_recording.store(true, std::memory_order_relaxed); }
+
+// Installs on_record_signal for SIGINT and SIGTERM for its lifetime.
+class StopOnSignal {
+ public:
+  StopOnSignal() {
+    struct sigaction sa {};
+    sa.sa_handler = on_record_signal;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopOnSignal() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
 
 // The command line of `palpate record`, as parsed.
 struct RecordArgs {
@@ -130,13 +160,24 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     std::fprintf(stderr, "palpate: live view at %s\n", server->url().c_str());
     opt.live = feed.get();
   }
-  auto res = record_planned(plan, opt);
+  Result<RecordResult> res = Error{};
+  {
+    const StopOnSignal stop_on_signal;
+    opt.stop = &g_stop_recording;
+    res = record_planned(plan, opt);
+  }
   if (!res) {
     std::fprintf(stderr, "palpate: %s\n", res.error().message.c_str());
     return 1;
   }
   const RecordResult& r = res.value();
   print_outputs(plan, r);
+  // 128 + SIGINT, as shells report a command ended by Ctrl-C
+  if (!r.interrupted.empty()) {
+    std::fprintf(stderr, "palpate: %s\n", r.interrupted.c_str());
+    if (server) server->stop();
+    return 130;
+  }
   if (!r.no_contact.empty()) std::fprintf(stderr, "palpate: warning: %s\n", r.no_contact.c_str());
   if (server && a.serve_linger_s > 0.0) linger(*server, a.serve_linger_s);
   if (server) server->stop();

@@ -202,9 +202,21 @@ std::string out_of_memory_note(const Session& session, int64_t f) {
   return "out of memory in frame " + std::to_string(f) + " (scene time " + t + " s); the run stopped there";
 }
 
+// What a run ended by a stop request says (summary.json "interrupted"): after which frame it stopped.
+std::string interrupted_note(const Session& session, int64_t frames_done) {
+  char t[32];
+  std::snprintf(t, sizeof t, "%.3f", session.frame_time_s(frames_done));
+  return "stopped on request (SIGINT or SIGTERM) after " + std::to_string(frames_done) + " frame(s), at scene time " + t + " s";
+}
+
+bool stop_requested(const RecordOptions& opt) { return opt.stop != nullptr && opt.stop->load(std::memory_order_relaxed); }
+
+// Thrown out of the lockstep frame callback to end the run at a stop request.
+struct StopRequested {};
+
 // The lockstep driver: a virtual clock, rates.servo_hz ticks and rates.frame_hz frames per scene-second in a fixed
 // order, every frame written; reproducible bit for bit.
-RunFigures drive_lockstep(Session& session, double duration_s, Progress& progress) {
+RunFigures drive_lockstep(Session& session, double duration_s, const RecordOptions& opt, Progress& progress) {
   const int64_t frames = session.rates().frames(duration_s);
   RunFigures run;
   int64_t done = 0;  // frames finished: the one under way when memory ran out is the next
@@ -212,9 +224,13 @@ RunFigures drive_lockstep(Session& session, double duration_s, Progress& progres
     session.run_lockstep(duration_s, [&](int64_t f, double t) {
       done = f + 1;
       progress.update(t, f + 1, frames);
+      if (stop_requested(opt)) throw StopRequested{};
     });
   } catch (const std::bad_alloc&) {
     run.aborted = out_of_memory_note(session, done);
+    session.finish();
+  } catch (const StopRequested&) {
+    run.interrupted = interrupted_note(session, done);
     session.finish();
   }
   run.timing.compute = session.lockstep_compute();
@@ -249,6 +265,11 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
   const int64_t frames = rates.frames(duration_s);
   const double frame_ns = 1e9 * rates.frame_period_s();
   for (int64_t f = 0; f < frames; ++f) {
+    if (stop_requested(opt)) {
+      run.interrupted = interrupted_note(session, f);
+      runner.stop();  // the device's force ramps down with the servo's end, as at the end of any run
+      break;
+    }
     const int64_t deadline = t0_ns + static_cast<int64_t>(std::llround(static_cast<double>(f) * frame_ns));
     sleep_until_ns(deadline);
     const int64_t late = monotonic_ns() - deadline;
@@ -363,6 +384,9 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   if (!run.aborted.empty())
     return make_error(run.aborted, ": ", std::to_string(res.frames_written), " frame(s), ", std::to_string(in.haptic_rows),
                       " haptic row(s)", summary_status ? " and summary.json kept in '" + plan.out_dir + "'" : no_summary);
+  if (!run.interrupted.empty())
+    res.interrupted = run.interrupted + ": " + std::to_string(res.frames_written) + " frame(s), " +
+                      std::to_string(in.haptic_rows) + " haptic row(s) and summary.json kept in '" + plan.out_dir + "'";
   if (rec.writer && rec.writer->write_errors() > 0)
     return make_error(std::to_string(rec.writer->write_errors()), " frame(s) could not be written: ",
                       rec.writer->first_error(), no_summary);
@@ -379,7 +403,7 @@ Result<RecordResult> record_planned_unguarded(const RecordPlan& plan, const Reco
   Session session(rec->scene, *rec->model, rec->device.get(), outputs);
   Progress progress(opt.quiet, rec->scene.name, rec->scene.duration_s);
   const auto wall0 = std::chrono::steady_clock::now();
-  const RunFigures run = plan.lockstep ? drive_lockstep(session, rec->scene.duration_s, progress)
+  const RunFigures run = plan.lockstep ? drive_lockstep(session, rec->scene.duration_s, opt, progress)
                                        : drive_realtime(session, rec->scene.duration_s, opt, progress);
   return finish_recording(*rec, session, run, wall0, progress, opt);
 }

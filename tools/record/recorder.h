@@ -2,6 +2,7 @@
 /// Recorder: runs a scene through servo, frame stage, renderer and PNG writer, in lockstep (virtual clock,
 /// reproducible) or realtime (threads on the wall clock), and writes frames/, haptic.csv and summary.json.
 
+#include <atomic>
 #include <string>
 
 #include "core/rates.h"
@@ -44,6 +45,8 @@ struct RecordOptions {
   int png_threads = 0;           ///< PNG encoder threads; 0 = kLockstepPngThreads in lockstep, 1 in realtime
   PngCodec png_codec = PngCodec::kLibdeflate;  ///< the frames' compressor (comparisons: bench png --record)
   bool png_keep_alpha = false;   ///< RGBA frames even when opaque (comparisons: the format before RGB frames)
+  const std::atomic<bool>* stop = nullptr;  ///< set (e.g. by a signal handler) to end the run after the frame under
+                                            ///< way, keeping and finishing every output (null = run to the end)
 };
 
 /// What a finished recording reports (also written to summary.json).
@@ -60,6 +63,7 @@ struct RecordResult {
   int64_t nan_events = 0;        ///< frames whose lattice state became non-finite (and was reset)
   int64_t divergence_events = 0; ///< frames whose lattice diverged (and was reset)
   std::string no_contact;        ///< when no force was ever sent: why ("no contact in 4.0 s: ..."), else empty
+  std::string interrupted;       ///< RecordOptions::stop ended the run: where, and what was kept; else empty
 };
 
 /// Runs a planned recording (record_plan.h: plan_record, then check_plan_outputs). Errors (GL failure, write

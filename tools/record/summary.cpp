@@ -88,6 +88,7 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   // what the material became on the lattice (nu represented, total mass)
   if (scene.lattice.material.enabled) j["material"] = material_summary(scene, model.grid);
   if (!in.run->aborted.empty()) j["aborted"] = in.run->aborted;
+  if (!in.run->interrupted.empty()) j["interrupted"] = in.run->interrupted;
   j["frames_written"] = writer ? writer->frames_written() : 0;
   j["frames_dropped"] = fst.frames_dropped;
   j["servo_ticks"] = sc.ticks;
