@@ -79,6 +79,15 @@ TEST(WebSocketHandshake, UpgradeRepliesAndRefusals) {
   const HttpReply foreign = websocket_upgrade(req);
   EXPECT_EQ(foreign.status, 403);
   EXPECT_NE(foreign.body->find("Origin 'http://evil.example'"), std::string::npos) << *foreign.body;
+  // through an SSH tunnel (ssh -L 9000:127.0.0.1:8080) the browser names the tunnel's end in both Host and Origin: the
+  // page works there; another port or scheme is another site
+  req.host = "localhost:9000";
+  req.origin = "http://localhost:9000";
+  EXPECT_EQ(websocket_upgrade(req).status, 101);
+  for (const char* other : {"http://localhost:8080", "https://localhost:9000", "http://localhost", "null"}) {
+    req.origin = other;
+    EXPECT_EQ(websocket_upgrade(req).status, 403) << other;
+  }
   req = upgrade_request();
   req.ws_version = "8";
   const HttpReply old = websocket_upgrade(req);
