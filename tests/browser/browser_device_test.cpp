@@ -447,6 +447,13 @@ TEST(BrowserDevice, ARecordingReplaysAlongItsPath) {
   fs::create_directories(dir);
   Recording rec(dir, "scenes/bunny_touch.json", 3.0);
   ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
+  // the server is on loopback: a page of another site whose name was pointed at 127.0.0.1 (DNS rebinding) sends
+  // that name as Host and Origin, which match each other, and is refused
+  {
+    test::WsClient rebound;
+    const std::string name = "rebound.example:" + std::to_string(rec.port);
+    EXPECT_EQ(rebound.open(rec.port, "/ws", "Origin: http://" + name + "\r\n", name).rfind("HTTP/1.1 403", 0), 0u);
+  }
   test::WsClient page;
   ASSERT_EQ(page.open(rec.port, "/ws").rfind("HTTP/1.1 101", 0), 0u);
   EXPECT_NE(page.read().payload.find("\"role\":\"control\""), std::string::npos);
