@@ -21,8 +21,8 @@
 #include <nlohmann/json.hpp>
 
 #include "browser/chromium.h"
+#include "browser/frame_pixels.h"
 #include "haptics/browser_device.h"
-#include "render/png_io.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/http_get.h"
@@ -134,70 +134,6 @@ void space(Browser& b, bool down) {
          {{"type", down ? "keyDown" : "keyUp"}, {"code", "Space"}, {"key", " "}, {"windowsVirtualKeyCode", 32}}, true);
 }
 
-// the newest frame file of a recording once `more` frames have been written after this call ("" if none came in 20 s)
-std::string newest_frame_after(const Recording& r, int more) {
-  auto newest = [&r](int64_t* count) {
-    std::string path;
-    int64_t best = -1;
-    *count = 0;
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(r.out + "/frames", ec)) {
-      const std::string name = e.path().filename().string();
-      if (name.rfind("frame_", 0) != 0 || e.path().extension() != ".png") continue;
-      ++*count;
-      const int64_t n = std::atoll(name.c_str() + 6);
-      if (n > best) best = n, path = e.path().string();
-    }
-    return path;
-  };
-  int64_t start = 0, now = 0;
-  newest(&start);
-  for (auto end = Clock::now() + std::chrono::seconds(20); Clock::now() < end;) {
-    const std::string path = newest(&now);
-    if (now >= start + more) return path;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return {};
-}
-
-// the name of a frames folder's first frame (the lowest N of frame_N.png), "" when there is none
-std::string first_frame_name(const std::string& frames_dir) {
-  std::string name;
-  int64_t lowest = -1;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(frames_dir, ec)) {
-    const std::string n = e.path().filename().string();
-    if (n.rfind("frame_", 0) != 0 || e.path().extension() != ".png") continue;
-    const int64_t k = std::atoll(n.c_str() + 6);
-    if (lowest < 0 || k < lowest) lowest = k, name = n;
-  }
-  return name;
-}
-
-// A pixel of the model's surface (its shaded colour or its wireframe: blue-grey, channels in the mesh colour's
-// proportions 0.66 : 0.73 : 0.84), not the background (near white), the tool (red in contact, blue while free) or
-// the proxy spring (green).
-bool surface_pixel(const std::array<int, 4>& p) {
-  const double r = p[0], g = p[1], b = p[2];
-  return b >= 40 && b - r >= 12 && r >= 0.6 * b && r <= 0.95 * b && g >= 0.75 * b && g <= b;
-}
-
-// Of a square window (half size `half_px`, centred on x, y) of two frames: the pixels that show the surface in both,
-// and those of them that differ (where the surface moved under the fixed camera). The tool and the proxy spring are
-// not the surface: drawn over a surface that did not move, they count nothing.
-std::pair<int, int> surface_pixels_moved(const Image& a, const Image& b, int x, int y, int half_px) {
-  int surface = 0, moved = 0;
-  for (int v = std::max(0, y - half_px); v < std::min(a.height, y + half_px); ++v)
-    for (int u = std::max(0, x - half_px); u < std::min(a.width, x + half_px); ++u) {
-      const std::size_t i = (static_cast<std::size_t>(v) * static_cast<std::size_t>(a.width) + static_cast<std::size_t>(u)) * 4;
-      const std::array<int, 4> pa{a.rgba[i], a.rgba[i + 1], a.rgba[i + 2], 255}, pb{b.rgba[i], b.rgba[i + 1], b.rgba[i + 2], 255};
-      if (!surface_pixel(pa) || !surface_pixel(pb)) continue;
-      ++surface;
-      moved += pa != pb;
-    }
-  return {surface, moved};
-}
-
 TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesTheForce) {
   ASSERT_EQ(test::shell("command -v chromium").code, 0)
       << "chromium is not installed: the browser test needs it (scripts/install_deps.sh installs it)";
@@ -240,8 +176,8 @@ TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesT
   // connected: the surface at rest), around where the tool touches (the handle, in view coordinates as the page
   // draws it): the surface itself moved there
   const auto hv = browser.eval("live.device.hv");
-  const std::string before_png = rec.out + "/frames/" + first_frame_name(rec.out + "/frames");
-  const std::string pressed_png = newest_frame_after(rec, 3);
+  const std::string before_png = rec.out + "/frames/" + test::first_frame_name(rec.out + "/frames");
+  const std::string pressed_png = test::newest_frame_after(rec.out + "/frames", 3);
   ASSERT_TRUE(hv.is_array() && hv.size() == 3 && !pressed_png.empty()) << hv.dump();
   const auto before_read = read_png(before_png), pressed_read = read_png(pressed_png);
   ASSERT_TRUE(before_read.ok() && pressed_read.ok()) << before_png << " " << pressed_png;
@@ -251,8 +187,8 @@ TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesT
   const int ty = static_cast<int>((1 - hv[1].get<double>()) / 2 * before.height);
   // around the tool (40 px: the lattice's 7 cells span about 60 px on this view) most of the surface moved; 110 px
   // below it, on the bunny's body beyond the lattice, nothing did
-  const auto [dent_surface, dent_px] = surface_pixels_moved(before, pressed, tx, ty, 40);
-  const auto [far_surface, far_px] = surface_pixels_moved(before, pressed, tx, ty + 110, 40);
+  const auto [dent_surface, dent_px] = test::surface_pixels_moved(before, pressed, tx, ty, 40);
+  const auto [far_surface, far_px] = test::surface_pixels_moved(before, pressed, tx, ty + 110, 40);
   EXPECT_GT(dent_px, 300) << "the surface did not move around the tool at (" << tx << ", " << ty << ") between "
                           << before_png << " and " << pressed_png << " (" << dent_surface << " surface pixels)";
   EXPECT_GT(far_surface, 3000) << "the window below the tool is not on the bunny";
