@@ -1,11 +1,13 @@
 // --device browser end to end: `palpate record --device browser --serve` as a second process. Headless Chromium opens
-// the page and steers the tool with synthetic pointer events (DevTools Input): a drag onto the bunny makes contact
-// and a force in /stats.json; a second page only watches; closing the steering page mid-press fades the force to
-// zero within the watchdog. A recording made through the socket replays (--device replay:) along the same path. The
-// page's button grabs and pulls in pull mode and lowers the blade in cut mode.
+// the page and steers the tool with synthetic mouse and key events (DevTools Input): a drag onto the bunny makes
+// contact, a force in /stats.json and a dent in the recorded frames; a second page only watches; closing the steering
+// page mid-press fades the force to zero within the watchdog. Space held while dragging grabs and pulls in pull mode;
+// a right drag lowers the blade and cuts in cut mode. A recording made through the socket replays (--device replay:)
+// along the same path.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "browser/chromium.h"
+#include "browser/frame_pixels.h"
 #include "haptics/browser_device.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
@@ -112,16 +115,23 @@ std::vector<double> overlay_rect(Browser& b) {
   return v.is_array() ? v.get<std::vector<double>>() : std::vector<double>{};
 }
 
-// a mouse event at view coordinates (x, y in -1..1), the left button held when `held`
-void mouse(Browser& b, const std::vector<double>& rect, const std::string& type, double x, double y, bool held) {
+// a mouse event at view coordinates (x, y in -1..1), `button` ("left" or "right") held when `held`
+void mouse(Browser& b, const std::vector<double>& rect, const std::string& type, double x, double y, bool held,
+           const std::string& button = "left") {
   b.call("Input.dispatchMouseEvent",
          {{"type", type},
           {"x", rect[0] + (x + 1) / 2 * rect[2]},
           {"y", rect[1] + (1 - y) / 2 * rect[3]},
-          {"button", "left"},
-          {"buttons", held ? 1 : 0},
+          {"button", button},
+          {"buttons", held ? (button == "right" ? 2 : 1) : 0},
           {"clickCount", type == "mouseMoved" ? 0 : 1}},
          true);
+}
+
+// the Space key going down or up (the page's button)
+void space(Browser& b, bool down) {
+  b.call("Input.dispatchKeyEvent",
+         {{"type", down ? "keyDown" : "keyUp"}, {"code", "Space"}, {"key", " "}, {"windowsVirtualKeyCode", 32}}, true);
 }
 
 TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesTheForce) {
@@ -140,14 +150,14 @@ TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesT
   const auto rect = overlay_rect(browser);
   ASSERT_EQ(rect.size(), 4u);
 
-  // from above the bunny straight down onto its back, a step every 40 ms until the force passes 0.3 N; then held
+  // from above the bunny straight down onto its back, a step every 40 ms until the force passes 0.4 N; then held
   mouse(browser, rect, "mousePressed", 0.0, 0.95, true);
   nlohmann::json s;
   for (double y = 0.95; y > -0.6; y -= 0.01) {
     mouse(browser, rect, "mouseMoved", 0.0, y, true);
     std::this_thread::sleep_for(std::chrono::milliseconds(40));
     s = rec.stats();
-    if (s.is_object() && s.contains("browser") && norm(s["browser"]["force_N"]) > 0.3) break;
+    if (s.is_object() && s.contains("browser") && norm(s["browser"]["force_N"]) > 0.4) break;
   }
   ASSERT_TRUE(s.is_object() && s.contains("browser")) << read_file(rec.log);
   s = stats_until(rec, 2.0, [](const nlohmann::json& j) { return norm(j["browser"]["force_N"]) > 0.3; });
@@ -161,6 +171,28 @@ TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesT
   EXPECT_GT(s["browser"]["page_input_to_force_ms"]["n"].get<int>(), 0) << s["browser"].dump();
   EXPECT_GT(s["browser"]["input_to_force_us"]["n"].get<int>(), 0) << s["browser"].dump();
   const auto handle = s["browser"]["handle_m"];
+
+  // the dent in the frames: a frame rendered during the press against the run's first (rendered before the page
+  // connected: the surface at rest), around where the tool touches (the handle, in view coordinates as the page
+  // draws it): the surface itself moved there
+  const auto hv = browser.eval("live.device.hv");
+  const std::string before_png = rec.out + "/frames/" + test::first_frame_name(rec.out + "/frames");
+  const std::string pressed_png = test::newest_frame_after(rec.out + "/frames", 3);
+  ASSERT_TRUE(hv.is_array() && hv.size() == 3 && !pressed_png.empty()) << hv.dump();
+  const auto before_read = read_png(before_png), pressed_read = read_png(pressed_png);
+  ASSERT_TRUE(before_read.ok() && pressed_read.ok()) << before_png << " " << pressed_png;
+  const Image& before = before_read.value();
+  const Image& pressed = pressed_read.value();
+  const int tx = static_cast<int>((hv[0].get<double>() + 1) / 2 * before.width);
+  const int ty = static_cast<int>((1 - hv[1].get<double>()) / 2 * before.height);
+  // around the tool (40 px: the lattice's 7 cells span about 60 px on this view) most of the surface moved; 110 px
+  // below it, on the bunny's body beyond the lattice, nothing did
+  const auto [dent_surface, dent_px] = test::surface_pixels_moved(before, pressed, tx, ty, 40);
+  const auto [far_surface, far_px] = test::surface_pixels_moved(before, pressed, tx, ty + 110, 40);
+  EXPECT_GT(dent_px, 300) << "the surface did not move around the tool at (" << tx << ", " << ty << ") between "
+                          << before_png << " and " << pressed_png << " (" << dent_surface << " surface pixels)";
+  EXPECT_GT(far_surface, 3000) << "the window below the tool is not on the bunny";
+  EXPECT_EQ(far_px, 0) << "the surface moved far from the tool";
 
   // a second page watches: the server tells it so, and its pointer messages (far to the right) move nothing. (It
   // speaks the page's protocol directly: a second Chromium window would push the first into the background, where
@@ -195,8 +227,9 @@ TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesT
   EXPECT_EQ(s["browser"]["force_scale"], 0.0);
   // the bound is the watchdog plus the close reaching the server and the polling (generous on a busy machine)
   EXPECT_LT(to_zero_s, BrowserParams{}.watchdog_s() + 2.0);
-  std::printf("[ figures ] pressed %.2f N; force zero %.0f ms after the page closed (watchdog %.0f ms)\n", pressed_N,
-              to_zero_s * 1e3, BrowserParams{}.watchdog_s() * 1e3);
+  std::printf("[ figures ] pressed %.2f N; surface pixels moved within 40 px of the tool %d of %d (110 px below: %d of %d); force zero "
+              "%.0f ms after the page closed (watchdog %.0f ms)\n",
+              pressed_N, dent_px, dent_surface, far_px, far_surface, to_zero_s * 1e3, BrowserParams{}.watchdog_s() * 1e3);
   auto p = [&lat](const char* k, double scale) {
     const auto& v = lat[k];
     return v.value("n", 0) > 0 ? std::to_string(v["p50"].get<double>() * scale).substr(0, 6) + " / " +
@@ -253,84 +286,93 @@ std::pair<int, double> rows_in_state(const std::string& csv, int state) {
   return {rows, max_N};
 }
 
-// Steers a recording through the socket as the page does (a message every 16 ms) along `path(seq)` -> "X Y DEPTH
-// BUTTONS" until the run ends; the run's exit status.
-template <class Path>
-int steer_until_the_end(Recording& rec, Path path) {
-  test::WsClient page;
-  if (page.open(rec.port, "/ws").rfind("HTTP/1.1 101", 0) != 0) return -2;
-  for (int64_t seq = 1; rec.pid > 0; ++seq) {
-    if (!page.send_text("p " + std::to_string(seq) + " " + path(seq))) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(16));
-    int status = 0;
-    if (::waitpid(rec.pid, &status, WNOHANG) == rec.pid) {
-      rec.pid = -1;
-      return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-  }
-  return rec.pid > 0 ? rec.wait(60) : -1;
-}
-
-// Pull: down onto the bunny's back pressing the button until it grabs, then up with it held; the surface follows
-// (grab rows with a force), and it is lifted. Cut: the button (the blade) held from the start, lowered beside the
-// bunny and drawn across it: springs are cut.
-TEST(BrowserDevice, TheButtonGrabsAndPullsInPullModeAndCutsInCutMode) {
+// Pull and cut as a person with a mouse does them, in one headless Chromium (DevTools Input events into the page).
+// Pull: a left drag down onto the bunny's back, Space pressed and let go on the way until a press holds the surface
+// (a force), then held while the drag goes back up: the surface follows (grab rows with a force) and is lifted.
+// Cut: the same page opens the cut recording; a right drag (the right button is the blade) from above beside the
+// bunny down, then across it: springs are cut.
+TEST(BrowserDevice, MouseAndSpaceGrabAndPullInPullModeARightDragCutsInCutMode) {
+  ASSERT_EQ(test::shell("command -v chromium").code, 0)
+      << "chromium is not installed: the browser test needs it (scripts/install_deps.sh installs it)";
   const std::string dir = test::fresh_dir("browser_button");
   fs::create_directories(dir + "/pull");
   fs::create_directories(dir + "/cut");
+  // the browser starts before the recordings (its start-up is not in their realtime runs) and opens each in turn
+  Browser browser;
+  ASSERT_TRUE(browser.launch("about:blank", dir));
+  ASSERT_TRUE(browser.attach("about:blank")) << read_file(dir + "/chromium.log");
+  auto open = [&browser](const std::string& url) {
+    browser.call("Page.navigate", {{"url", url}}, true);
+    for (int i = 0; i < 100 && browser.eval("location.href") != url; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    return role(browser);
+  };
   {
-    Recording rec(dir + "/pull", "scenes/bunny_pull.json", 6.0);
+    Recording rec(dir + "/pull", "scenes/bunny_pull.json", 7.0);
     ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
-    // in pull mode the tool passes freely until the button grabs the surface within the grab radius: down onto the
-    // back pressing and releasing the button every 3 messages; once a press held something (a force), it stays
-    // down, and the tool goes back up
-    int64_t grabbed = -1;
-    double y = 0.95;
+    ASSERT_EQ(open(rec.url), "control");
+    const auto rect = overlay_rect(browser);
+    ASSERT_EQ(rect.size(), 4u);
+    // in pull mode the tool passes freely until a press grabs the surface within the grab radius
+    double y = 0.7;
+    mouse(browser, rect, "mousePressed", 0.0, y, true);
+    bool grabbed = false, key_down = false;
     nlohmann::json last;
-    const int code = steer_until_the_end(rec, [&](int64_t seq) {
-      if (grabbed < 0) {
-        const auto st = rec.stats();
-        if (st.is_object() && st.contains("browser")) {
-          last = st["browser"];
-          if (norm(last["force_N"]) > 0.05) grabbed = seq;
-        }
-      }
-      if (grabbed < 0) {
-        y = std::max(-1.0, y - 0.006);
-        return "0 " + std::to_string(y) + " 0 " + std::to_string((seq / 3) % 2);
-      }
-      const int64_t since = seq - grabbed;
-      if (since > 10 && since < 70) y = std::min(1.0, y + 0.004);
-      return "0 " + std::to_string(y) + " 0 1";
-    });
-    ASSERT_EQ(code, 0) << read_file(rec.log);
-    ASSERT_GT(grabbed, 0) << "the button never grabbed the bunny; last: " << last.dump();
+    for (int step = 0; y > -0.6 && !grabbed; ++step, y -= 0.01) {
+      mouse(browser, rect, "mouseMoved", 0.0, y, true);
+      if ((step % 4 < 2) != key_down) space(browser, key_down = !key_down);
+      std::this_thread::sleep_for(std::chrono::milliseconds(16));
+      const auto st = rec.stats();
+      if (st.is_object() && st.contains("browser")) last = st["browser"];
+      grabbed = key_down && last.is_object() && norm(last["force_N"]) > 0.05;
+    }
+    ASSERT_TRUE(grabbed) << "Space never grabbed the bunny; last: " << last.dump() << read_file(rec.log);
+    // held, then up by 0.24 of the view (about 15 mm) and held until the run ends
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    for (int step = 0; step < 60; ++step) {
+      mouse(browser, rect, "mouseMoved", 0.0, y += 0.004, true);
+      std::this_thread::sleep_for(std::chrono::milliseconds(16));
+    }
+    ASSERT_EQ(rec.wait(30), 0) << read_file(rec.log);
+    space(browser, false);
+    mouse(browser, rect, "mouseReleased", 0.0, y, false);
     const auto [grab_rows, grab_N] = rows_in_state(rec.out + "/haptic.csv", 2);
-    EXPECT_GT(grab_rows, 300) << "the button did not grab";
+    EXPECT_GT(grab_rows, 300) << "the press did not grab";
     EXPECT_GT(grab_N, 0.2) << "the grabbed surface did not pull back";
     const auto summary = nlohmann::json::parse(read_file(rec.out + "/summary.json"));
     EXPECT_GT(summary["max_displacement_m"].get<double>(), 2e-3) << "the surface was not lifted";
+    std::printf("[ figures ] pull: %d grab rows, largest force %.2f N, surface lifted %.1f mm; page messages %lld, "
+                "longest gap %.0f ms, stalls %lld\n",
+                grab_rows, grab_N, summary["max_displacement_m"].get<double>() * 1e3,
+                static_cast<long long>(summary["device"]["messages"].get<int64_t>()),
+                summary["device"].value("max_gap_ms", -1.0),
+                static_cast<long long>(summary["device"].value("stalls", int64_t{-1})));
   }
   {
     Recording rec(dir + "/cut", "scenes/bunny_cut.json", 3.0);
     ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
-    // the blade stands up from the tool: lowered into the body beside it, then drawn across it, once the run has
-    // started (cut mode sets its whole-object lattice at rest first)
-    int64_t start = -1;
-    const int code = steer_until_the_end(rec, [&](int64_t seq) {
-      if (start < 0 && seq % 4 == 0) {
-        const auto st = rec.stats();
-        if (st.is_object() && st.contains("servo") && st["servo"]["ticks"].get<int64_t>() > 0) start = seq;
-      }
-      const double t = start < 0 ? 0.0 : static_cast<double>(seq - start);
-      const double y = std::max(0.0, 0.95 - 0.016 * t);
-      const double x = t <= 60 ? -0.7 : std::min(0.7, -0.7 + 0.014 * (t - 60.0));
-      return std::to_string(x) + " " + std::to_string(y) + " 0 1";
-    });
-    ASSERT_EQ(code, 0) << read_file(rec.log);
+    ASSERT_EQ(open(rec.url), "control");
+    const auto rect = overlay_rect(browser);
+    ASSERT_EQ(rect.size(), 4u);
+    // the blade stands up from the tool: lowered beside the bunny, then drawn across it, once the run has started
+    // (cut mode sets its whole-object lattice at rest first)
+    stats_until(rec, 30.0, [](const nlohmann::json& j) { return j["servo"]["ticks"].get<int64_t>() > 0; });
+    double x = -0.7, y = 0.95;
+    mouse(browser, rect, "mousePressed", x, y, true, "right");
+    for (int step = 0; step < 30; ++step) {
+      mouse(browser, rect, "mouseMoved", x, y -= 0.032, true, "right");
+      std::this_thread::sleep_for(std::chrono::milliseconds(16));
+    }
+    for (int step = 0; step < 70 && rec.pid > 0; ++step) {
+      mouse(browser, rect, "mouseMoved", x += 0.02, y, true, "right");
+      std::this_thread::sleep_for(std::chrono::milliseconds(16));
+    }
+    ASSERT_EQ(rec.wait(30), 0) << read_file(rec.log);
+    mouse(browser, rect, "mouseReleased", x, y, false, "right");
     const auto summary = nlohmann::json::parse(read_file(rec.out + "/summary.json"));
     ASSERT_TRUE(summary.contains("cut")) << summary.dump();
     EXPECT_GT(summary["cut"]["springs_cut"].get<int64_t>(), 0) << "the blade cut nothing";
+    std::printf("[ figures ] cut: %lld springs cut\n", static_cast<long long>(summary["cut"]["springs_cut"].get<int64_t>()));
   }
 }
 
@@ -341,6 +383,13 @@ TEST(BrowserDevice, ARecordingReplaysAlongItsPath) {
   fs::create_directories(dir);
   Recording rec(dir, "scenes/bunny_touch.json", 3.0);
   ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
+  // the server is on loopback: a page of another site whose name was pointed at 127.0.0.1 (DNS rebinding) sends
+  // that name as Host and Origin, which match each other, and is refused
+  {
+    test::WsClient rebound;
+    const std::string name = "rebound.example:" + std::to_string(rec.port);
+    EXPECT_EQ(rebound.open(rec.port, "/ws", "Origin: http://" + name + "\r\n", name).rfind("HTTP/1.1 403", 0), 0u);
+  }
   test::WsClient page;
   ASSERT_EQ(page.open(rec.port, "/ws").rfind("HTTP/1.1 101", 0), 0u);
   EXPECT_NE(page.read().payload.find("\"role\":\"control\""), std::string::npos);

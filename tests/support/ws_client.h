@@ -27,15 +27,17 @@ class WsClient {
   WsClient& operator=(const WsClient&) = delete;
   ~WsClient() { close_socket(); }
 
-  /// Connects and sends the upgrade request (extra_headers end with CRLF each); returns the server's reply head.
-  std::string open(int port, const std::string& path = "/ws", const std::string& extra_headers = "") {
+  /// Connects and sends the upgrade request (extra_headers end with CRLF each; host: the Host header, empty for
+  /// 127.0.0.1:port); returns the server's reply head.
+  std::string open(int port, const std::string& path = "/ws", const std::string& extra_headers = "",
+                   const std::string& host = "") {
     fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     sockaddr_in sa{};
     sa.sin_family = AF_INET;
     sa.sin_port = htons(static_cast<uint16_t>(port));
     sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     if (::connect(fd_, reinterpret_cast<sockaddr*>(&sa), sizeof sa) != 0) return {};
-    send_raw("GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
+    send_raw("GET " + path + " HTTP/1.1\r\nHost: " + (host.empty() ? "127.0.0.1:" + std::to_string(port) : host) +
              "\r\nUpgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
              "Sec-WebSocket-Version: 13\r\n" + extra_headers + "\r\n");
     std::string head;

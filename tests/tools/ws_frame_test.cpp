@@ -79,6 +79,15 @@ TEST(WebSocketHandshake, UpgradeRepliesAndRefusals) {
   const HttpReply foreign = websocket_upgrade(req);
   EXPECT_EQ(foreign.status, 403);
   EXPECT_NE(foreign.body->find("Origin 'http://evil.example'"), std::string::npos) << *foreign.body;
+  // through an SSH tunnel (ssh -L 9000:127.0.0.1:8080) the browser names the tunnel's end in both Host and Origin: the
+  // page works there; another port or scheme is another site
+  req.host = "localhost:9000";
+  req.origin = "http://localhost:9000";
+  EXPECT_EQ(websocket_upgrade(req).status, 101);
+  for (const char* other : {"http://localhost:8080", "https://localhost:9000", "http://localhost", "null"}) {
+    req.origin = other;
+    EXPECT_EQ(websocket_upgrade(req).status, 403) << other;
+  }
   req = upgrade_request();
   req.ws_version = "8";
   const HttpReply old = websocket_upgrade(req);
@@ -90,6 +99,26 @@ TEST(WebSocketHandshake, UpgradeRepliesAndRefusals) {
   req = upgrade_request();
   req.upgrade_websocket = false;
   EXPECT_EQ(websocket_upgrade(req).status, 400);
+}
+
+// A server on loopback takes its socket only from a page whose Host names loopback: a page of another site whose
+// name was pointed at 127.0.0.1 (DNS rebinding) sends its own name in both Host and Origin, which match.
+TEST(WebSocketHandshake, ALoopbackServerRefusesAHostThatIsNotLoopback) {
+  for (const char* host : {"127.0.0.1:8080", "localhost:9000", "LocalHost:9000", "localhost", "127.1.2.3:80", "[::1]:8080"})
+    EXPECT_TRUE(loopback_host(host)) << host;
+  for (const char* host : {"evil.example:8080", "127.0.0.1.evil.example:8080", "localhost.evil.example", "128.0.0.1:8080",
+                           "127.0.0.256", "127.0.0", "127..0.1", "[::2]:8080", "[::1", "", "0.0.0.0:8080"})
+    EXPECT_FALSE(loopback_host(host)) << host;
+  HttpRequest req = upgrade_request();
+  req.host = "evil.example:8080";
+  req.origin = "http://evil.example:8080";
+  EXPECT_EQ(websocket_upgrade(req).status, 101) << "a server on all interfaces is reached by any name";
+  const HttpReply rebound = websocket_upgrade(req, true);
+  EXPECT_EQ(rebound.status, 403);
+  EXPECT_NE(rebound.body->find("Host 'evil.example:8080' is not a loopback name"), std::string::npos) << *rebound.body;
+  req.host = "localhost:9000";  // an SSH tunnel's end
+  req.origin = "http://localhost:9000";
+  EXPECT_EQ(websocket_upgrade(req, true).status, 101);
 }
 
 TEST(HttpHead, UpgradeHeadersAreRead) {

@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -52,8 +53,12 @@ struct HttpReply {
 
 /// The reply to a WebSocket upgrade request (RFC 6455 §4.2.2): 101 with Sec-WebSocket-Accept, or 400 (not an upgrade,
 /// a key that is not 16 bytes in base64), 426 (a version other than 13) or 403 (an Origin that is not this server's
-/// own, i.e. not "http://" + Host: a page from another site may not steer the device).
-HttpReply websocket_upgrade(const HttpRequest& request);
+/// own, i.e. not "http://" + Host: a page from another site may not steer the device; with loopback_only, also a
+/// Host that is not a loopback name: a page of another site whose name was pointed at 127.0.0.1, DNS rebinding).
+HttpReply websocket_upgrade(const HttpRequest& request, bool loopback_only = false);
+
+/// True when a Host header names this machine's loopback: localhost, 127.x.x.x or [::1], with or without a port.
+bool loopback_host(std::string_view host);
 
 /// What a server does with its WebSockets. Each callback runs on the server's loop thread; any may be empty.
 struct WsCallbacks {

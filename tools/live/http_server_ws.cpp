@@ -19,7 +19,41 @@ using http_detail::kDrain_ms;
 using http_detail::kDrainBytes;
 using http_detail::kMs;
 
-HttpReply websocket_upgrade(const HttpRequest& req) {
+bool loopback_host(std::string_view host) {
+  // the name without its port ("[::1]:8080" keeps its brackets)
+  std::string_view name = host;
+  if (!name.empty() && name.front() == '[') {
+    const auto close = name.find(']');
+    if (close == std::string_view::npos) return false;
+    if (close + 1 < name.size() && name[close + 1] != ':') return false;
+    return name.substr(0, close + 1) == "[::1]";
+  }
+  if (const auto colon = name.find(':'); colon != std::string_view::npos) name = name.substr(0, colon);
+  if (name.size() == 9) {
+    std::string lower(name);
+    for (char& c : lower) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+    if (lower == "localhost") return true;
+  }
+  // 127.a.b.c, each part 0..255 in decimal
+  if (name.substr(0, 4) != "127.") return false;
+  int parts = 2, digits = 0, value = 0;  // "127" and the one being read
+  for (char c : name.substr(4)) {
+    if (c == '.') {
+      if (digits == 0) return false;
+      ++parts;
+      digits = value = 0;
+    } else if (c >= '0' && c <= '9' && digits < 3) {
+      value = value * 10 + (c - '0');
+      ++digits;
+      if (value > 255) return false;
+    } else {
+      return false;
+    }
+  }
+  return parts == 4 && digits > 0;
+}
+
+HttpReply websocket_upgrade(const HttpRequest& req, bool loopback_only) {
   HttpReply r;
   auto refuse = [&r](int status, const std::string& why) {
     r.status = status;
@@ -39,6 +73,9 @@ HttpReply websocket_upgrade(const HttpRequest& req) {
     return refuse(400, "Sec-WebSocket-Key is not 16 bytes in base64");
   if (!req.origin.empty() && req.origin != "http://" + req.host)
     return refuse(403, "Origin '" + req.origin + "' is not this server's page (http://" + req.host + ")");
+  if (loopback_only && !loopback_host(req.host))
+    return refuse(403, "Host '" + req.host + "' is not a loopback name: this server listens on loopback only, so its "
+                       "page is http://localhost:PORT/ or http://127.0.0.1:PORT/ (also through an SSH tunnel)");
   r.status = 101;
   r.upgrade = true;
   r.headers.emplace_back("Upgrade", "websocket");

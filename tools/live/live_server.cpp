@@ -98,6 +98,7 @@ struct LiveServer::Impl {
   int64_t next_collect_ns = 0;
   std::string host;
   int port = 0;
+  bool loopback_only = false;  // set before the loop starts: the socket's Host must name loopback (DNS rebinding)
 
   // everything below is the server loop's own (one thread): no locks
   // plot points taken from the feed: points [history_begin, history_begin + history.size())
@@ -173,7 +174,7 @@ struct LiveServer::Impl {
       }
       r.headers.emplace_back("X-Frame", std::to_string(index));
     } else if (req.path == "/ws" && browser) {
-      return websocket_upgrade(req);
+      return websocket_upgrade(req, loopback_only);
     } else if (req.path == "/stats.json") {
       r.content_type = "application/json";
       r.body = std::make_shared<const std::string>(stats(query_int(req.query, "since", 0)));
@@ -234,6 +235,7 @@ LiveServer::~LiveServer() { stop(); }
 
 Status LiveServer::start(const ServeAddress& address) {
   Impl& m = *impl_;
+  m.loopback_only = address.host.rfind("127.", 0) == 0;
   if (auto st = m.http.start(address.host, address.port); !st) return st;
   m.host = address.host;
   m.port = m.http.port();
