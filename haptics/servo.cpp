@@ -246,8 +246,9 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
 }
 
 bool Servo::jump_event(const LocalModel& m, ContactState before) noexcept {
-  // every change of contact but a touch beginning (release, grab, grab release, a cut starting or ending)
-  bool event = before != contact_ && !(before == ContactState::kFree && contact_ == ContactState::kTouch);
+  // every change of contact: a touch beginning (its first tick's depth and the coupling's damping of the device's
+  // speed come at once), a release, a grab and its release, a cut starting or ending
+  bool event = before != contact_;
   // a frame whose patch came from a region placed or moved (no contact model on it), or that brings the first
   // contact model after one, while in contact
   if (m.frame != jump_frame_) {

@@ -89,7 +89,7 @@ class Servo {
   bool tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept;
   // whether the tool's move since the last tick starts a touch (sets the side it came from)
   bool touch_begins(const LocalModel& m, const Vec3& tool, double r) noexcept;
-  // the step this tick that the device's motion does not explain is an event (release, grab, region, cut)
+  // the step this tick that the device's motion does not explain is an event (entry, release, grab, region, cut)
   bool jump_event(const LocalModel& m, ContactState before) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
   // cut: the blade cuts while the button is held and the edge crosses the surface or its tip is inside
