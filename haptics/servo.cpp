@@ -12,6 +12,10 @@ namespace {
 
 // a point tool is a god-object sphere of this radius whose proxy is the surface point under it
 constexpr double kPointClearance_m = 1e-6;
+// with no jump limit a point tool still rolls over a convex facet edge at most this much of the coupling's force a
+// tick beyond the device's step: pressed d into the surface, a point held at the edge would otherwise snap onto the
+// next face by about d sin(turn) in one tick (0.15 N at 1 mm and 25 degrees), a sphere wider than its depth never does
+constexpr double kPointRoll_N_per_tick = 0.02;
 
 }  // namespace
 
@@ -146,9 +150,12 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   }
   // with a jump limit the proxy goes at most the device's step and the limit's share of the coupling a tick: where
   // the surface alone would snap it over (a convex ridge or facet edge), it rolls over in bounded steps (the
-  // friction cone and the release still judge from where the surface alone would put it)
-  const double path_m = params_.jump_limit_N_per_tick > 0.0 && params_.coupling_N_per_m > 0.0
-                            ? (tool - prev_tool_m_).norm() + params_.jump_limit_N_per_tick / params_.coupling_N_per_m
+  // friction cone and the release still judge from where the surface alone would put it); a point tool always does
+  const double roll_N = params_.jump_limit_N_per_tick > 0.0 ? params_.jump_limit_N_per_tick
+                        : sphere                           ? 0.0
+                                                           : kPointRoll_N_per_tick;
+  const double path_m = roll_N > 0.0 && params_.coupling_N_per_m > 0.0
+                            ? (tool - prev_tool_m_).norm() + roll_N / params_.coupling_N_per_m
                             : 0.0;
   Vec3 c = free;
   if (params_.friction.on()) {
