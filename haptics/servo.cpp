@@ -45,7 +45,7 @@ bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3
 const LocalModel& Servo::surface_at(const LocalModel& src, double t_s) noexcept {
   surface_moved_ = src.frame != seen_frame_;
   seen_frame_ = src.frame;
-  if (!(src.blend_s > 0.0)) return src;
+  if (!(src.blend_s > 0.0) || !params_.surface_blend) return src;
   const double period_s = rates_.servo_period_s();
   if (src.frame != surface_.frame) {
     // the contact model's force and compliance move from the last frame's to this one's with the corners
@@ -246,7 +246,7 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
   const Mat3& c = m.compliance_m_per_N;
   const Mat3 a = Mat3::Identity() + k * c;
   // a blended patch moves the surface over the frame itself: only the response to the force is predicted
-  const double drift_s = m.blend_s > 0.0 ? 0.0 : tau;
+  const double drift_s = m.blend_s > 0.0 && params_.surface_blend ? 0.0 : tau;
   const Vec3 rhs = proxy_m_ + drift_s * m.contact_v0_m_per_s - c * m.contact_f0_N + k * (c * tool);
   const Vec3 p = a.inverse() * rhs;
   return p.allFinite() ? p : proxy_m_;

@@ -46,6 +46,8 @@ struct ServoParams {
   FrictionParams friction;                ///< touch: Coulomb friction in the proxy (both coefficients 0: none)
   double jump_limit_N_per_tick = 0.0;     ///< > 0: a step at a contact event, a region change or a cut reaches the
                                           ///< device at most this fast (haptics/jump_limit.h); 0 = no limit
+  bool surface_blend = true;              ///< a patch with blend_s > 0 moves over its frame; false takes each frame's
+                                          ///< surface at its first tick (the comparison of `palpate bench force`)
 };
 
 /// Counters the servo keeps (read after the run, or approximately while it runs).
