@@ -76,8 +76,8 @@ struct DeviceSetup {
                                             ///< the scripted device's is the hand's): b of the passivity bound 2b/T
   bool passivity = true;                    ///< energy-based passivity observer/controller on the coupling
   double ramp_s = 0.2;                      ///< force ramp-in at start and after a reset
-  double jump_limit_N_per_tick = 0.02;      ///< a force step at a release, a grab, a region change or a cut reaches
-                                            ///< the hand at most this much a servo tick (0: unlimited)
+  double jump_limit_N_per_tick = 0.02;      ///< a force step at a contact's entry or release, a grab, a region change
+                                            ///< or a cut reaches the hand at most this much a servo tick (0: unlimited)
 };
 
 /// The scripted hand: a mass pulled toward keyframe targets by a spring-damper.

@@ -1,6 +1,6 @@
 #pragma once
-/// JumpLimit: a force step the device's motion does not explain (contact release, grab and its release, a region
-/// placed or moved, a cut starting or ending) is taken up as an offset that returns to zero at a stated rate, so
+/// JumpLimit: a force step the device's motion does not explain (contact entry and release, grab and its release, a
+/// region placed or moved, a cut starting or ending) is taken up as an offset that returns to zero at a stated rate, so
 /// the hand never feels the step as a click. It changes nothing while no step is pending: a limit on jumps, not a
 /// filter on the force of steady contact. Thread: servo.
 

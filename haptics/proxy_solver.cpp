@@ -161,6 +161,7 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
   int ns = 0;
   double left_m = max_path_m > 0.0 ? max_path_m : INFINITY;
   bool cut_short = false;
+  bool settled = false;  // the loop ended on an answer (the goal, or planes the goal presses c into), not on the limit
   for (int round = 0; round < kMaxRounds && !cut_short; ++round) {
     // a plane whose triangle the slide has left (past a convex edge, off a corner) holds nothing any more
     int gone = -1;
@@ -182,7 +183,10 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
     }
     if (d.squaredNorm() <= kStill_m2) {
       const int drop = most_negative(goal, c, w, nw);
-      if (drop < 0) break;  // the goal presses c into every plane holding it: c is the answer
+      if (drop < 0) {
+        settled = true;  // the goal presses c into every plane holding it (or none holds it: c is the goal)
+        break;
+      }
       w[drop] = w[--nw];
       ns = 0;
       continue;
@@ -224,7 +228,8 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
     } else if (ns < kMaxSkipped) {
       skipped[ns++] = first;  // a plane the held ones already stand for (or a fourth): pass it over
     } else {
-      break;  // wedged: stay here
+      settled = true;  // wedged: stay here
+      break;
     }
   }
   if (cut_short) {
@@ -241,6 +246,9 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
     if (t_first <= 1.0) c += t_first * d;  // (nothing between: it stays where the bound stopped it)
     nw = std::max(nw, 1);
   }
+  // out of rounds (rolling along a crease of edge contacts creeps on a little each round): c is where the slide got
+  // to, on the surface, never the goal, even when the round that ran out had just let go of a plane
+  if (!settled && !cut_short) nw = std::max(nw, 1);
   *active = nw;
   return c;
 }

@@ -12,6 +12,10 @@ namespace {
 
 // a point tool is a god-object sphere of this radius whose proxy is the surface point under it
 constexpr double kPointClearance_m = 1e-6;
+// with no jump limit a point tool still rolls over a convex facet edge at most this much of the coupling's force a
+// tick beyond the device's step: pressed d into the surface, a point held at the edge would otherwise snap onto the
+// next face by about d sin(turn) in one tick (0.15 N at 1 mm and 25 degrees), a sphere wider than its depth never does
+constexpr double kPointRoll_N_per_tick = 0.02;
 
 }  // namespace
 
@@ -41,7 +45,7 @@ bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3
 const LocalModel& Servo::surface_at(const LocalModel& src, double t_s) noexcept {
   surface_moved_ = src.frame != seen_frame_;
   seen_frame_ = src.frame;
-  if (!(src.blend_s > 0.0)) return src;
+  if (!(src.blend_s > 0.0) || !params_.surface_blend) return src;
   const double period_s = rates_.servo_period_s();
   if (src.frame != surface_.frame) {
     // the contact model's force and compliance move from the last frame's to this one's with the corners
@@ -146,9 +150,12 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   }
   // with a jump limit the proxy goes at most the device's step and the limit's share of the coupling a tick: where
   // the surface alone would snap it over (a convex ridge or facet edge), it rolls over in bounded steps (the
-  // friction cone and the release still judge from where the surface alone would put it)
-  const double path_m = params_.jump_limit_N_per_tick > 0.0 && params_.coupling_N_per_m > 0.0
-                            ? (tool - prev_tool_m_).norm() + params_.jump_limit_N_per_tick / params_.coupling_N_per_m
+  // friction cone and the release still judge from where the surface alone would put it); a point tool always does
+  const double roll_N = params_.jump_limit_N_per_tick > 0.0 ? params_.jump_limit_N_per_tick
+                        : sphere                           ? 0.0
+                                                           : kPointRoll_N_per_tick;
+  const double path_m = roll_N > 0.0 && params_.coupling_N_per_m > 0.0
+                            ? (tool - prev_tool_m_).norm() + roll_N / params_.coupling_N_per_m
                             : 0.0;
   Vec3 c = free;
   if (params_.friction.on()) {
@@ -239,15 +246,16 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
   const Mat3& c = m.compliance_m_per_N;
   const Mat3 a = Mat3::Identity() + k * c;
   // a blended patch moves the surface over the frame itself: only the response to the force is predicted
-  const double drift_s = m.blend_s > 0.0 ? 0.0 : tau;
+  const double drift_s = m.blend_s > 0.0 && params_.surface_blend ? 0.0 : tau;
   const Vec3 rhs = proxy_m_ + drift_s * m.contact_v0_m_per_s - c * m.contact_f0_N + k * (c * tool);
   const Vec3 p = a.inverse() * rhs;
   return p.allFinite() ? p : proxy_m_;
 }
 
 bool Servo::jump_event(const LocalModel& m, ContactState before) noexcept {
-  // every change of contact but a touch beginning (release, grab, grab release, a cut starting or ending)
-  bool event = before != contact_ && !(before == ContactState::kFree && contact_ == ContactState::kTouch);
+  // every change of contact: a touch beginning (its first tick's depth and the coupling's damping of the device's
+  // speed come at once), a release, a grab and its release, a cut starting or ending
+  bool event = before != contact_;
   // a frame whose patch came from a region placed or moved (no contact model on it), or that brings the first
   // contact model after one, while in contact
   if (m.frame != jump_frame_) {

@@ -46,6 +46,8 @@ struct ServoParams {
   FrictionParams friction;                ///< touch: Coulomb friction in the proxy (both coefficients 0: none)
   double jump_limit_N_per_tick = 0.0;     ///< > 0: a step at a contact event, a region change or a cut reaches the
                                           ///< device at most this fast (haptics/jump_limit.h); 0 = no limit
+  bool surface_blend = true;              ///< a patch with blend_s > 0 moves over its frame; false takes each frame's
+                                          ///< surface at its first tick (the comparison of `palpate bench force`)
 };
 
 /// Counters the servo keeps (read after the run, or approximately while it runs).
@@ -89,7 +91,7 @@ class Servo {
   bool tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept;
   // whether the tool's move since the last tick starts a touch (sets the side it came from)
   bool touch_begins(const LocalModel& m, const Vec3& tool, double r) noexcept;
-  // the step this tick that the device's motion does not explain is an event (release, grab, region, cut)
+  // the step this tick that the device's motion does not explain is an event (entry, release, grab, region, cut)
   bool jump_event(const LocalModel& m, ContactState before) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
   // cut: the blade cuts while the button is held and the edge crosses the surface or its tip is inside

@@ -117,9 +117,9 @@ TEST(Friction, StrokedOutOfADentTheProxyTrailsWithoutJumps) {
   // 5 mm sphere pressed 1.5 mm into its bottom, then stroked 8 mm out of it at 20 mm/s: stuck, breaking away and
   // sliding up the dent's wall, the force steps by no more than the device's step explains plus 0.02 N (a cone
   // taken across the normal at the device once moved the proxy along a crease of the facets by 0.3 mm in a tick).
-  // (A point tool catches at the convex facet edges of the dent's rim: docs/feel.md, what is left.)
-  {
-    const double radius = 0.005;
+  // A point tool, which rolls over the convex facet edges of the dent's rim in bounded steps, does the same.
+  for (double radius : {0.0, 0.005}) {
+    SCOPED_TRACE(radius > 0 ? "sphere tool" : "point tool");
     test::FixedDevice dev;
     dev.specs_.max_force_N = 100;
     SpscQueue<HapticSample> q(4096);

@@ -189,17 +189,21 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
   // the frames published while it runs (copied from here: a copy allocates nothing)
   auto frame = std::make_unique<LocalModel>(tb->read());
   // touch with a point tool, with a 5 mm sphere, pull, cut; then touch with friction and every mode with the
-  // jump limit
+  // jump limit; last touch with each frame's surface taken at once (no blend)
   struct RunSpec {
     InteractionMode mode;
     double radius, friction, jump_limit;
+    bool blend = true;
   };
   const RunSpec runs[] = {{InteractionMode::kTouch, 0.0, 0.0, 0.0},  {InteractionMode::kTouch, 0.005, 0.0, 0.0},
                           {InteractionMode::kPull, 0.0, 0.0, 0.0},   {InteractionMode::kCut, 0.0, 0.0, 0.0},
                           {InteractionMode::kTouch, 0.0, 0.5, 0.02}, {InteractionMode::kTouch, 0.005, 0.5, 0.02},
-                          {InteractionMode::kPull, 0.0, 0.0, 0.02},  {InteractionMode::kCut, 0.0, 0.0, 0.02}};
-  for (const auto& [mode, radius, mu, jump] : runs) {
+                          {InteractionMode::kPull, 0.0, 0.0, 0.02},  {InteractionMode::kCut, 0.0, 0.0, 0.02},
+                          {InteractionMode::kTouch, 0.0, 0.5, 0.02, false}};
+  for (const RunSpec& run : runs) {
+    const auto [mode, radius, mu, jump, blend] = run;
     ServoParams p;
+    p.surface_blend = blend;
     p.mode = mode;
     p.tool_radius_m = radius;
     p.friction.static_coefficient = mu;
@@ -231,7 +235,7 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
       allocs = guard.count();
     }
     EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode) << ", tool radius " << radius << ", friction " << mu
-                         << ", jump limit " << jump;
+                         << ", jump limit " << jump << ", blend " << blend;
     EXPECT_EQ(servo.counters().ticks, 10000);
   }
 }

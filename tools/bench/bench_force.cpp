@@ -22,8 +22,8 @@ struct ForceTrace {
 };
 
 // Lockstep run with the sim stepping at frame_hz (the scene's, or the servo's for the reference) and the given
-// force model.
-Result<ForceTrace> run(const Scene& scene_in, const Model& model, double frame_hz, ForceModel fm) {
+// force model, the surface blended over each frame or taken at once.
+Result<ForceTrace> run(const Scene& scene_in, const Model& model, double frame_hz, ForceModel fm, bool blend = true) {
   Scene scene = scene_in;
   scene.rates.frame_hz = frame_hz;
   const Rates& rates = scene.rates;
@@ -32,6 +32,7 @@ Result<ForceTrace> run(const Scene& scene_in, const Model& model, double frame_h
   // the servo `palpate record` runs, with the force model under comparison instead of the scene's
   ServoParams sp = servo_params_for(scene, dev.value()->specs());
   sp.force_model = fm;
+  sp.surface_blend = blend;
   Session session(scene, model, dev.value().get(), sp);
   ForceTrace tr;
   tr.force_N.reserve(static_cast<std::size_t>(rates.ticks(scene.duration_s)));
@@ -113,6 +114,18 @@ int run_bench_force(const BenchForceOptions& o) {
                   tr.value().sim_ms_per_scene_s);
       js[model_name(fm)] = {{"rms_N", e.rms_N}, {"max_N", e.max_N}, {"sim_ms_per_scene_s", tr.value().sim_ms_per_scene_s}};
     }
+    // the local model with each frame's surface taken at its first tick instead of blended over the frame: what the
+    // blend's delay of the lattice's deformation costs (or saves) against the reference
+    auto nb = run(scene.value(), model.value(), scene.value().rates.frame_hz, ForceModel::kLocalModel, false);
+    if (!nb) {
+      std::fprintf(stderr, "palpate: %s\n", nb.error().message.c_str());
+      return 1;
+    }
+    const ErrorFigures e = compare(nb.value(), ref.value());
+    std::printf("%-22s %-16s %10.4f %10.4f %14.1f\n", scene.value().name.c_str(), "local_no_blend", e.rms_N, e.max_N,
+                nb.value().sim_ms_per_scene_s);
+    js["local_model_no_blend"] = {{"rms_N", e.rms_N}, {"max_N", e.max_N},
+                                  {"sim_ms_per_scene_s", nb.value().sim_ms_per_scene_s}};
     out["scenes"].push_back(js);
   }
   if (!o.json_path.empty()) {

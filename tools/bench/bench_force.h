@@ -1,7 +1,7 @@
 #pragma once
 /// `palpate bench force`: the force the device feels between 60 Hz sim frames, against a reference that steps the
 /// whole lattice at the servo rate — for the hold-last-frame baseline, the static-surface proxy and the multirate
-/// local model.
+/// local model, and the local model again with each frame's surface taken at once instead of blended over the frame.
 
 #include <string>
 #include <vector>
