@@ -67,11 +67,12 @@ CutQuads::CutQuads(const std::vector<BladeQuad>& q) : quads(q), quad_box(q.size(
   }
 }
 
-bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads, double* t) {
+bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads, double* t, std::size_t* quad) {
   // a quad is tested only where the segment's box overlaps the quad's, so a run's box culls its quads at once
   if (quads.quads.empty() || !quads.box.overlaps_segment(p_m, q_m, 0.0)) return false;
   bool hit = false;
   double best = 2.0;
+  std::size_t best_quad = 0;
   const std::size_t n = quads.quads.size();
   for (std::size_t c = 0; c < quads.chunk_box.size(); ++c) {
     if (!quads.chunk_box[c].overlaps_segment(p_m, q_m, 0.0)) continue;
@@ -80,12 +81,13 @@ bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads
       double tq = 2.0;
       if (segment_crosses_quad(p_m, q_m, quads.quads[i], &tq)) {
         hit = true;
-        best = std::min(best, tq);
+        if (tq < best) best = tq, best_quad = i;
         if (!t) return true;
       }
     }
   }
   if (hit && t) *t = best;
+  if (hit && t && quad) *quad = best_quad;
   return hit;
 }
 

@@ -46,8 +46,10 @@ struct CutQuads {
   explicit CutQuads(const std::vector<BladeQuad>& q);
 };
 
-/// True when segment p->q crosses any of the quads whose box its box overlaps; *t as above over all of them.
-bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads, double* t = nullptr);
+/// True when segment p->q crosses any of the quads whose box its box overlaps; *t as above over all of them, and
+/// *quad (when non-null, with t) the index of the quad crossed at *t.
+bool segment_crosses_any(const Vec3& p_m, const Vec3& q_m, const CutQuads& quads, double* t = nullptr,
+                         std::size_t* quad = nullptr);
 
 /// Removes every spring whose rest segment crosses a quad (in rest coordinates), updates springs_per_family and touches
 /// the lattice (solver caches are rebuilt) when any was removed. Returns the number removed.

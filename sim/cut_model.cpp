@@ -186,7 +186,15 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
 
   const std::size_t old_count = rest_m_.size();
   std::vector<SplitVertex> created;
-  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_, &tri_grid_);
+  // the incision's copies stay inside the lattice's cells, so they move with it
+  IncisionShape groove;
+  groove.depth_m = incision_cells_ * lat->cell_m;
+  const Aabb cube = grid_->cube();
+  groove.keep = [&](const Vec3& p) {
+    if ((p.array() < cube.min_m.array()).any() || (p.array() > cube.max_m.array()).any()) return false;
+    return lat->slot_of_cell[grid_->linear_index(grid_->cell_of(p, level_), level_)] >= 0;
+  };
+  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_, &tri_grid_, groove);
 
   // existing vertices whose cell a quad's box overlaps (a vertex's segments to its corners stay in its cell, so
   // no other can be cut off from a corner): corners now on the far side of the cut are dropped

@@ -15,6 +15,7 @@
 #include "core/grid_hierarchy.h"
 #include "core/tri_mesh.h"
 #include "sim/cut.h"
+#include "sim/cut_incision.h"
 #include "sim/lattice.h"
 #include "sim/mesh_split.h"
 #include "sim/rest_map.h"
@@ -83,6 +84,9 @@ class CutModel {
   /// fourth frame, 5-7 ms of downdates in one frame.
   void set_max_springs_per_apply(int n) { max_springs_ = std::max(n, 0); }
   int max_springs_per_apply() const { return max_springs_; }
+  /// The incision's groove depth in lattice cells (cut_incision.h; default kIncisionDepthCells, 0: the copies a
+  /// split makes stay at the crossing and a slit that does not open is not seen). Negative counts as 0.
+  void set_incision_depth_cells(double cells) { incision_cells_ = std::max(cells, 0.0); }
   /// Springs crossed by the blade and still in the lattice.
   std::size_t deferred_springs() const { return deferred_.size(); }
   /// Moves every vertex whose cell is in the lattice with its side's nodes; others stay at rest.
@@ -140,6 +144,7 @@ class CutModel {
   std::vector<int32_t> cell_count_;               // vertices bound to each cell (n_cells)
   TriangleGrid tri_grid_;                         // triangles by rest cube
   int max_springs_ = 0;                           // springs removed per apply() at most (0: all)
+  double incision_cells_ = kIncisionDepthCells;   // groove depth, lattice cells
   std::vector<uint64_t> deferred_;                // crossed springs still in the lattice, oldest first
   RestEdge last_edge_;                            // the last blade edge mapped to rest
   std::vector<TipTriangle> tips_;                 // crack tips: their halves end triangles_

@@ -21,7 +21,7 @@ struct EdgeCut {
 
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
                            std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
-                           std::vector<TipTriangle>* tips, TriangleGrid* grid) {
+                           std::vector<TipTriangle>* tips, TriangleGrid* grid, const IncisionShape& incision) {
   MeshSplitReport rep;
   created->clear();
   if (quads.empty()) return rep;
@@ -76,17 +76,21 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       const uint64_t key = unordered_pair_key(a, b);
       if (tested.count(key) || cuts.count(key)) continue;
       double t = 0.0;
-      const bool hit = segment_crosses_any(x[a], x[b], set, &t) && t > kSplitEdgeEps && t < 1.0 - kSplitEdgeEps;
+      std::size_t quad = 0;
+      const bool hit = segment_crosses_any(x[a], x[b], set, &t, &quad) && t > kSplitEdgeEps && t < 1.0 - kSplitEdgeEps;
       tested.emplace(key, hit ? 1 : 0);
       if (!hit) continue;
       EdgeCut c;
       c.lo = a;
       const Vec3 rest = x[a] + t * (x[b] - x[a]);
       const Vec3 cur = (*current_m)[a] + t * ((*current_m)[b] - (*current_m)[a]);
+      const Vec3 normal = (x[w.tri[1]] - x[w.tri[0]]).cross(x[w.tri[2]] - x[w.tri[0]]).normalized();
+      // both copies below the crossing, on the swept surface: the incision's groove
+      const Vec3 at = incision_point(set.quads[quad], rest, normal, (x[b] - x[a]).norm(), incision);
       for (int side = 0; side < 2; ++side) {
         c.copy[side] = static_cast<int32_t>(rest_m->size());
-        rest_m->push_back(rest);
-        current_m->push_back(cur);
+        rest_m->push_back(at);
+        current_m->push_back(cur + (at - rest));
         created->push_back(side == 0 ? SplitVertex{a, b, t} : SplitVertex{b, a, 1.0 - t});
       }
       cuts.emplace(key, c);

@@ -1,7 +1,7 @@
 #pragma once
 /// Splitting a triangle mesh along a cut: every mesh edge the blade's swept surface crosses gets two new
-/// vertices at the crossing, one for each side, and the triangles around it are re-triangulated so the two
-/// sides share no vertex there. The opening is left open (no cap triangles).
+/// vertices at the crossing, one for each side (placed below it as the incision's groove, cut_incision.h), and
+/// the triangles around it are re-triangulated so the two sides share no vertex there. No cap triangles are added.
 
 #include <array>
 #include <cstdint>
@@ -10,6 +10,7 @@
 
 #include "core/types.h"
 #include "sim/cut.h"
+#include "sim/cut_incision.h"
 #include "sim/triangle_grid.h"
 
 namespace palpate {
@@ -49,13 +50,14 @@ struct MeshSplitReport {
 inline constexpr double kSplitEdgeEps = 1e-3;
 
 /// Splits *triangles along the quads (rest coordinates), testing edges at the rest positions *rest_m; new vertices are
-/// appended to *rest_m and *current_m (interpolated at the crossing) and listed in *created (cleared first) in
+/// appended to *rest_m (at incision_point() of the crossing under `incision`; at the crossing for an all-zero
+/// shape) and *current_m (interpolated at the crossing, moved as at rest) and listed in *created (cleared first) in
 /// the same order. Winding is kept. Only the triangles *grid finds near the quads are visited: a split triangle's
 /// first piece takes its place, the others are appended (and registered in *grid). *tips (in/out) lists the
 /// crack-tip triangles and where their halves are. Cost: the triangles in the cubes the quads overlap, not the mesh.
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
                            std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
-                           std::vector<TipTriangle>* tips, TriangleGrid* grid);
+                           std::vector<TipTriangle>* tips, TriangleGrid* grid, const IncisionShape& incision = {});
 
 /// The first problem that makes this not a valid triangle mesh, or "" when there is none: an index out of range,
 /// a repeated index, a triangle of (near) zero area, two triangles on the same three vertices, or a directed edge

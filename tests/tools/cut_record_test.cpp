@@ -10,6 +10,7 @@
 #include "core/scene.h"
 #include "haptics/scripted_device.h"
 #include "haptics/servo.h"
+#include "render/png_io.h"
 #include "sim/mesh_split.h"
 #include "support/fixtures.h"
 #include "tools/session/device_factory.h"
@@ -162,6 +163,63 @@ TEST(CutRecord, BladeDrawnAboveTheBlockChangesNothing) {
   for (auto& k : none.trajectory) k.button = false;
   EXPECT_EQ(record(above, "cut_above").state_hash, record(none, "cut_none").state_hash);
   EXPECT_NE(record(s, "cut_through").state_hash, record(none, "cut_none2").state_hash);
+}
+
+// A slit 8 mm deep along the top of a block, without gravity (nothing moves but what the cut changes), recorded with
+// frames: the last frame (blade lifted out of view) differs from that of the same stroke with the button never held
+// along the blade's path, because the split's copies are sunk into a groove (cut_incision.h). Without the groove
+// (kIncisionDepthCells = 0) the split mesh draws exactly as the uncut one and the frames are the same.
+TEST(CutRecord, ASlitThatDoesNotOpenIsSeenAlongTheBladesPath) {
+  auto slit_scene = [](bool button) {
+    std::string t = R"({
+      "mesh": { "box_m": [0.06, 0.06, 0.06], "box_subdivisions": 12, "size_m": 0.06 },
+      "grid": { "levels": 4 },
+      "lattice": { "level": 4, "node_mass_kg": 0.001, "stiffness_N_per_m": { "structural": 40, "shear": 20, "bend": 10 },
+                   "damping_Ns_per_m": 0.05, "gravity_m_per_s2": [0, 0, 0], "fix_floor": true },
+      "interaction": { "mode": "cut", "blade_length_m": 0.1, "cut_resistance_Ns_per_m": 2 },
+      "trajectory": [
+        { "t_s": 0.0, "pos_m": [-0.05, 0.004, 0.4] },
+        { "t_s": 0.15, "pos_m": [-0.05, 0.004, 0.022], "button": B },
+        { "t_s": 0.55, "pos_m": [0.05, 0.004, 0.022], "button": B },
+        { "t_s": 0.6, "pos_m": [0.05, 0.004, 0.022] },
+        { "t_s": 0.75, "pos_m": [0.05, 0.004, 0.4] }
+      ],
+      "render": { "width": 160, "height": 120, "style": "solid" },
+      "duration_s": 0.9
+    })";
+    for (std::size_t at = t.find(": B"); at != std::string::npos; at = t.find(": B")) t.replace(at + 2, 1, button ? "true" : "false");
+    return parse_scene(t, "slit.json").value();
+  };
+  auto last_frame = [](const std::string& dir) {
+    std::vector<fs::path> frames;
+    for (const auto& e : fs::directory_iterator(fs::path(dir) / "frames")) frames.push_back(e.path());
+    std::sort(frames.begin(), frames.end());
+    EXPECT_FALSE(frames.empty());
+    return read_png(frames.back().string()).value();
+  };
+  const RecordResult cut = record(slit_scene(true), "slit_cut", true);
+  const RecordResult none = record(slit_scene(false), "slit_none", true);
+  const auto j = nlohmann::json::parse(cut.summary_json);
+  ASSERT_GT(j["cut"]["triangles_added"].get<int>(), 0);
+  EXPECT_EQ(j["cut"]["free_nodes"].get<int>(), 0);  // a slit: nothing comes free
+  const Image a = last_frame(std::string(test::temp_root()) + "/slit_cut"), b = last_frame(std::string(test::temp_root()) + "/slit_none");
+  ASSERT_EQ(a.rgba.size(), b.rgba.size());
+  // pixels that differ, and the columns they span: the groove runs across the top along x
+  int differ = 0, lo_col = a.width, hi_col = -1;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const std::size_t i = (static_cast<std::size_t>(y) * a.width + x) * 4;
+      int d = 0;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(a.rgba[i + c] - b.rgba[i + c]));
+      if (d <= 8) continue;
+      ++differ;
+      lo_col = std::min(lo_col, x);
+      hi_col = std::max(hi_col, x);
+    }
+  RecordProperty("pixels_differ", differ);
+  RecordProperty("columns_spanned", hi_col - lo_col + 1);
+  EXPECT_GE(differ, 60) << "the slit is not seen";
+  EXPECT_GE(hi_col - lo_col, a.width / 4) << "the differences do not follow the blade's path";
 }
 
 }  // namespace

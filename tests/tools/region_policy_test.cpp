@@ -165,10 +165,12 @@ TEST(CutRegion, OneWholeObjectLatticeThatNeverMovesAndWhoseSpringsTheBladeCuts) 
   std::vector<Vec3> vertices = model.rest.vertices_m, normals;
   const DeformedMesh mesh{&vertices, &normals};
 
-  // the whole object from the start: every solid cell, only the floor fixed, its solver prepared ahead
+  // the whole object from the start: every solid cell, only the floor fixed; nothing stepped (no solver prepared
+  // ahead) until a piece comes free
   ASSERT_TRUE(region.lattice().has_value());
   const Lattice& lat = *region.lattice();
-  EXPECT_TRUE(region.prepared_ahead());
+  EXPECT_FALSE(region.prepared_ahead());
+  EXPECT_EQ(region.stepped_lattice(), nullptr);
   EXPECT_EQ(static_cast<int64_t>(lat.cells.size()), model.grid.solid_cells(4));
   const std::size_t nodes0 = lat.num_nodes(), springs0 = lat.springs.size();
   EXPECT_EQ(stats.lattice_nodes, nodes0);
@@ -243,16 +245,28 @@ TEST(CutRegion, OneWholeObjectLatticeThatNeverMovesAndWhoseSpringsTheBladeCuts) 
   EXPECT_EQ(stats.after_cut_ms, std::vector<double>{3.0});
   EXPECT_EQ(stats.frames_cutting, 1);
 
-  // the piece cut free falls onto the floor and no further
-  Lattice* l = region.mutable_lattice();
-  ASSERT_NE(l, nullptr);
+  // the piece cut free is the lattice stepped: its nodes, none fixed; moved below the floor by a step, it is
+  // written into the whole lattice and held on the floor, no further
+  Lattice* piece = region.stepped_lattice();
+  ASSERT_NE(piece, nullptr);
+  EXPECT_EQ(piece->num_nodes(), nodes_above);
+  for (std::size_t i = 0; i < piece->num_nodes(); ++i) {
+    EXPECT_GT(piece->rest_m[i].z(), z_plane);
+    EXPECT_EQ(piece->fixed[i], 0);
+    piece->x_m[i].z() = floor - 0.01;
+  }
+  region.after_step();
   std::size_t held = 0;
   for (std::size_t i = 0; i < nodes0; ++i)
-    if (l->rest_m[i].z() > z_plane) l->x_m[i].z() = floor - 0.01;
-  region.after_step();
-  for (std::size_t i = 0; i < nodes0; ++i)
-    if (l->rest_m[i].z() > z_plane) held += l->x_m[i].z() == floor ? 1 : 0;
+    if (lat.rest_m[i].z() > z_plane) held += lat.x_m[i].z() == floor ? 1 : 0;
   EXPECT_EQ(held, nodes_above);
+  for (std::size_t i = 0; i < piece->num_nodes(); ++i) EXPECT_EQ(piece->x_m[i].z(), floor);
+  // the body below the cut never moved
+  for (std::size_t i = 0; i < nodes0; ++i) {
+    if (lat.rest_m[i].z() < z_plane) {
+      EXPECT_EQ(lat.x_m[i], lat.rest_m[i]) << i;
+    }
+  }
 }
 
 TEST(RegionPolicy, ChosenFromTheSceneModeAndSeenThroughTheFrameStage) {

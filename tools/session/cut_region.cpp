@@ -4,7 +4,6 @@
 
 #include "core/tri_mesh.h"
 #include "sim/cut.h"
-#include "sim/static_solve.h"
 
 namespace palpate {
 
@@ -19,13 +18,9 @@ CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
   auto lat = build_lattice(model.grid, scene.lattice, region_cells(model.grid, level, {n / 2, n / 2, n / 2}, n));
   cut_.set_max_cut_work_per_apply(kCutWorkPerFrame);
   if (!lat) return;
+  // the object starts at rest in its own shape, as it lay before the blade came (taken as resting under gravity
+  // already): nothing moves, and nothing is stepped, until a piece is cut free
   lattice_ = std::move(lat).value();
-  // the object starts resting under gravity, as it lay before the blade came: its frames stay at rest (no step,
-  // nothing redrawn) until a cut changes it. A lattice the solve cannot settle starts from rest as before.
-  if (lattice_->gravity_m_per_s2.squaredNorm() > 0.0) {
-    Lattice settled = *lattice_;
-    if (solve_static(&settled, {}, {})) lattice_ = std::move(settled);
-  }
   redraw_.emplace(*lattice_, model.grid.num_cells(level), kRedrawTolerance * (model.grid.cube().max_m - model.grid.cube().min_m).x());
   floor_z_m_ = lattice_->rest_m.front().z();
   for (const Vec3& r : lattice_->rest_m) floor_z_m_ = std::min(floor_z_m_, r.z());
@@ -62,6 +57,7 @@ bool CutRegion::begin_frame(const DeformedMesh& mesh) {
   if (rep.springs_cut > 0) {
     contact_.update(*lattice_, grid_);
     stats_->free_nodes = static_cast<int64_t>(contact_.free_nodes().size());
+    pieces_.update(*lattice_, contact_.free_nodes());
   }
   topology_changed_ = rep.split.edges_cut > 0 || rep.split.triangles_added != 0;
   if (!rep.changed()) return false;
@@ -82,8 +78,10 @@ bool CutRegion::follow(const Vec3& p_rest_m, const DeformedMesh& mesh) {
 }
 
 void CutRegion::after_step() {
+  pieces_.push(&*lattice_);
   apply_floor(&*lattice_, floor_z_m_);
   contact_.apply(&*lattice_, grid_);
+  pieces_.pull(*lattice_);
 }
 
 void CutRegion::deform(std::vector<Vec3>* vertices_m) const { cut_.deform(*lattice_, vertices_m); }

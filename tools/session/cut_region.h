@@ -2,13 +2,15 @@
 /// CutRegion (cut): one lattice over every solid cell of the object, built with the region and never moved (the
 /// blade may go anywhere and cuts must persist). The blade's sweeps cut its springs and split the mesh, at most
 /// kCutWorkPerFrame triangles and vertices near the sweep tested a frame (the rest of a long stroke on the frames after);
-/// pieces cut free fall onto the body (sim/piece_contact.h) or a floor at the lowest node plane.
+/// pieces cut free fall onto the body (sim/piece_contact.h) or a floor at the lowest node plane. The body keeps its
+/// rest shape: only the pieces cut free are stepped (sim/cut_pieces.h).
 
 #include <cstdint>
 #include <optional>
 #include <vector>
 
 #include "sim/cut_model.h"
+#include "sim/cut_pieces.h"
 #include "sim/piece_contact.h"
 #include "tools/session/cut_redraw.h"
 #include "tools/session/region_policy.h"
@@ -20,8 +22,9 @@ namespace palpate {
 inline constexpr int kCutWorkPerFrame = 8000;
 
 /// The whole-object region. Its node count never changes: a cut removes springs, and the nodes of a piece cut
-/// free of every fixed node stay in the lattice (counted in FrameStats::free_nodes). The object starts resting
-/// under gravity; the renderer redraws only the part that moved or was cut (cut_redraw.h).
+/// free of every fixed node stay in the lattice (counted in FrameStats::free_nodes). The object starts at rest in
+/// its own shape, taken as resting under gravity already (no static solve: the first frame does not wait); the
+/// renderer redraws only the part that moved or was cut (cut_redraw.h).
 class CutRegion final : public RegionPolicy {
  public:
   /// Builds the whole-object lattice and the uncut mesh's side binding. scene, model and stats must outlive
@@ -34,7 +37,10 @@ class CutRegion final : public RegionPolicy {
   /// Every vertex of the cut mesh, as it stands after this frame's splits: the side binding binds them all and
   /// deform() writes them all.
   std::size_t bound_vertices() const override { return cut_.rest_vertices_m().size(); }
-  bool prepared_ahead() const override { return true; }
+  /// The whole-object lattice is never stepped (only its pieces, each factored when it comes free).
+  bool prepared_ahead() const override { return false; }
+  /// The pieces cut free, null while there are none.
+  Lattice* stepped_lattice() override { return pieces_.empty() ? nullptr : &pieces_.lattice(); }
   /// Records the blade of each sample: it cuts what it sweeps while the button is held and the reading was
   /// accepted.
   void add_sample(const HapticSample& s) override;
@@ -45,7 +51,7 @@ class CutRegion final : public RegionPolicy {
   bool place(const Vec3& p_m, const DeformedMesh& mesh) override;
   /// The whole-object lattice never follows the contact.
   bool follow(const Vec3& p_rest_m, const DeformedMesh& mesh) override;
-  /// Keeps pieces cut free on the floor and out of the body.
+  /// Writes the stepped pieces into the whole lattice and keeps them on the floor and out of the body.
   void after_step() override;
   void deform(std::vector<Vec3>* vertices_m) const override;
   void update_normals(bool moved, const DeformedMesh& mesh) override;
@@ -65,6 +71,7 @@ class CutRegion final : public RegionPolicy {
   const GridHierarchy& grid_;
   FrameStats* stats_;
   PieceContact contact_;     // pieces cut free against the body
+  PieceLattice pieces_;      // the pieces cut free, stepped on their own
   CutModel cut_;             // the cut mesh and side binding
   double floor_z_m_ = 0.0;   // lowest node plane
   bool cutting_ = false;     // this frame applied blade sweeps

@@ -106,11 +106,15 @@ void FrameStage::follow_contact() {
 
 bool FrameStage::step_lattice_frame() {
   const bool pushed = max_force_N(f_ext_N_) >= scene_.lattice.rest_force_N;
-  if (resting_ && !pushed) {
+  Lattice* stepped = region_->stepped_lattice();
+  if (!stepped || (resting_ && !pushed)) {
     ++stats_.frames_resting;
     return false;
   }
-  Lattice& lat = *region_->mutable_lattice();
+  Lattice& lat = *stepped;
+  // a part of the lattice (the pieces a cut frees) takes no contact force
+  if (stepped != region_->mutable_lattice()) part_f_ext_N_.assign(lat.num_nodes(), Vec3::Zero());
+  const std::vector<Vec3>& f_ext = stepped != region_->mutable_lattice() ? part_f_ext_N_ : f_ext_N_;
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_clock_.now_ms();
   // the solver's matrix first (what the step would do first anyway; the rungs differ only in iterations), so the
@@ -118,7 +122,7 @@ bool FrameStage::step_lattice_frame() {
   prepare_step(lat, frame_opts_ ? *frame_opts_ : step_opts_, scene_.rates.frame_period_s(), &ws_);
   lap(FramePart::kFactor);
   const StepOptions& opts = budget_ ? budget_->step_begin() : step_opts_;
-  const StepReport rep = step_lattice(&lat, opts, scene_.rates.frame_period_s(), f_ext_N_, &ws_);
+  const StepReport rep = step_lattice(&lat, opts, scene_.rates.frame_period_s(), f_ext, &ws_);
   if (budget_) budget_->step_end();
   stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
@@ -135,7 +139,7 @@ bool FrameStage::step_lattice_frame() {
     ++(rep.finite ? stats_.divergence_events : stats_.nan_events);
     lat.reset_to_rest();
   }
-  resting_ = !pushed && lattice_at_rest(lat, f_ext_N_, scene_.lattice.rest_kinetic_J, scene_.lattice.rest_force_N,
+  resting_ = !pushed && lattice_at_rest(lat, f_ext, scene_.lattice.rest_kinetic_J, scene_.lattice.rest_force_N,
                                         &rest_scratch_);
   return true;
 }
@@ -266,10 +270,11 @@ FrameView FrameStage::current_view() const {
 void FrameStage::warm_up() {
   // the budget's first frame chooses from a measured step: one step of a copy of the lattice at the scene's
   // setting, on the budget's clock. The copy has the lattice's revision, so the solver uses the factor it holds
-  // and refactors nothing; the lattice itself is not touched (the run is the one it would have been).
-  if (budget_ && region_->lattice() && !dry_stepped_) {
+  // and refactors nothing; the lattice itself is not touched (the run is the one it would have been). A region
+  // that steps no part of its lattice yet (cut mode before a piece comes free) is not measured.
+  if (budget_ && region_->stepped_lattice() && !dry_stepped_) {
     dry_stepped_ = true;
-    Lattice copy = *region_->lattice();
+    Lattice copy = *region_->stepped_lattice();
     const std::vector<Vec3> none;
     const StepOptions& opts = budget_->ladder().front().opts;
     prepare_step(copy, opts, scene_.rates.frame_period_s(), &ws_);

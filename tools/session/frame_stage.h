@@ -129,6 +129,7 @@ class FrameStage {
   bool resting_ = false;             // the lattice is at rest: not stepped until a force acts
   std::vector<Vec3> rest_scratch_;   // forces for the rest check (n)
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
+  std::vector<Vec3> part_f_ext_N_;   // zero forces on the stepped part of the lattice, when not all of it (n_part)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   std::unordered_map<int32_t, std::array<Vec3, 3>> published_;  // the last patch's corners by triangle id
   std::vector<Vec3> normals_;        // per vertex (n_v)

@@ -41,6 +41,10 @@ class RegionPolicy {
   const std::optional<Lattice>& lattice() const { return lattice_; }
   /// The same, to step (null before it is placed).
   Lattice* mutable_lattice() { return lattice_ ? &*lattice_ : nullptr; }
+  /// The lattice a frame steps: lattice() itself, or the part of it that moves, kept by the region and written back
+  /// in after_step() (cut mode: the pieces cut free); null when no part moves. It takes no contact force when it is
+  /// not lattice().
+  virtual Lattice* stepped_lattice() { return mutable_lattice(); }
 
   /// The triangles drawn and touched (the cut mesh's in cut mode, else the model's).
   virtual const std::vector<std::array<int32_t, 3>>& triangles() const = 0;
