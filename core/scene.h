@@ -35,6 +35,14 @@ struct MaterialSpec {
 };
 
 /// The local mass-spring lattice (paper section 4.2) and its dynamics.
+/// Refinement where the tool is (sim/refined_lattice.h): the region's cells within radius_m of the contact are split
+/// to `level`, the rest stay at the lattice level. Plain data; level 0 = off.
+struct RefineSpec {
+  int level = 0;          ///< fine grid level (> lattice.level); 0 = a uniform lattice
+  double radius_m = 0.0;  ///< cells closer than this to the contact are refined; the zone moves when the contact
+                          ///< goes more than half of it from where the zone was built
+};
+
 struct LatticeSpec {
   int level = 4;                        ///< grid level the lattice is built at
   int radius_cells = 2;                 ///< region: solid cells within this Chebyshev distance of the contact cell
@@ -55,6 +63,7 @@ struct LatticeSpec {
   bool follow_contact = true;           ///< move/grow the region when the contact leaves it
   double budget_ms = 0.0;               ///< > 0: realtime frames step at the most accurate setting holding this sim budget
   bool allow_divergence = false;        ///< a recording whose lattice diverged (and was reset) still exits 0, with a warning
+  RefineSpec refine;                    ///< "refine": fine cells around the contact (off by default)
   MaterialSpec material;                ///< the scene's top-level "material" object (exclusive with the raw k, M, C_d)
 };
 

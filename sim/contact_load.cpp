@@ -31,7 +31,10 @@ PointWeights point_weights(const Lattice& lat, const RestObject& rest, int32_t t
     const VertexBinding& b = (*rest.bindings)[static_cast<std::size_t>(tri[c])];
     const int32_t slot = lat.slot_of_cell[b.cell];
     if (slot < 0) continue;
-    const auto tw = trilinear_weights(b.local);
+    // a refined lattice's coarse cell spans several cells of the binding's level: local coordinates in it
+    const auto tw = trilinear_weights(lat.cell_span.empty() ? b.local
+                                                            : lat.local_in_cell(static_cast<std::size_t>(slot),
+                                                                                rest.mesh->vertices_m[tri[c]]));
     for (int k = 0; k < 8; ++k) {
       w.node[w.count] = lat.cell_nodes[slot][k];
       w.weight[w.count] = bary[c] * tw[k];
@@ -68,8 +71,7 @@ PointWeights hertz_patch_weights(const Lattice& lat, const RestObject& rest, con
     const int32_t slot = lat.slot_of_cell[rest.grid->linear_index(rest.grid->cell_of(p, level), level)];
     if (slot < 0 || !(weight > 0.0)) return;
     const auto& nodes = lat.cell_nodes[static_cast<std::size_t>(slot)];
-    const Vec3 local = ((p - lat.rest_m[nodes[0]]) / cell).cwiseMax(0.0).cwiseMin(1.0);
-    const auto tw = trilinear_weights(local);
+    const auto tw = trilinear_weights(lat.local_in_cell(static_cast<std::size_t>(slot), p));
     for (int k = 0; k < 8; ++k)
       if (!w.add(nodes[k], weight * tw[k])) return;
     total += weight;
@@ -92,6 +94,13 @@ PointWeights hertz_patch_weights(const Lattice& lat, const RestObject& rest, con
   if (!(total > 0.0)) return point_weights(lat, rest, c.tri, c.bary);
   for (int i = 0; i < w.count; ++i) w.weight[i] /= total;
   return w;
+}
+
+Vec3 contact_patch_centre(const RestObject& rest, const ToolContact& c) {
+  const auto& tri = rest.mesh->triangles[static_cast<std::size_t>(c.tri)];
+  const Vec3 n = rest_normal(*rest.mesh, c.tri);
+  if (!c.sphere || !n.allFinite()) return surface_point(rest.mesh->vertices_m, tri, c.bary);
+  return c.centre_m - (c.centre_m - rest.mesh->vertices_m[tri[0]]).dot(n) * n;
 }
 
 PointWeights contact_load_weights(const Lattice& lat, const RestObject& rest, const ToolContact& c) {

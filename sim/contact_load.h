@@ -46,6 +46,11 @@ PointWeights point_weights(const Lattice& lat, const RestObject& rest, int32_t t
 /// weights. No sample inside the lattice (or no depth): point_weights of the contact point.
 PointWeights hertz_patch_weights(const Lattice& lat, const RestObject& rest, const ToolContact& c);
 
+/// Sphere tool: the foot of its centre on the rest plane of the contact face, the middle of its contact patch (steady
+/// where the servo's nearest surface point wanders over the dimple the sphere presses). A point tool, or a degenerate
+/// face: the contact point at rest.
+Vec3 contact_patch_centre(const RestObject& rest, const ToolContact& c);
+
 /// Where a contact's force goes: hertz_patch_weights for a sphere tool, else point_weights.
 PointWeights contact_load_weights(const Lattice& lat, const RestObject& rest, const ToolContact& c);
 

@@ -29,7 +29,10 @@ void MeshDeformer::deform(const Lattice& lat, const std::vector<VertexBinding>& 
   for (std::size_t i = 0; i < vertex_ids_.size(); ++i) {
     const int32_t v = vertex_ids_[i];
     const auto& nodes = lat.cell_nodes[vertex_slot_[i]];
-    const auto w = trilinear_weights(bindings[v].local);
+    // a refined lattice's coarse cell spans several cells of the bindings' level: local coordinates in it
+    const auto w = trilinear_weights(lat.cell_span.empty() ? bindings[v].local
+                                                           : lat.local_in_cell(static_cast<std::size_t>(vertex_slot_[i]),
+                                                                               rest_vertices_m[v]));
     Vec3 d = Vec3::Zero();
     for (int c = 0; c < 8; ++c) d += w[c] * (lat.x_m[nodes[c]] - lat.rest_m[nodes[c]]);
     (*vertices_m)[v] = rest_vertices_m[v] + d;

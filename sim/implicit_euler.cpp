@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/forces.h"
+#include "sim/hanging.h"
 #include "sim/volume_term.h"
 
 namespace palpate {
@@ -71,9 +72,18 @@ void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::ve
   } else {
     neo_.clear();
   }
+  // a refined lattice: a hanging node's block moves to its masters (the diagonal of P^T J P, less the coupling
+  // between masters)
+  for (const HangingNode& hn : lat.hanging)
+    for (int k = 0; k < hn.count; ++k) {
+      const auto m = static_cast<std::size_t>(hn.master[static_cast<std::size_t>(k)]);
+      const double w = hn.weight[static_cast<std::size_t>(k)];
+      node_block_[m] += w * w * node_block_[static_cast<std::size_t>(hn.node)];
+    }
   // block-Jacobi preconditioner: each free node's 3x3 diagonal block inverted (symmetric positive definite)
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     node_block_inv_[i] = lat.fixed[i] ? Mat3::Zero() : Mat3(node_block_[i].inverse());
+  for (const HangingNode& hn : lat.hanging) node_block_inv_[static_cast<std::size_t>(hn.node)] = Mat3::Zero();
   // held DOFs: the block restricted to the free axes, inverted
   for (std::size_t i = 0; 3 * i < lat.held_dof.size(); ++i) {
     const uint8_t* held = &lat.held_dof[3 * i];
@@ -87,9 +97,15 @@ void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::ve
   }
 }
 
-void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& p, std::vector<Vec3>* out) const {
+void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& p_free, std::vector<Vec3>* out) const {
   // J p = M p + sum_s B_s (p_a - p_b) on a and its negative on b; p is zero at fixed nodes, so rows of fixed nodes
-  // are dropped at the end and columns need no test
+  // are dropped at the end and columns need no test. A refined lattice's product is P^T J P: the hanging nodes'
+  // entries spread from their masters first, their rows folded back onto the masters last.
+  if (!lat.hanging.empty()) {
+    p_spread_ = p_free;
+    spread_hanging(lat, &p_spread_);
+  }
+  const std::vector<Vec3>& p = lat.hanging.empty() ? p_free : p_spread_;
   std::vector<Vec3>& y = *out;
   for (std::size_t i = 0; i < lat.num_nodes(); ++i) y[i] = lat.mass_kg[i] * p[i];
   for (std::size_t k = 0; k < lat.springs.size(); ++k) {
@@ -112,6 +128,7 @@ void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& 
     add_neo_hookean_product(lat, neo_, p, &neo_y_);
     for (std::size_t i = 0; i < lat.num_nodes(); ++i) y[i] += neo_h2_ * neo_y_[i];
   }
+  fold_hanging(lat, &y);
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     if (lat.fixed[i]) y[i].setZero();
   for (std::size_t d = 0; d < lat.held_dof.size(); ++d)
@@ -167,6 +184,9 @@ int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>&
   if (lat->revision != revision_ || node_block_.size() != lat->num_nodes() || num_springs_ != lat->springs.size())
     prepare(*lat);
   const std::size_t n = lat->num_nodes();
+  // a refined lattice's hanging nodes start where their faces are (a state carried over or set by hand may not)
+  spread_hanging(*lat, &lat->x_m);
+  spread_hanging(*lat, &lat->v_m_per_s);
   std::copy(lat->x_m.begin(), lat->x_m.end(), x0_m_.begin());
   std::copy(lat->v_m_per_s.begin(), lat->v_m_per_s.end(), v0_m_per_s_.begin());
   std::copy(v0_m_per_s_.begin(), v0_m_per_s_.end(), v_m_per_s_.begin());
@@ -178,6 +198,12 @@ int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>&
     compute_forces(*lat, x_m_, v_m_per_s_, f_ext_N, &f_N_);
     for (std::size_t i = 0; i < n; ++i)
       rhs_[i] = lat->fixed[i] ? Vec3::Zero() : Vec3(h_s * f_N_[i] - lat->mass_kg[i] * (v_m_per_s_[i] - v0_m_per_s_[i]));
+    if (!lat->hanging.empty()) {
+      // the residual of the constrained lattice: P^T g (fixed masters take none)
+      fold_hanging(*lat, &rhs_);
+      for (std::size_t i = 0; i < n; ++i)
+        if (lat->fixed[i]) rhs_[i].setZero();
+    }
     assemble(*lat, h_s, x_m_);
     // warm start: the first solve from the previous step's velocity change (accelerations change little between
     // steps), later Newton corrections from zero
@@ -188,6 +214,7 @@ int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>&
       return -1;
     }
     ++it;
+    spread_hanging(*lat, &delta_);
     double worst = 0.0;
     for (std::size_t i = 0; i < n; ++i)
       if (!lat->fixed[i]) {

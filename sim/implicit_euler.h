@@ -54,6 +54,7 @@ class ImplicitEulerSolver {
   std::vector<NeoHookeanCell> neo_;      // Neo-Hookean term: each cell's tangent state (n_c; sim/neo_hookean_term.h)
   double neo_h2_ = 0.0;                  // h^2, the factor on that term's tangent
   mutable std::vector<Vec3> neo_y_;      // scratch for its product (n; sized once per lattice)
+  mutable std::vector<Vec3> p_spread_;   // a refined lattice's CG direction with its hanging nodes spread (n)
   std::vector<double> cell_w_;           // h^2 l^3 psi''(J) per cell: its Gauss-Newton blocks are cell_w_ c_a c_b^T (n_c)
   std::vector<Vec3> rhs_, delta_, r_, z_, p_, jp_;  // CG vectors, zero at fixed nodes (n)
   std::vector<Vec3> last_dv_m_per_s_;    // velocity change of the previous step: the first solve's warm start (n)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/forces.h"
+#include "sim/hanging.h"
 #include "sim/implicit_euler.h"
 #include "sim/local_global.h"
 #include "sim/strain_limit.h"
@@ -17,6 +18,9 @@ constexpr int kStrainLimitSweeps = 4;
 // One explicit (eq. 8) or symplectic Euler substep.
 void euler_substep(Lattice* lat, bool symplectic, double h, const std::vector<Vec3>& f_ext, IntegratorWorkspace* ws) {
   compute_forces(*lat, lat->x_m, lat->v_m_per_s, f_ext, &ws->f_N);
+  // a refined lattice: the hanging nodes' forces act on their masters, and the hanging nodes follow them after
+  // (each master's own mass only: a fallback, scenes step refined lattices with implicit Euler)
+  fold_hanging(*lat, &ws->f_N);
   for (std::size_t i = 0; i < lat->num_nodes(); ++i) {
     if (lat->fixed[i]) continue;
     const Vec3 a = ws->f_N[i] / lat->mass_kg[i];
@@ -28,6 +32,8 @@ void euler_substep(Lattice* lat, bool symplectic, double h, const std::vector<Ve
       lat->x_m[i] += h * lat->v_m_per_s[i];
     }
   }
+  spread_hanging(*lat, &lat->x_m);
+  spread_hanging(*lat, &lat->v_m_per_s);
 }
 
 // One classical Runge-Kutta substep of (x' = v, v' = M^-1 f(x, v)).

@@ -2,6 +2,7 @@
 
 #include "core/pair_key.h"
 #include "sim/material.h"
+#include "sim/spring_builder.h"
 
 #include <algorithm>
 #include <atomic>
@@ -9,35 +10,6 @@
 #include <unordered_set>
 
 namespace palpate {
-namespace {
-
-// Adds springs once per node pair. Raw keys: a spring shared by several cells keeps one k (the paper's lattice).
-// Material (accumulate): every cell adds its share, so a shared spring carries the sum (sim/material.h).
-struct Builder {
-  Lattice* lat;
-  std::unordered_set<uint64_t> seen;
-  bool accumulate = false;
-  std::unordered_map<uint64_t, int32_t> index;  // spring of each pair (accumulate mode)
-
-  void add(int32_t a, int32_t b, double k, SpringFamily fam) {
-    const uint64_t key = unordered_pair_key(a, b);
-    if (!seen.insert(key).second) {
-      if (accumulate) lat->springs[static_cast<std::size_t>(index.at(key))].k_N_per_m += k;
-      return;
-    }
-    if (accumulate) index.emplace(key, static_cast<int32_t>(lat->springs.size()));
-    Spring s;
-    s.a = a;
-    s.b = b;
-    s.rest_m = (lat->rest_m[b] - lat->rest_m[a]).norm();
-    s.k_N_per_m = k;
-    s.family = fam;
-    lat->springs.push_back(s);
-    lat->springs_per_family[static_cast<int>(fam)]++;
-  }
-};
-
-}  // namespace
 
 void Lattice::touch() {
   // process-wide counter: two lattices never share a revision, so a workspace cannot confuse them
@@ -144,7 +116,7 @@ Result<Lattice> build_lattice(const GridHierarchy& grid, const LatticeSpec& spec
     if (spec.fix_floor && g.k == min_k) lat.fixed[i] = 1;
   }
 
-  Builder b{&lat, {}, spec.material.enabled, {}};
+  SpringBuilder b{&lat, {}, spec.material.enabled, {}};
   auto node_at = [&](int i, int j, int k) -> int32_t {
     if (i < 0 || j < 0 || k < 0 || i >= nv || j >= nv || k >= nv) return -1;
     return node_of_gv[static_cast<std::size_t>(i + nv * (j + nv * k))];

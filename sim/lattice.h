@@ -23,6 +23,15 @@ struct Spring {
   SpringFamily family = SpringFamily::kStructural;
 };
 
+/// A node of a refined lattice lying on a coarse cell's face or edge (a hanging node): its position and velocity are
+/// those of the coarse cell's surface there, x = sum_k weight_k x_master_k (bilinear on a face, linear on an edge).
+struct HangingNode {
+  int32_t node = 0;                 ///< the constrained node
+  int count = 0;                    ///< masters used (2 on an edge, 4 on a face)
+  std::array<int32_t, 4> master{};  ///< the coarse cell's corner nodes it lies between
+  std::array<double, 4> weight{};   ///< their weights (sum 1)
+};
+
 /// Nodes, springs and state of a lattice. Plain data; copyable. Built by build_lattice().
 struct Lattice {
   int level = 0;                         ///< grid level of the cells
@@ -46,9 +55,18 @@ struct Lattice {
   std::vector<Spring> springs;           ///< all springs (n_s)
   std::array<int, 3> springs_per_family{};  ///< counts by SpringFamily
   std::vector<int32_t> grid_node;        ///< grid vertex index i + (N+1)(j + (N+1)k) of each node (n)
+  std::vector<int32_t> cell_span;        ///< edge of each cell in units of cell_m (n_c; empty: every cell 1), > 1 for
+                                         ///< the coarse cells of a refined lattice (sim/refined_lattice.h)
+  std::vector<HangingNode> hanging;      ///< nodes held on coarse faces (empty: none; sim/hanging.h)
   uint64_t revision = 0;                 ///< changes whenever nodes, springs or parameters change (solver caches key on it)
 
   std::size_t num_nodes() const { return x_m.size(); }
+  /// Edge of region cell `slot` (m): cell_m, times its span in a refined lattice.
+  double cell_edge_m(std::size_t slot) const { return cell_span.empty() ? cell_m : cell_m * cell_span[slot]; }
+  /// Local coordinates in [0,1]^3 of the rest point p_m in region cell `slot` (clamped to the cell).
+  Vec3 local_in_cell(std::size_t slot, const Vec3& p_m) const {
+    return ((p_m - rest_m[static_cast<std::size_t>(cell_nodes[slot][0])]) / cell_edge_m(slot)).cwiseMax(0.0).cwiseMin(1.0);
+  }
   /// Puts every node back at rest with zero velocity.
   void reset_to_rest();
   /// Marks nodes, springs or parameters as changed, so factorisations cached by integrators are rebuilt.

@@ -113,6 +113,30 @@ TEST(Scene, FrictionAndJumpLimitKeys) {
                    "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.jump_limit_N_per_tick");
 }
 
+TEST(Scene, RefineIsOffUnlessAskedAndNamesWhatItNeeds) {
+  auto plain = parse_scene(kMinimal, "s.json");
+  ASSERT_TRUE(plain) << plain.error().message;
+  EXPECT_EQ(plain.value().lattice.refine.level, 0);
+  auto scene = [](const std::string& lattice, const std::string& material) {
+    return R"({"mesh": {"box_m": [1,1,1]}, "grid": {"levels": 7}, "lattice": {"level": 4, )" + lattice + "}" + material +
+           R"(, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})";
+  };
+  const std::string springs = R"(, "material": {"young_modulus_Pa": 1e5, "poisson_ratio": 0.25, "density_kg_per_m3": 1000})";
+  auto ok = parse_scene(scene(R"("integrator": "implicit_euler", "refine": {"level": 6, "radius_m": 0.01})", springs), "s.json");
+  ASSERT_TRUE(ok) << ok.error().message;
+  EXPECT_EQ(ok.value().lattice.refine.level, 6);
+  EXPECT_EQ(ok.value().lattice.refine.radius_m, 0.01);
+  expect_error(scene(R"("integrator": "implicit_euler", "refine": {"level": 4, "radius_m": 0.01})", springs),
+               "lattice.refine.level 4 is not finer than lattice.level 4");
+  expect_error(scene(R"("integrator": "implicit_euler", "refine": {"level": 8, "radius_m": 0.01})", springs),
+               "more than 3 levels finer");
+  expect_error(scene(R"("integrator": "local_global", "refine": {"level": 6, "radius_m": 0.01})", springs),
+               "lattice.refine needs lattice.integrator 'implicit_euler'");
+  expect_error(scene(R"("integrator": "implicit_euler", "refine": {"level": 6, "radius_m": 0.01})", ""),
+               "lattice.refine needs a \"material\"");
+  expect_error(scene(R"("integrator": "implicit_euler", "refine": {"level": 6})", springs), "lattice.refine.radius_m");
+}
+
 TEST(Scene, ToolShapeIsAPointUnlessASphereIsAskedForATouch) {
   auto point = parse_scene(kMinimal, "s.json");
   ASSERT_TRUE(point) << point.error().message;

@@ -1,6 +1,7 @@
 #include "tools/bench/bench_model.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -42,6 +43,12 @@ struct Row {
   const char* unit = "";
   double ms_per_frame = 0.0;
   int64_t frames = 0;
+  int refine_level = 0;               // hertz refined near the tool to this level (0: uniform)
+};
+
+// Hertz on a lattice refined near the tool, beside the uniform lattices at its coarse and fine levels.
+struct AdaptiveRow {
+  Row coarse, adaptive, fine;
 };
 
 }  // namespace
@@ -51,7 +58,8 @@ double hertz_force_N(double young_modulus_Pa, double poisson_ratio, double radiu
   return 4.0 / 3.0 * e_star * std::sqrt(radius_m) * std::pow(std::max(depth_m, 0.0), 1.5);
 }
 
-Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator) {
+Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator,
+                                        const RefineSpec& refine) {
   // the block's top lies just below a cell plane, so no empty cell above it joins the lattice
   const double top = 0.5 * kBlockDepth_m * (1.0 - 1e-3);
   // the device held where the sphere, pushed back by the Hertz force through the coupling, sits about d deep
@@ -62,7 +70,7 @@ Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level,
   nlohmann::json j = {
       {"name", "hertz"},
       {"mesh", {{"box_m", {kBlockSide_m, kBlockSide_m, 2.0 * top}}, {"box_subdivisions", 32}, {"size_m", kBlockSide_m}}},
-      {"grid", {{"levels", std::max(level, 4)}}},
+      {"grid", {{"levels", std::max({level, 4, refine.level})}}},
       {"lattice", {{"level", level}, {"radius_cells", cells}, {"fix_floor", true}, {"integrator", integrator_name(integrator)}}},
       {"material", {{"young_modulus_Pa", material.young_modulus_Pa}, {"poisson_ratio", material.poisson_ratio},
                     {"density_kg_per_m3", material.density_kg_per_m3},
@@ -73,6 +81,7 @@ Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level,
       {"interaction", {{"mode", "touch"}}},
       {"trajectory", {{{"t_s", 0.0}, {"pos_m", {0.0, 0.0, device_z}}}}},
   };
+  if (refine.level > 0) j["lattice"]["refine"] = {{"level", refine.level}, {"radius_m", refine.radius_m}};
   auto scene = parse_scene(j.dump(), "hertz (bench model)");
   if (!scene) return scene.error();
   auto model = load_model(scene.value());
@@ -83,7 +92,8 @@ Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level,
   if (!held) return held.error();
   const ToolHoldResult& h = held.value();
   if (!h.at_rest)
-    return make_error("hertz level ", std::to_string(level), ": not at rest after ", std::to_string(h.frames), " frames");
+    return make_error("hertz level ", std::to_string(level), ": not at rest after ", std::to_string(h.frames), " frames (",
+                      std::to_string(h.region_moves), " region moves)");
   HertzToolCheck c;
   c.force_N = h.force_N.z();
   c.sphere_depth_m = top - (h.proxy_m.z() - kHertzRadius_m);
@@ -103,6 +113,7 @@ Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level,
   c.springs = h.springs;
   c.force_nodes = h.force_nodes;
   c.frames = h.frames;
+  c.region_moves = h.region_moves;
   c.ms_per_frame_p50 = h.sim_ms_p50;
   return c;
 }
@@ -129,16 +140,23 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     if (o.pull_levels.size() != 3 || o.pull_levels[k] != o.pull_levels[k - 1] + 1)
       return make_error("bench model: --pull-levels needs three consecutive levels (e.g. 3,4,5)");
   // one reference at one level for material mat: its row, or an error naming them
-  auto run = [&](const std::string& ref, const MaterialSpec& mat, int level) -> Result<Row> {
+  const auto started = std::chrono::steady_clock::now();
+  auto seconds_since = [](std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  double adaptive_wall_s = 0.0;  // wall time of the adaptive rows (said on stderr beside the whole run's)
+  auto run = [&](const std::string& ref, const MaterialSpec& mat, int level, const RefineSpec& refine = {}) -> Result<Row> {
     // a run to rest takes seconds to a minute: say which is under way (stderr; the table goes to stdout)
-    std::fprintf(stderr, "bench model: %s, level %d, nu %.2f ...\n", ref.c_str(), level, represented_poisson(mat));
+    std::fprintf(stderr, "bench model: %s, level %d%s, nu %.2f ...\n", ref.c_str(), level,
+                 refine.level > 0 ? (" refined to " + std::to_string(refine.level)).c_str() : "", represented_poisson(mat));
     Row row;
     row.reference = ref;
     row.level = level;
     row.nu = represented_poisson(mat);
     row.model_kind = mat.model;
+    row.refine_level = refine.level;
     if (ref == "hertz") {
-      auto r = check_hertz_tool(mat, level, o.integrator);
+      auto r = check_hertz_tool(mat, level, o.integrator, refine);
       if (!r) return make_error("bench model: hertz level ", std::to_string(level), ": ", r.error().message);
       const HertzToolCheck& h = r.value();
       row.nodes = h.nodes, row.springs = h.springs, row.model = h.force_N, row.closed_form = h.closed_form_N;
@@ -157,11 +175,38 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     if (!wanted(ref)) continue;
     for (int level : o.levels) {
       if (std::string(ref) == "cantilever" && level < 4) continue;  // the beam needs one cell across
+      if (std::string(ref) == "compression" && level > o.compression_max_level) continue;
       auto row = run(ref, m, level);
       if (!row) return row.error();
       rows.push_back(row.value());
     }
   }
+  // adaptive vs uniform: Hertz with the lattice refined near the tool, beside the uniform coarse and fine levels
+  // (those of the sweep above when it ran them, else run here)
+  std::vector<AdaptiveRow> adaptive;
+  if (wanted("hertz"))
+    for (int coarse : o.adaptive_levels) {
+      if (coarse < 2 || coarse >= o.adaptive_fine_level) continue;
+      auto uniform = [&](int level) -> Result<Row> {
+        for (const Row& r : rows)
+          if (r.reference == "hertz" && r.model_kind == MaterialModel::kSprings && r.level == level && r.refine_level == 0) return r;
+        return run("hertz", m, level);
+      };
+      auto c = uniform(coarse);
+      if (!c) return c.error();
+      RefineSpec refine;
+      refine.level = o.adaptive_fine_level;
+      refine.radius_m = o.adaptive_radius_m;
+      const auto a0 = std::chrono::steady_clock::now();
+      auto a = run("hertz", m, coarse, refine);
+      adaptive_wall_s += seconds_since(a0);
+      if (!a) return a.error();
+      auto f = uniform(o.adaptive_fine_level);
+      if (!f) return f.error();
+      a.value().reference = "hertz adapt";
+      rows.push_back(a.value());
+      adaptive.push_back({c.value(), a.value(), f.value()});
+    }
   // the volumetric model at each nu: compression at level 4 (uniform strain: any level), the others at poisson_level
   for (double nu : o.poisson_ratios) {
     MaterialSpec mv = m;
@@ -218,6 +263,8 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       }
     }
   }
+  std::fprintf(stderr, "bench model: %.0f s wall in all, %.1f s of it the adaptive rows\n", seconds_since(started),
+               adaptive_wall_s);
   std::ostringstream t;
   char line[400];
   std::snprintf(line, sizeof line,
@@ -230,8 +277,11 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     char lateral[32] = "-";
     if (std::isfinite(r.lateral)) std::snprintf(lateral, sizeof lateral, "%.4f", r.lateral);
     if (std::isfinite(r.order)) std::snprintf(lateral, sizeof lateral, "order %.2f", r.order);
-    std::snprintf(line, sizeof line, "%-12s %-11s %5.2f  %5d  %6zu  %7zu  %.5e %s  %.5e %s  %+10.2e  %13s  %12.2f  %6lld\n",
-                  r.reference.c_str(), name_of(r.model_kind), r.nu, r.level, r.nodes, r.springs, r.model, r.unit,
+    char level[16];
+    if (r.refine_level > 0) std::snprintf(level, sizeof level, "%d>%d", r.level, r.refine_level);
+    else std::snprintf(level, sizeof level, "%d", r.level);
+    std::snprintf(line, sizeof line, "%-12s %-11s %5.2f  %5s  %6zu  %7zu  %.5e %s  %.5e %s  %+10.2e  %13s  %12.2f  %6lld\n",
+                  r.reference.c_str(), name_of(r.model_kind), r.nu, level, r.nodes, r.springs, r.model, r.unit,
                   r.closed_form, r.unit, r.rel_error, lateral, r.ms_per_frame, static_cast<long long>(r.frames));
     t << line;
     nlohmann::json row = {{"reference", r.reference}, {"material_model", name_of(r.model_kind)}, {"poisson_ratio", r.nu},
@@ -240,6 +290,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
                           {"cpu_ms_per_frame_p50", r.ms_per_frame}, {"frames_to_rest", r.frames}};
     if (std::isfinite(r.lateral)) row["lateral_over_axial"] = r.lateral;
     if (std::isfinite(r.order)) row["richardson_order"] = r.order;
+    if (r.refine_level > 0) row["refine_level"] = r.refine_level;
     js.push_back(row);
   }
   t << "model / closed form: compression shortening, cantilever tip deflection (m), hertz force at the drop of the surface under the sphere (N);\n"
@@ -251,6 +302,20 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
        "the compressible Neo-Hookean solid's uniaxial stress x face (closed form), lateral column = lateral stretch over\n"
        "the closed form's, minus 1; pull 40mm: the 8 cm cube glued to the floor and to a plate pulled up 40 mm, the\n"
        "plate's force against the Richardson extrapolation of the three levels (not a closed form; order p observed)\n";
+  if (!adaptive.empty()) {
+    std::snprintf(line, sizeof line,
+                  "\nadaptive vs uniform: hertz by the sphere tool (springs, nu 0.25), the cells within %.1f mm of the "
+                  "contact refined to level %d\n", 1e3 * o.adaptive_radius_m, o.adaptive_fine_level);
+    t << line;
+    t << "coarse level  uniform coarse: error  CPU ms | adaptive: nodes  error  CPU ms  CPU/coarse | uniform fine: nodes  error  CPU ms\n";
+    for (const AdaptiveRow& a : adaptive) {
+      std::snprintf(line, sizeof line, "%12d  %+21.2e  %6.2f | %15zu  %+.2e  %6.2f  %10.2f | %19zu  %+.2e  %6.2f\n",
+                    a.coarse.level, a.coarse.rel_error, a.coarse.ms_per_frame, a.adaptive.nodes, a.adaptive.rel_error,
+                    a.adaptive.ms_per_frame, a.adaptive.ms_per_frame / a.coarse.ms_per_frame, a.fine.nodes,
+                    a.fine.rel_error, a.fine.ms_per_frame);
+      t << line;
+    }
+  }
   if (!o.json_path.empty()) {
     nlohmann::json j{{"young_modulus_Pa", o.young_modulus_Pa},
                      {"density_kg_per_m3", o.density_kg_per_m3}, {"stiffness_damping_s", o.stiffness_damping_s},
@@ -289,6 +354,21 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       s.extra.push_back(level);
       if (!s.x.empty()) p.series.push_back(s);
     }
+    // the adaptive lattices: one point per coarse level, beside the uniform hertz line
+    PlotSeries ad;
+    ad.label = "hertz adaptive";
+    ad.colour = "#9467bd";
+    ad.point_type = 11;
+    ad.style = PlotStyle::kLinesPoints;
+    PlotColumn level{"level", {}};
+    for (const Row& r : rows)
+      if (r.refine_level > 0) {
+        ad.x.push_back(r.ms_per_frame);
+        ad.y.push_back(std::abs(r.rel_error));
+        level.values.push_back(r.level);
+      }
+    ad.extra.push_back(level);
+    if (!ad.x.empty()) p.series.push_back(ad);
     *plot = p;
   }
   return t.str();

@@ -18,6 +18,8 @@ namespace palpate {
 /// What to run. Plain data.
 struct BenchModelOptions {
   std::vector<int> levels{3, 4, 5, 6};               ///< lattice levels (the cantilever needs >= 4: 1 cell across)
+  int compression_max_level = 5;                     ///< compression rows stop here (uniform strain is exact at every level;
+                                                     ///< level 6 costs 13 s for the same -5e-5)
   std::vector<std::string> references{"compression", "cantilever", "hertz", "pull"};  ///< which references to run
   double young_modulus_Pa = 1e5;                     ///< E of every case
   double density_kg_per_m3 = 1070.0;                 ///< rho
@@ -29,6 +31,10 @@ struct BenchModelOptions {
   std::vector<int> pull_levels{3, 4, 5};             ///< three consecutive levels of the pull (Richardson)
   MaterialModel poisson_model = MaterialModel::kVolumetric;  ///< material.model of those rows
   int poisson_level = 6;                             ///< level of those rows' cantilever and Hertz (compression: 4)
+  std::vector<int> adaptive_levels{4, 5};            ///< coarse levels of the "adaptive vs uniform" Hertz rows (springs,
+                                                     ///< nu 0.25): the lattice refined to adaptive_fine_level near the tool
+  int adaptive_fine_level = 6;                       ///< the fine level of those rows (and the uniform level they aim at)
+  double adaptive_radius_m = 0.01;                   ///< cells closer than this to the contact are refined (2 contact radii)
   std::string json_path;                             ///< write the rows as JSON here when not empty
   std::string plot_path;                             ///< log-log plot of force error against ms per frame (PNG)
 };
@@ -44,6 +50,7 @@ struct HertzToolCheck {
   std::size_t nodes = 0, springs = 0;
   int force_nodes = 0;             ///< lattice nodes the contact force was spread over
   int64_t frames = 0;              ///< sim frames to rest
+  int64_t region_moves = 0;        ///< times the region (a refined lattice's fine zone) moved while at it
   double ms_per_frame_p50 = 0.0;   ///< frame stage thread CPU time per frame (median)
 };
 
@@ -51,8 +58,10 @@ struct HertzToolCheck {
 double hertz_force_N(double young_modulus_Pa, double poisson_ratio, double radius_m, double depth_m);
 
 /// A block 8 x 8 x 4 cm of `material` (floor fixed) at lattice `level`, pressed by a sphere tool of radius 10 cm
-/// whose device is held so the sphere goes about 0.25 mm deep (contact radius 5 mm), run until at rest.
-Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator);
+/// whose device is held so the sphere goes about 0.25 mm deep (contact radius 5 mm), run until at rest; with
+/// refine.level > 0 the lattice is refined near the tool (lattice.refine).
+Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator,
+                                        const RefineSpec& refine = {});
 
 /// Runs every case; returns the table as text. Errors name the case, its level or the output path.
 Result<std::string> run_bench_model(const BenchModelOptions& options, PlotSpec* plot = nullptr);

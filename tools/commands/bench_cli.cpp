@@ -168,6 +168,15 @@ void add_model(CLI::App* bench, BenchArgs& a) {
       ->capture_default_str();
   c->add_option("--poisson-level", mo.poisson_level, "Level of those rows' cantilever and Hertz")
       ->check(CLI::Range(4, 7))->capture_default_str();
+  c->add_option("--compression-max-level", mo.compression_max_level, "Highest level of the compression rows (uniform "
+                "strain is exact at every level; 6 adds about 15 s)")->check(CLI::Range(2, 7))->capture_default_str();
+  c->add_option("--adaptive", mo.adaptive_levels, "Coarse levels of the 'adaptive vs uniform' Hertz rows: the lattice "
+                "refined to --adaptive-fine near the tool, beside the uniform coarse and fine levels (0: none)")
+      ->delimiter(',')->check(CLI::Range(0, 6))->capture_default_str();
+  c->add_option("--adaptive-fine", mo.adaptive_fine_level, "Fine level of those rows")->check(CLI::Range(3, 7))
+      ->capture_default_str();
+  c->add_option("--adaptive-radius", mo.adaptive_radius_m, "Cells closer than this to the contact are refined (m)")
+      ->check(finite_range(1e-4, 0.1))->capture_default_str();
   c->add_option("--json", mo.json_path, "Write the rows as JSON");
   c->add_option("--plot", mo.plot_path, "Plot force error against ms per frame (log-log) as PNG");
 }

@@ -96,8 +96,11 @@ void FrameStage::place_region() {
 void FrameStage::follow_contact() {
   if (!contact_this_frame_ || contact_.contact_tri < 0) return;
   // the material point under the contact, at rest: its cell is where the contact force goes
-  const Vec3 p = surface_point(model_.rest.vertices_m,
-                               model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)], contact_.contact_bary);
+  // (a refined lattice's fine zone follows the middle of a sphere's patch, not the nearest point wandering over it)
+  const Vec3 p = scene_.lattice.refine.level > 0
+                     ? contact_patch_centre(rest_, tool_contact(contact_))
+                     : surface_point(model_.rest.vertices_m,
+                                     model_.rest.triangles[static_cast<std::size_t>(contact_.contact_tri)], contact_.contact_bary);
   if (region_->follow(p, {&vertices_m_, &normals_})) {
     region_changed();
     compliance_next_frame_ = true;

@@ -1,9 +1,11 @@
 #include "tools/session/local_region.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "core/tri_mesh.h"
 #include "core/vertex_triangles.h"
+#include "sim/refined_lattice.h"
 #include "sim/region.h"
 
 namespace palpate {
@@ -13,29 +15,56 @@ LocalRegion::LocalRegion(const Scene& scene, const Model& model, FrameStats* sta
 
 bool LocalRegion::place(const Vec3& p_m, const DeformedMesh& mesh) {
   if (lattice_) return false;
-  return build_at(p_m, mesh);
+  return build_at(p_m, mesh, true);
 }
 
 bool LocalRegion::follow(const Vec3& p_rest_m, const DeformedMesh& mesh) {
   if (!lattice_ || !scene_.lattice.follow_contact) return false;
   // the material point's cell is where the contact force goes: it must be inside the region, off its fixed ring
-  const CellCoord cell = model_.grid.cell_of(p_rest_m, lattice_->level);
+  const int level = scene_.lattice.level;
+  const CellCoord cell = model_.grid.cell_of(p_rest_m, level);
+  const RefineSpec& refine = scene_.lattice.refine;
+  if (refine.level > 0) {
+    // refined: the coarse region moves as a uniform one would; the fine zone moves with the contact, once it is
+    // half the zone's radius from where the zone was built
+    const int d = std::max({std::abs(cell.i - center_.i), std::abs(cell.j - center_.j), std::abs(cell.k - center_.k)});
+    const int32_t fine = model_.grid.linear_index(model_.grid.cell_of(p_rest_m, lattice_->level), lattice_->level);
+    const bool leaves = d >= scene_.lattice.radius_cells || lattice_->slot_of_cell[static_cast<std::size_t>(fine)] < 0;
+    if (!leaves && (p_rest_m - zone_center_m_).norm() <= 0.5 * refine.radius_m) return false;
+    return build_at(p_rest_m, mesh, leaves);
+  }
   if (!contact_leaves_region(*lattice_, center_, cell, scene_.lattice.radius_cells)) return false;
-  return build_at(p_rest_m, mesh);
+  return build_at(p_rest_m, mesh, true);
 }
 
-bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh) {
+bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh, bool recentre) {
   const int level = scene_.lattice.level;
-  const CellCoord center = model_.grid.cell_of(p_m, level);
-  // a moved region keeps the old cells that are still deformed (beyond 1e-3 of a cell), so nothing snaps back
+  const CellCoord center = recentre || !lattice_ ? model_.grid.cell_of(p_m, level) : center_;
   const int radius = scene_.lattice.radius_cells;
-  auto lat = build_lattice(model_.grid, scene_.lattice,
-                           lattice_ ? followed_region_cells(model_.grid, *lattice_, center, radius, 1e-3 * lattice_->cell_m)
-                                    : region_cells(model_.grid, level, center, radius));
+  const RefineSpec& refine = scene_.lattice.refine;
+  Result<Lattice> lat = make_error("no lattice");
+  if (refine.level > 0) {
+    // the coarse cells around the contact and those still deformed; the ones near the contact split to the fine level
+    std::vector<int32_t> cells = region_cells(model_.grid, level, center, radius);
+    if (lattice_) {
+      const auto kept = deformed_coarse_cells(model_.grid, *lattice_, level, 1e-3 * lattice_->cell_m);
+      cells.insert(cells.end(), kept.begin(), kept.end());
+      std::sort(cells.begin(), cells.end());
+      cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    }
+    lat = build_refined_lattice(model_.grid, scene_.lattice, cells, refine.level,
+                                cells_near(model_.grid, level, cells, p_m, refine.radius_m));
+  } else {
+    // a moved region keeps the old cells that are still deformed (beyond 1e-3 of a cell), so nothing snaps back
+    lat = build_lattice(model_.grid, scene_.lattice,
+                        lattice_ ? followed_region_cells(model_.grid, *lattice_, center, radius, 1e-3 * lattice_->cell_m)
+                                 : region_cells(model_.grid, level, center, radius));
+  }
   if (!lat) return false;  // no solid cell near the contact: nothing to deform
   std::vector<Vec3>& vertices_m = *mesh.vertices_m;
   if (lattice_) {
-    carry_state(*lattice_, &lat.value());
+    if (refine.level > 0) carry_state_refined(model_.grid, *lattice_, &lat.value());
+    else carry_state(*lattice_, &lat.value());
     // vertices of dropped cells go back to rest; the others are deformed again by the new lattice. Normals
     // that depended on the old region are final now unless they depend on the new one (redone after deform).
     for (int32_t v : deformer_.vertex_ids()) vertices_m[v] = model_.rest.vertices_m[v];
@@ -44,6 +73,7 @@ bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh) {
   }
   lattice_ = std::move(lat).value();
   center_ = center;
+  zone_center_m_ = p_m;
   deformer_.attach(*lattice_, model_.bindings);
   normal_dependents(triangles(), model_.adjacency, deformer_.vertex_ids(), &mark_scratch_, &normal_ids_);
   normal_patch_.attach(model_.adjacency, normal_ids_);

@@ -35,14 +35,16 @@ class LocalRegion final : public RegionPolicy {
   const CellCoord& center() const { return center_; }
 
  private:
-  // builds the region around p_m (a moved one keeps the old cells still deformed and their state)
-  bool build_at(const Vec3& p_m, const DeformedMesh& mesh);
+  // builds the region around p_m (a moved one keeps the old cells still deformed and their state); recentre: the
+  // coarse region's centre moves to p_m too (else only a refined lattice's fine zone does)
+  bool build_at(const Vec3& p_m, const DeformedMesh& mesh, bool recentre);
 
   const Scene& scene_;
   const Model& model_;
   FrameStats* stats_;
   MeshDeformer deformer_;
   CellCoord center_;                  // contact cell the region was built around
+  Vec3 zone_center_m_ = Vec3::Zero(); // refined lattice: the contact point its fine zone was built around
   std::vector<int32_t> normal_ids_;   // vertices whose normal the region can change
   VertexNormalPatch normal_patch_;    // recomputes their normals, each face normal once
   mutable std::vector<int32_t> near_scratch_;  // the patch query's sort buffer (grow-only; sim thread only)

@@ -39,7 +39,9 @@ Result<Model> load_model(const Scene& scene) {
   m.grid = std::move(grid).value();
   // the lattice the scene can reach, bounded before any lattice or output exists
   if (auto st = check_lattice_limits(m.grid, scene); !st) return make_error("scene '", scene.path, "': ", st.error().message);
-  m.bindings = bind_vertices(m.grid, scene.lattice.level, m.rest.vertices_m);
+  // a refined lattice indexes its cells at the fine level
+  m.bindings = bind_vertices(m.grid, scene.lattice.refine.level > 0 ? scene.lattice.refine.level : scene.lattice.level,
+                             m.rest.vertices_m);
   m.leaf_cell_m = m.grid.cell_size_m(m.grid.levels());
   m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);
   return m;

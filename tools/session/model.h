@@ -18,7 +18,7 @@ struct Model {
   TriMesh rest;                          ///< normalised mesh at rest
   Normalization normalization;           ///< raw -> world mapping
   GridHierarchy grid;                    ///< hierarchy over the normalisation cube
-  std::vector<VertexBinding> bindings;   ///< per vertex, at the lattice level
+  std::vector<VertexBinding> bindings;   ///< per vertex, at the lattice level (lattice.refine.level when refined)
   VertexTriangles adjacency;             ///< triangles at each vertex of `rest` (normals of moved vertices)
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
 };

@@ -59,8 +59,10 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
   // judged between a frame's ticks and the next frame
   for (int64_t f = 0; f < max_frames; ++f) {
     const double t0 = thread_cpu_ms();
+    const int64_t moves = stage.stats().region_moves;
     session.frame_at(f, static_cast<double>(f) / rates.frame_hz, false);
     sim_ms.push_back(thread_cpu_ms() - t0);
+    if (o.record_ticks && stage.stats().region_moves != moves) r.region_move_ticks.push_back(tick);
     // the servo ticks due before the next frame (16 or 17 at 1 kHz and 60 Hz: the scene's rates)
     const int64_t until = static_cast<int64_t>(std::ceil((f + 1) * rates.servo_hz / rates.frame_hz - 1e-9));
     Vec3 sum = Vec3::Zero();
@@ -68,6 +70,7 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
     for (; tick < until; ++tick, ++ticks) {
       session.tick(tick, static_cast<double>(tick) / rates.servo_hz);
       sum += dev.force_N();
+      if (o.record_ticks) r.tick_force_N.push_back(dev.force_N());
     }
     r.frames = f + 1;
     const Vec3 mean = ticks > 0 ? Vec3(sum / static_cast<double>(ticks)) : Vec3::Zero();
@@ -107,6 +110,7 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
     r.sim_ms_p50 = sim_ms[sim_ms.size() / 2];
   }
   r.substeps = stage.stats().substeps_total;
+  r.region_moves = stage.stats().region_moves;
   r.vertices_m = stage.vertices_m();
   return r;
 }

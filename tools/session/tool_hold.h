@@ -23,6 +23,7 @@ struct ToolHoldOptions {
   double max_s = 20.0;                ///< scene seconds before giving up
   double rest_move_rel = 1e-2;        ///< at rest, three frames running: no node moves more than this fraction of
                                       ///< the largest displacement from rest in a frame ...
+  bool record_ticks = false;          ///< keep every tick's force and the ticks at which the region moved (result)
   double rest_force_rel = 1e-3;       ///< ... and the push (the frame's mean force along itself) changes by less than
                                       ///< this fraction (the sphere's centre jitters by micrometres sideways in the
                                       ///< dimple it presses, and the frames alternate 17, 17, 16 servo ticks)
@@ -40,8 +41,11 @@ struct ToolHoldResult {
   std::size_t nodes = 0, springs = 0; ///< lattice size
   int force_nodes = 0;                ///< lattice nodes the contact force was spread over in the last frame
   double sim_ms_p50 = 0.0;            ///< frame stage thread CPU time per frame (median)
+  int64_t region_moves = 0;           ///< times the region followed the contact (a refined lattice: its fine zone moved)
   int64_t substeps = 0;               ///< integrator substeps over all frames
   std::vector<Vec3> vertices_m;       ///< the deformed mesh at the end
+  std::vector<Vec3> tick_force_N;     ///< with record_ticks: the force sent on every servo tick
+  std::vector<int64_t> region_move_ticks;  ///< with record_ticks: the first tick after each frame that moved the region
 };
 
 /// Runs the scene's servo and frame stage (no rendering) with the device at options.device_pos_m from t = 0.

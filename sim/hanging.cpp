@@ -1,0 +1,27 @@
+#include "sim/hanging.h"
+
+namespace palpate {
+
+void spread_hanging(const Lattice& lat, std::vector<Vec3>* v) {
+  // masters are coarse corners, never hanging themselves: one pass is exact
+  for (const HangingNode& h : lat.hanging) {
+    Vec3 s = Vec3::Zero();
+    for (int k = 0; k < h.count; ++k) s += h.weight[static_cast<std::size_t>(k)] * (*v)[static_cast<std::size_t>(h.master[static_cast<std::size_t>(k)])];
+    (*v)[static_cast<std::size_t>(h.node)] = s;
+  }
+}
+
+void fold_hanging(const Lattice& lat, std::vector<Vec3>* f) {
+  for (const HangingNode& h : lat.hanging) {
+    const Vec3 fh = (*f)[static_cast<std::size_t>(h.node)];
+    for (int k = 0; k < h.count; ++k)
+      (*f)[static_cast<std::size_t>(h.master[static_cast<std::size_t>(k)])] += h.weight[static_cast<std::size_t>(k)] * fh;
+    (*f)[static_cast<std::size_t>(h.node)].setZero();
+  }
+}
+
+void mark_hanging(const Lattice& lat, std::vector<uint8_t>* mask) {
+  for (const HangingNode& h : lat.hanging) (*mask)[static_cast<std::size_t>(h.node)] = 1;
+}
+
+}  // namespace palpate

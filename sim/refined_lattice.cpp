@@ -1,0 +1,255 @@
+#include "sim/refined_lattice.h"
+
+#include <algorithm>
+#include <string>
+#include <unordered_map>
+
+#include "sim/deformer.h"
+#include "sim/hanging.h"
+#include "sim/material.h"
+#include "sim/spring_builder.h"
+
+namespace palpate {
+namespace {
+
+// Grid vertex (i, j, k) at a level with nv vertices per axis, as a linear index.
+int32_t vertex_index(const CellCoord& g, int nv) { return g.i + nv * (g.j + nv * g.k); }
+
+// The range of coarse cells (per axis) whose closed box holds fine vertex coordinate g: two where g lies on a coarse
+// plane, one otherwise; clipped to [0, n).
+void coarse_range(int g, int r, int n, int* lo, int* hi) {
+  *lo = g % r == 0 ? g / r - 1 : g / r;
+  *hi = g / r;
+  *lo = std::max(*lo, 0);
+  *hi = std::min(*hi, n - 1);
+}
+
+}  // namespace
+
+Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSpec& spec,
+                                      const std::vector<int32_t>& coarse_cells, int fine_level,
+                                      const std::vector<int32_t>& refine) {
+  const int lc = spec.level, lf = fine_level;
+  if (coarse_cells.empty()) return make_error("refined lattice: no solid cells in the region at level ", std::to_string(lc));
+  if (lf <= lc || lf > grid.levels())
+    return make_error("refined lattice: fine level ", std::to_string(lf), " is not between lattice level ",
+                      std::to_string(lc + 1), " and grid level ", std::to_string(grid.levels()));
+  if (!spec.material.enabled || spec.material.model != MaterialModel::kSprings)
+    return make_error("refined lattice: needs a material with material.model 'springs' (each cell's springs are "
+                      "calibrated at its own edge; the volume terms assume one cell size)");
+  const int r = 1 << (lf - lc);
+  const int nc = grid.cells_per_axis(lc), nf = grid.cells_per_axis(lf), nv = nf + 1;
+  Lattice lat;
+  lat.level = lf;
+  lat.cells_per_axis = nf;
+  lat.cell_m = grid.cell_size_m(lf);
+  const double coarse_m = grid.cell_size_m(lc);
+  const LatticeCalibration fine_cal = calibrate_lattice(spec.material, lat.cell_m);
+  const LatticeCalibration coarse_cal = calibrate_lattice(spec.material, coarse_m);
+  // one damping coefficient serves every spring: the fine cells' (the coarse ones are then damped less; the rest
+  // state does not depend on it)
+  lat.damping_Ns_per_m = fine_cal.damping_Ns_per_m;
+  lat.gravity_m_per_s2 = spec.gravity_m_per_s2;
+  lat.slot_of_cell.assign(static_cast<std::size_t>(grid.num_cells(lf)), -1);
+  std::vector<uint8_t> in_region(static_cast<std::size_t>(grid.num_cells(lc)), 0), split(in_region.size(), 0);
+  for (int32_t c : coarse_cells) in_region[static_cast<std::size_t>(c)] = 1;
+  for (int32_t c : refine)
+    if (in_region[static_cast<std::size_t>(c)]) split[static_cast<std::size_t>(c)] = 1;
+
+  // nodes at fine grid vertices, in first-seen order; each cell's corners
+  std::vector<int32_t> node_of_gv(static_cast<std::size_t>(nv) * nv * nv, -1);
+  std::vector<CellCoord> node_g;
+  const Vec3 origin = grid.cube().min_m;
+  auto node_at = [&](const CellCoord& g) {
+    int32_t& id = node_of_gv[static_cast<std::size_t>(vertex_index(g, nv))];
+    if (id < 0) {
+      id = static_cast<int32_t>(lat.rest_m.size());
+      lat.rest_m.push_back(origin + lat.cell_m * Vec3(g.i, g.j, g.k));
+      lat.grid_node.push_back(vertex_index(g, nv));
+      node_g.push_back(g);
+    }
+    return id;
+  };
+  std::vector<double> cell_share_kg;  // each cell's solid mass over 8 (n_c)
+  const double rho = spec.material.density_kg_per_m3;
+  auto add_cell = [&](const CellCoord& g0, int span, int32_t fine_index, double solid_kg) {
+    const auto slot = static_cast<int32_t>(lat.cells.size());
+    lat.cells.push_back(fine_index);
+    lat.cell_span.push_back(span);
+    std::array<int32_t, 8> corners{};
+    for (int corner = 0; corner < 8; ++corner)
+      corners[corner] = node_at({g0.i + span * (corner & 1), g0.j + span * ((corner >> 1) & 1), g0.k + span * ((corner >> 2) & 1)});
+    lat.cell_nodes.push_back(corners);
+    cell_share_kg.push_back(solid_kg / 8.0);
+    return slot;
+  };
+  std::vector<int32_t> sorted = coarse_cells;
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  for (int32_t c : sorted) {
+    const CellCoord cc = grid.coord_of(c, lc);
+    const CellCoord g0{cc.i * r, cc.j * r, cc.k * r};
+    if (split[static_cast<std::size_t>(c)]) {
+      // the solid children at the fine level
+      for (int dk = 0; dk < r; ++dk)
+        for (int dj = 0; dj < r; ++dj)
+          for (int di = 0; di < r; ++di) {
+            const CellCoord fc{g0.i + di, g0.j + dj, g0.k + dk};
+            const int32_t idx = grid.linear_index(fc, lf);
+            if (!grid.solid_cell(idx, lf)) continue;
+            const double kg = rho * lat.cell_m * lat.cell_m * lat.cell_m * cell_solid_fraction(grid, idx, lf);
+            lat.slot_of_cell[static_cast<std::size_t>(idx)] = add_cell(fc, 1, idx, kg);
+          }
+    } else {
+      // whole: its slot covers every fine child, so a fine-level lookup finds it
+      const double kg = rho * coarse_m * coarse_m * coarse_m * cell_solid_fraction(grid, c, lc);
+      const int32_t slot = add_cell(g0, r, grid.linear_index(g0, lf), kg);
+      for (int dk = 0; dk < r; ++dk)
+        for (int dj = 0; dj < r; ++dj)
+          for (int di = 0; di < r; ++di)
+            lat.slot_of_cell[static_cast<std::size_t>(grid.linear_index({g0.i + di, g0.j + dj, g0.k + dk}, lf))] = slot;
+    }
+  }
+  if (lat.cells.empty()) return make_error("refined lattice: no solid cells in the region at level ", std::to_string(lc));
+  const std::size_t num = lat.rest_m.size();
+  lat.x_m = lat.rest_m;
+  lat.v_m_per_s.assign(num, Vec3::Zero());
+  lat.mass_kg.assign(num, 0.0);
+  for (std::size_t s = 0; s < lat.cells.size(); ++s)
+    for (int32_t node : lat.cell_nodes[s]) lat.mass_kg[static_cast<std::size_t>(node)] += cell_share_kg[s];
+  for (double& m : lat.mass_kg) m = std::max(m, kMinNodeMassShare * rho * lat.cell_m * lat.cell_m * lat.cell_m);
+
+  // border: a node on the closed box of a solid coarse cell outside the region is held at rest; with fix_floor the
+  // model's lowest coarse node plane too
+  int min_k = nc;
+  for (int64_t idx = 0; idx < grid.num_cells(lc); ++idx)
+    if (grid.solid_cell(static_cast<int32_t>(idx), lc)) min_k = std::min(min_k, grid.coord_of(static_cast<int32_t>(idx), lc).k);
+  lat.fixed.assign(num, 0);
+  for (std::size_t i = 0; i < num; ++i) {
+    const CellCoord g = node_g[i];
+    int lo[3], hi[3];
+    coarse_range(g.i, r, nc, &lo[0], &hi[0]);
+    coarse_range(g.j, r, nc, &lo[1], &hi[1]);
+    coarse_range(g.k, r, nc, &lo[2], &hi[2]);
+    for (int k = lo[2]; k <= hi[2] && !lat.fixed[i]; ++k)
+      for (int j = lo[1]; j <= hi[1] && !lat.fixed[i]; ++j)
+        for (int ii = lo[0]; ii <= hi[0] && !lat.fixed[i]; ++ii) {
+          const int32_t idx = grid.linear_index({ii, j, k}, lc);
+          if (grid.solid_cell(idx, lc) && !in_region[static_cast<std::size_t>(idx)]) lat.fixed[i] = 1;
+        }
+    if (spec.fix_floor && g.k == min_k * r) lat.fixed[i] = 1;
+  }
+
+  // hanging: a free node off the corners of a whole coarse cell whose closed box holds it moves with that cell's face
+  for (std::size_t i = 0; i < num; ++i) {
+    const CellCoord g = node_g[i];
+    if (lat.fixed[i] || (g.i % r == 0 && g.j % r == 0 && g.k % r == 0)) continue;
+    int lo[3], hi[3];
+    coarse_range(g.i, r, nc, &lo[0], &hi[0]);
+    coarse_range(g.j, r, nc, &lo[1], &hi[1]);
+    coarse_range(g.k, r, nc, &lo[2], &hi[2]);
+    bool found = false;
+    for (int k = lo[2]; k <= hi[2] && !found; ++k)
+      for (int j = lo[1]; j <= hi[1] && !found; ++j)
+        for (int ii = lo[0]; ii <= hi[0] && !found; ++ii) {
+          const int32_t idx = grid.linear_index({ii, j, k}, lc);
+          if (!in_region[static_cast<std::size_t>(idx)] || split[static_cast<std::size_t>(idx)]) continue;
+          const int32_t slot = lat.slot_of_cell[static_cast<std::size_t>(grid.linear_index({ii * r, j * r, k * r}, lf))];
+          const Vec3 local = Vec3(g.i - ii * r, g.j - j * r, g.k - k * r) / r;
+          const auto w = trilinear_weights(local);
+          HangingNode h;
+          h.node = static_cast<int32_t>(i);
+          for (int corner = 0; corner < 8; ++corner) {
+            if (!(w[corner] > 1e-12)) continue;
+            h.master[static_cast<std::size_t>(h.count)] = lat.cell_nodes[static_cast<std::size_t>(slot)][corner];
+            h.weight[static_cast<std::size_t>(h.count)] = w[corner];
+            ++h.count;
+          }
+          lat.hanging.push_back(h);
+          found = true;
+        }
+  }
+
+  // springs: each cell its own calibration
+  SpringBuilder b{&lat, {}, true, {}};
+  for (std::size_t s = 0; s < lat.cells.size(); ++s) {
+    const LatticeCalibration& cal = lat.cell_span[s] == 1 ? fine_cal : coarse_cal;
+    b.add_cell(lat.cell_nodes[s], cal.edge_N_per_m, cal.diagonal_N_per_m);
+  }
+  lat.touch();
+  return lat;
+}
+
+std::vector<int32_t> cells_near(const GridHierarchy& grid, int level, const std::vector<int32_t>& cells, const Vec3& p_m,
+                                double radius_m) {
+  std::vector<int32_t> out;
+  const double l = grid.cell_size_m(level);
+  const Vec3 origin = grid.cube().min_m;
+  for (int32_t c : cells) {
+    const CellCoord cc = grid.coord_of(c, level);
+    const Vec3 lo = origin + l * Vec3(cc.i, cc.j, cc.k);
+    const Vec3 nearest = p_m.cwiseMax(lo).cwiseMin(lo + Vec3::Constant(l));
+    if ((nearest - p_m).norm() < radius_m) out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<int32_t> deformed_coarse_cells(const GridHierarchy& grid, const Lattice& lat, int coarse_level, double keep_m) {
+  std::vector<int32_t> out;
+  const int r = 1 << std::max(0, lat.level - coarse_level);
+  for (std::size_t s = 0; s < lat.cells.size(); ++s) {
+    bool deformed = false;
+    for (int32_t node : lat.cell_nodes[s])
+      deformed = deformed || (lat.x_m[node] - lat.rest_m[node]).norm() > keep_m || lat.v_m_per_s[node].norm() > keep_m;
+    if (!deformed) continue;
+    const CellCoord f = grid.coord_of(lat.cells[s], lat.level);
+    out.push_back(grid.linear_index({f.i / r, f.j / r, f.k / r}, coarse_level));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+int carry_state_refined(const GridHierarchy& grid, const Lattice& from, Lattice* to) {
+  std::unordered_map<int32_t, int32_t> index;
+  index.reserve(from.num_nodes());
+  for (std::size_t i = 0; i < from.num_nodes(); ++i) index.emplace(from.grid_node[i], static_cast<int32_t>(i));
+  const int nf = to->cells_per_axis, nv = nf + 1;
+  int carried = 0;
+  for (std::size_t i = 0; i < to->num_nodes(); ++i) {
+    if (to->fixed[i]) continue;
+    const auto it = index.find(to->grid_node[i]);
+    if (it != index.end()) {
+      to->x_m[i] = from.x_m[static_cast<std::size_t>(it->second)];
+      to->v_m_per_s[i] = from.v_m_per_s[static_cast<std::size_t>(it->second)];
+      ++carried;
+      continue;
+    }
+    if (from.level != to->level) continue;
+    // a node new to the lattice: the old lattice's field at its rest point, from a cell of the old lattice around it
+    const int32_t gv = to->grid_node[i];
+    const CellCoord g{gv % nv, (gv / nv) % nv, gv / (nv * nv)};
+    for (int corner = 0; corner < 8; ++corner) {
+      const CellCoord c{g.i - (corner & 1), g.j - ((corner >> 1) & 1), g.k - ((corner >> 2) & 1)};
+      if (c.i < 0 || c.j < 0 || c.k < 0 || c.i >= nf || c.j >= nf || c.k >= nf) continue;
+      const int32_t slot = from.slot_of_cell[static_cast<std::size_t>(grid.linear_index(c, to->level))];
+      if (slot < 0) continue;
+      const auto w = trilinear_weights(from.local_in_cell(static_cast<std::size_t>(slot), to->rest_m[i]));
+      Vec3 d = Vec3::Zero(), v = Vec3::Zero();
+      for (int k = 0; k < 8; ++k) {
+        const auto n = static_cast<std::size_t>(from.cell_nodes[static_cast<std::size_t>(slot)][k]);
+        d += w[k] * (from.x_m[n] - from.rest_m[n]);
+        v += w[k] * from.v_m_per_s[n];
+      }
+      to->x_m[i] = to->rest_m[i] + d;
+      to->v_m_per_s[i] = v;
+      ++carried;
+      break;
+    }
+  }
+  spread_hanging(*to, &to->x_m);
+  spread_hanging(*to, &to->v_m_per_s);
+  return carried;
+}
+
+}  // namespace palpate
