@@ -1,6 +1,7 @@
 #include "sim/lattice_estimate.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,14 @@ LatticeEstimate estimate_lattice(const GridHierarchy& grid, const LatticeSpec& s
   // springs owned by a node (it is their lowest corner): 3 axis edges, 6 face and 4 body diagonals, 3 skip-one
   const int64_t per_node = (spec.structural_N_per_m > 0.0 ? 3 : 0) + (spec.shear_N_per_m > 0.0 ? 10 : 0) +
                            (spec.bend_N_per_m > 0.0 ? 3 : 0);
+  // a refined zone: at most the fine nodes of a cube around the ball of radius_m, widened by a coarse cell (the
+  // zone takes every coarse cell the ball comes near), on top of the coarse nodes
+  if (spec.refine.level > level && spec.refine.level <= grid.levels()) {
+    const double fine_m = grid.cell_size_m(spec.refine.level), coarse_m = grid.cell_size_m(level);
+    const double side = std::min((2.0 * (spec.refine.radius_m + coarse_m)) / fine_m + 1.0,
+                                 static_cast<double>(grid.cells_per_axis(spec.refine.level)) + 1.0);
+    e.nodes += static_cast<int64_t>(std::min(side * side * side, 1e15));
+  }
   e.springs = e.nodes * per_node;
   return e;
 }
@@ -40,10 +49,18 @@ LatticeEstimate estimate_lattice(const GridHierarchy& grid, const LatticeSpec& s
 Status check_lattice_limits(const GridHierarchy& grid, const Scene& scene) {
   const bool whole = scene.mode == InteractionMode::kCut;
   const LatticeEstimate e = estimate_lattice(grid, scene.lattice, whole);
-  const std::string what = "lattice.level " + std::to_string(scene.lattice.level) +
-                           (whole ? " over the whole object (cut mode)"
-                                  : " with radius_cells " + std::to_string(scene.lattice.radius_cells));
-  const char* advice = whole ? " (lower lattice.level)" : " (lower lattice.level or lattice.radius_cells)";
+  const bool refined = scene.lattice.refine.level > scene.lattice.level;
+  std::string what = "lattice.level " + std::to_string(scene.lattice.level) +
+                     (whole ? " over the whole object (cut mode)"
+                            : " with radius_cells " + std::to_string(scene.lattice.radius_cells));
+  if (refined) {
+    char r[48];
+    std::snprintf(r, sizeof r, "%g", scene.lattice.refine.radius_m);
+    what += " refined to level " + std::to_string(scene.lattice.refine.level) + " within " + r + " m";
+  }
+  const char* advice = whole     ? " (lower lattice.level)"
+                       : refined ? " (lower lattice.refine.level or lattice.refine.radius_m)"
+                                 : " (lower lattice.level or lattice.radius_cells)";
   if (e.nodes > kMaxLatticeNodes)
     return make_error(what, " may reach ", std::to_string(e.nodes), " nodes, more than the limit of ",
                       std::to_string(kMaxLatticeNodes), advice);

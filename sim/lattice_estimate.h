@@ -17,7 +17,8 @@ struct LatticeEstimate {
 };
 
 /// Bounds the lattice at spec.level: every solid cell's corners when whole_object (cut mode), else at most the
-/// corners of a (2 radius_cells + 1)^3 block of cells, and never more than the object has.
+/// corners of a (2 radius_cells + 1)^3 block of cells, and never more than the object has; with spec.refine, plus
+/// the fine-level corners of a cube around the refined zone (its radius and a coarse cell each side).
 LatticeEstimate estimate_lattice(const GridHierarchy& grid, const LatticeSpec& spec, bool whole_object);
 
 /// Refuses a scene whose lattice estimate passes kMaxLatticeNodes or kMaxLatticeSprings: "lattice.level 8 with

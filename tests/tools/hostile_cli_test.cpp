@@ -87,6 +87,19 @@ TEST(Hostile, HugeLatticeIsRefusedBeforeAnyOutput) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(Hostile, AHugeRefinedZoneIsRefusedBeforeAnyOutput) {
+  const std::string out = tmp("out_huge_refine");
+  fs::remove_all(out);
+  const std::string s = write("huge_refine.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06]}, "grid": {"levels": 8},
+      "material": {"young_modulus_Pa": 1e5, "poisson_ratio": 0.25, "density_kg_per_m3": 1000},
+      "lattice": {"level": 5, "integrator": "implicit_euler", "refine": {"level": 8, "radius_m": 10}},
+      "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
+  expect_error(palpate("record " + s + " -q --out " + out),
+               "refined to level 8 within 10 m may reach");
+  expect_error(palpate("record " + s + " -q --out " + out), "(lower lattice.refine.level or lattice.refine.radius_m)");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Hostile, SubdividedModelAndBoxLatticeAreBoundedBeforeBuilding) {
   const std::string s = write("subdivided.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 64,
       "subdivisions": 5}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
