@@ -145,8 +145,9 @@ void add_scale(CLI::App* bench, BenchArgs& a) {
 void add_model(CLI::App* bench, BenchArgs& a) {
   auto* c = a.model_cmd = bench->add_subcommand(
       "model", "Model error against closed-form continuum references per lattice level, each run to rest by the "
-               "simulation, beside ms per frame (about 1.5 min with the defaults here, and about 3 min more for the 40 mm "
-               "pull rows; --references compression,cantilever,hertz leaves them out; progress on stderr)");
+               "simulation, beside ms per frame (about 6 min with the defaults on an idle 2-core machine, every nu and the "
+               "40 mm pull rows included; --references hertz --poisson none --large-strain none is the quick look; "
+               "progress on stderr)");
   c->alias("material");
   BenchModelOptions& mo = a.model;
   c->add_option("--levels", mo.levels, "Lattice levels (the cantilever runs from 4)")->delimiter(',')
