@@ -3,7 +3,9 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <string>
 #include <thread>
@@ -23,11 +25,25 @@ namespace {
 volatile std::sig_atomic_t g_interrupted = 0;
 
 // Ctrl-C or SIGTERM during a recording: the run ends after the frame under way and every output is finished
-// (frames, haptic.csv, summary.json "interrupted"); the handler is reset by the first signal, so a second one ends
-// the process at once
+// (frames, haptic.csv, summary.json "interrupted"). A second signal a second or more after the first ends the
+// process at once; one sooner is the same request again (`timeout` passes a signal to its command and to the
+// command's process group, so the command gets it twice)
 std::atomic<bool> g_stop_recording{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "a signal handler sets it");
-extern "C" void on_record_signal(int) { g_stop_recording.store(true, std::memory_order_relaxed); }
+std::atomic<int64_t> g_first_stop_ns{0};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int64_t>::is_always_lock_free,
+              "a signal handler sets them");
+extern "C" void on_record_signal(int sig) {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);  // async-signal-safe
+  const int64_t now_ns = static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+  int64_t first = 0;
+  if (g_first_stop_ns.compare_exchange_strong(first, now_ns, std::memory_order_relaxed)) {
+    g_stop_recording.store(true, std::memory_order_relaxed);
+  } else if (now_ns - first >= 1'000'000'000) {
+    signal(sig, SIG_DFL);
+    raise(sig);
+  }
+}
 
 // Installs on_record_signal for SIGINT and SIGTERM for its lifetime.
 class StopOnSignal {
@@ -35,7 +51,6 @@ class StopOnSignal {
   StopOnSignal() {
     struct sigaction sa {};
     sa.sa_handler = on_record_signal;
-    sa.sa_flags = SA_RESETHAND;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &old_int_);
     sigaction(SIGTERM, &sa, &old_term_);
