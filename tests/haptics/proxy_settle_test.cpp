@@ -108,38 +108,12 @@ Run press_and_hold(const Surface& s, const Vec3& site, const Vec3& dir, double r
   return run;
 }
 
-// an edge of the bunny whose faces turn by at least min_deg, convex or concave; *dir: their mean normal
-bool find_edge(const Surface& s, bool convex, double min_deg, Vec3* mid, Vec3* dir) {
-  std::map<std::pair<int, int>, int> first;
-  for (int i = 0; i < static_cast<int>(s.t.size()); ++i)
-    for (int k = 0; k < 3; ++k) {
-      const int a = s.t[i][k], b = s.t[i][(k + 1) % 3];
-      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
-      const auto it = first.find(key);
-      if (it == first.end()) {
-        first[key] = i;
-        continue;
-      }
-      const int j = it->second;
-      const Vec3 na = face_normal(s, i), nb = face_normal(s, j);
-      if (na.dot(nb) > std::cos(min_deg * kPi / 180)) continue;
-      int opp = -1;  // j's corner off the edge
-      for (int c : s.t[j])
-        if (c != a && c != b) opp = c;
-      const bool is_convex = (s.v[opp] - s.v[a]).dot(na) < 0.0;
-      if (is_convex != convex) continue;
-      *mid = 0.5 * (s.v[a] + s.v[b]);
-      *dir = (na + nb).normalized();
-      return true;
-    }
-  return false;
-}
-
-// convex edges of the bunny whose faces turn by at least min_deg: the edge's ends and the two faces' normals
+// edges of the bunny whose faces turn by at least min_deg, convex or concave (the first `count` found, give or take
+// a face's other edges): the edge's ends and the two faces' normals
 struct Edge {
   Vec3 a, b, na, nb;
 };
-std::vector<Edge> convex_edges(const Surface& s, double min_deg, std::size_t count) {
+std::vector<Edge> sharp_edges(const Surface& s, double min_deg, bool convex, std::size_t count) {
   std::map<std::pair<int, int>, int> first;
   std::vector<Edge> out;
   for (int i = 0; i < static_cast<int>(s.t.size()) && out.size() < count; ++i)
@@ -157,10 +131,23 @@ std::vector<Edge> convex_edges(const Surface& s, double min_deg, std::size_t cou
       int opp = -1;  // j's corner off the edge
       for (int c : s.t[j])
         if (c != a && c != b) opp = c;
-      if ((s.v[opp] - s.v[a]).dot(ni) >= 0.0) continue;  // concave
+      if (((s.v[opp] - s.v[a]).dot(ni) < 0.0) != convex) continue;
       out.push_back({s.v[a], s.v[b], nj, ni});
     }
   return out;
+}
+
+// the first such edge: its middle, and *dir the faces' mean normal
+bool find_edge(const Surface& s, bool convex, double min_deg, Vec3* mid, Vec3* dir) {
+  const std::vector<Edge> edges = sharp_edges(s, min_deg, convex, 1);
+  if (edges.empty()) return false;
+  *mid = 0.5 * (edges.front().a + edges.front().b);
+  *dir = (edges.front().na + edges.front().nb).normalized();
+  return true;
+}
+
+std::vector<Edge> convex_edges(const Surface& s, double min_deg, std::size_t count) {
+  return sharp_edges(s, min_deg, true, count);
 }
 
 void expect_settles(const Run& r, const char* where) {
