@@ -9,21 +9,15 @@
 #include "core/binding.h"
 #include "sim/cut_incision.h"
 #include "sim/cut_model.h"
+#include "cut_block.h"
 #include "sim_test_util.h"
 
 namespace palpate {
 namespace {
 
-constexpr double kSide_m = 0.08;  // block from -0.04 to 0.04; level 3 cells of 2 cm, mesh quads of 1 cm
-constexpr int kLevel = 3;
-
-struct Block {
-  test::BoxModel box = test::make_box_model(kSide_m, 4, 8);
-  LatticeSpec spec = test::spec_for(kLevel, 40, 20, 10);
-  Lattice lat = build_lattice(box.grid, spec, region_cells(box.grid, kLevel, {1, 1, 1}, 8)).value();
-  CutModel cut{box.mesh, bind_vertices(box.grid, kLevel, box.mesh.vertices_m), &box.grid, kLevel, 0.2};
-  std::vector<Vec3> vertices = box.mesh.vertices_m;
-};
+constexpr double kSide_m = test::kCutBlockSide_m;  // block from -0.04 to 0.04; level 3 cells of 2 cm, mesh quads of 1 cm
+constexpr int kLevel = test::kCutBlockLevel;
+using Block = test::CutBlock;
 
 // A blade in the plane x = x0 whose tip runs tip_z_m below the top (z = 0.04) across the whole block along y.
 BladeQuad slit(double x0, double tip_z_m) {

@@ -11,21 +11,15 @@
 #include "sim/cut_model.h"
 #include "sim/integrator.h"
 #include "sim/piece_contact.h"
+#include "cut_block.h"
 #include "sim_test_util.h"
 
 namespace palpate {
 namespace {
 
-constexpr double kSide_m = 0.08;  // block from -0.04 to 0.04; level 3 cells of 2 cm, mesh quads of 1 cm
-constexpr int kLevel = 3;
-
-struct Block {
-  test::BoxModel box = test::make_box_model(kSide_m, 4, 8);
-  LatticeSpec spec = test::spec_for(kLevel, 40, 20, 10);
-  Lattice lat = build_lattice(box.grid, spec, region_cells(box.grid, kLevel, {1, 1, 1}, 8)).value();
-  CutModel cut{box.mesh, bind_vertices(box.grid, kLevel, box.mesh.vertices_m), &box.grid, kLevel, 0.2};
-  std::vector<Vec3> vertices = box.mesh.vertices_m;
-};
+constexpr double kSide_m = test::kCutBlockSide_m;  // block from -0.04 to 0.04; level 3 cells of 2 cm, mesh quads of 1 cm
+constexpr int kLevel = test::kCutBlockLevel;
+using Block = test::CutBlock;
 
 // The plane x = x0 swept through the y range [y0, y1] over the whole height: one quad.
 BladeQuad plane_x(double x0, double y0 = -0.06, double y1 = 0.06) {
