@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "core/result.h"
 #include "core/scene.h"
 #include "sim/lattice.h"
 
@@ -36,5 +37,13 @@ ExplicitEulerCheck check_explicit_euler(const LatticeSpec& spec, double dt_s);
 /// A start-up warning for the scene's integrator at frame step dt_s, or "" when there is nothing to say: explicit
 /// Euler past its bound, or symplectic Euler / RK4 needing more substeps than substeps / max_substeps allow.
 std::string integrator_warning(const LatticeSpec& spec, double dt_s);
+
+/// The explicit schemes on a material lattice (spec.material.enabled) with cells of cell_m: the bound at a full
+/// interior node (mass rho l^3; 6 edges of 4 k_e, 12 face diagonals of 2 k_s, 8 body diagonals of k_s, and the 8
+/// cells' volume or Neo-Hookean terms), which is the least any node of the lattice needs (a node on the surface
+/// carries less mass for its springs). A scheme that needs more substeps there than lattice.substeps /
+/// max_substeps allow, or explicit Euler past its bound, diverges on every lattice the scene can build: an error
+/// naming the keys, the figures and what to change. Implicit Euler and local/global: always accepted.
+Status check_material_integrator(const LatticeSpec& spec, double cell_m, double dt_s);
 
 }  // namespace palpate

@@ -100,6 +100,20 @@ TEST(Hostile, AHugeRefinedZoneIsRefusedBeforeAnyOutput) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(Hostile, AnExplicitSchemeNoSubstepCountCanHoldIsRefusedBeforeAnyOutput) {
+  // a 300 kPa silicone on 3.75 mm cells needs thousands of symplectic substeps a frame: every frame would be NaN
+  const std::string out = tmp("out_stiff_explicit");
+  fs::remove_all(out);
+  const std::string s = write("stiff_explicit.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06]}, "grid": {"levels": 5},
+      "material": {"young_modulus_Pa": 3e5, "poisson_ratio": 0.45, "density_kg_per_m3": 1070, "model": "volumetric",
+                   "stiffness_damping_s": 2e-3},
+      "lattice": {"level": 5, "integrator": "symplectic_euler"},
+      "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
+  expect_error(palpate("record " + s + " -q --out " + out), "lattice.integrator 'symplectic_euler' needs");
+  expect_error(palpate("record " + s + " -q --out " + out), "choose lattice.integrator 'implicit_euler'");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Hostile, SubdividedModelAndBoxLatticeAreBoundedBeforeBuilding) {
   const std::string s = write("subdivided.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 64,
       "subdivisions": 5}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");

@@ -3,6 +3,7 @@
 #include "core/limits.h"
 #include "core/mesh_io.h"
 #include "sim/lattice_estimate.h"
+#include "sim/stability.h"
 
 namespace palpate {
 
@@ -39,6 +40,11 @@ Result<Model> load_model(const Scene& scene) {
   m.grid = std::move(grid).value();
   // the lattice the scene can reach, bounded before any lattice or output exists
   if (auto st = check_lattice_limits(m.grid, scene); !st) return make_error("scene '", scene.path, "': ", st.error().message);
+  // an explicit scheme that cannot be stable on this material's cells: refused before any lattice or output exists
+  if (auto st = check_material_integrator(scene.lattice, m.grid.cell_size_m(scene.lattice.level),
+                                          scene.rates.frame_period_s());
+      !st)
+    return make_error("scene '", scene.path, "': ", st.error().message);
   // a refined lattice indexes its cells at the fine level
   m.bindings = bind_vertices(m.grid, scene.lattice.refine.level > 0 ? scene.lattice.refine.level : scene.lattice.level,
                              m.rest.vertices_m);
