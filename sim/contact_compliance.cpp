@@ -14,6 +14,13 @@ namespace palpate {
 
 namespace {
 constexpr double kSingularPivot = 1e-10;  // relative pivot below which K is taken as singular
+// Free nodes from which a budgeted factorisation is spread over calls: the bunny's and cube_press's regions (169 and
+// 196 free nodes) factor whole in 3-5 ms; phantom_press's and block_stroke's (320-488) took 14-27 ms of one frame.
+constexpr int kSlicedFromFreeNodes = 256;
+// reserve(): at most this many nodes' storage; each node's share of K's pairs (a cell's 56 ordered corner pairs) and of
+// L's fill (the 480-node region of phantom_press fills about 60 blocks a node)
+constexpr int64_t kReserveMaxNodes = 4096;
+constexpr std::size_t kCellPairs = 56, kFillPerNode = 64;
 
 // K's block (row, col), row != col, of one spring (two springs on one pair give two entries, summed when used)
 struct OffBlock {
@@ -40,14 +47,31 @@ struct ContactCompliance::Impl {
   uint64_t revision = 0;  // the factored lattice's
   std::size_t nodes = 0, springs = 0;
   bool ok = false;
+  // the factorisation in slices: its next stage, the next column to eliminate, the pivots' range so far
+  enum class Stage { kNone, kOrder, kSymbolic, kNumeric } stage = Stage::kNone;
+  bool pending = false, sliced = false;
+  int32_t next_k = 0;
+  double d_max = 0.0, d_min = std::numeric_limits<double>::infinity();
 
   std::vector<std::array<Vec3, 8>> cell_c;  // volume term: cof(F) g_a per cell corner (sim/volume_term.h)
   std::vector<double> cell_w;               // and its weight per cell
   std::vector<NeoHookeanCell> neo;          // Neo-Hookean term: each cell's tangent state
-  bool factor(const Lattice& lat);
+  // K's blocks at the lattice's current positions, sorted by column (false: no free node)
+  bool assemble(const Lattice& lat);
+  // the fill-reducing elimination order and K's upper triangle in it
+  void order_nodes();
+  // the elimination tree, L's column counts and storage
+  void symbolic();
+  // the stages after assemble(): one per call when sliced (the numeric one by work_blocks), else all at once; true
+  // when the factor is done
+  bool advance(int64_t work_blocks);
+  // eliminates columns until done or work_blocks 3x3 block updates are spent (<= 0: no limit); true when done
+  bool eliminate(int64_t work_blocks);
+  // the pivots' verdict once every column is eliminated
+  bool well_conditioned() const;
 };
 
-bool ContactCompliance::Impl::factor(const Lattice& lat) {
+bool ContactCompliance::Impl::assemble(const Lattice& lat) {
   const std::size_t n = lat.num_nodes();
   free_of_node.assign(n, -1);
   int32_t nf = 0;
@@ -106,8 +130,14 @@ bool ContactCompliance::Impl::factor(const Lattice& lat) {
         }
       }
   }
-  // fill-reducing ordering of the node graph (both triangles, pattern only)
   std::sort(off.begin(), off.end(), [](const OffBlock& a, const OffBlock& b) { return a.col != b.col ? a.col < b.col : a.row < b.row; });
+  return true;
+}
+
+void ContactCompliance::Impl::order_nodes() {
+  const auto nf = static_cast<int32_t>(diag.size());
+  const auto unf = diag.size();
+  // fill-reducing ordering of the node graph (both triangles, pattern only)
   {
     Eigen::SparseMatrix<double> g(nf, nf);
     std::vector<Eigen::Triplet<double>> t;
@@ -137,6 +167,11 @@ bool ContactCompliance::Impl::factor(const Lattice& lat) {
     up_row[at] = r;
     up_val[at] = e.k;
   }
+}
+
+void ContactCompliance::Impl::symbolic() {
+  const auto nf = static_cast<int32_t>(diag.size());
+  const auto unf = diag.size();
   // elimination tree and column counts of L (up-looking: row k of L is the tree reach of column k's rows)
   parent.assign(unf, -1);
   l_nz.assign(unf, 0);
@@ -157,9 +192,32 @@ bool ContactCompliance::Impl::factor(const Lattice& lat) {
   d_inv.assign(unf, Mat3::Zero());
   y.assign(unf, Mat3::Zero());
   pattern.assign(unf, 0);
+  next_k = 0;
+  d_max = 0.0;
+  d_min = std::numeric_limits<double>::infinity();
+}
+
+bool ContactCompliance::Impl::advance(int64_t work_blocks) {
+  do {
+    switch (stage) {
+      case Stage::kOrder: order_nodes(); stage = Stage::kSymbolic; break;
+      case Stage::kSymbolic: symbolic(); stage = Stage::kNumeric; break;
+      case Stage::kNumeric:
+        if (!eliminate(sliced ? work_blocks : 0)) return false;
+        stage = Stage::kNone;
+        return true;
+      case Stage::kNone: return true;
+    }
+  } while (!sliced);
+  return false;
+}
+
+bool ContactCompliance::Impl::eliminate(int64_t work_blocks) {
+  const auto nf = static_cast<int32_t>(diag.size());
+  int64_t spent = 0;
   // numeric: row k of L from the triangular solve L D l_k^T = K(0:k, k), then D_k = K_kk - sum_i L_ki D_i L_ki^T
-  double d_max = 0.0, d_min = std::numeric_limits<double>::infinity();
-  for (int32_t k = 0; k < nf; ++k) {
+  for (int32_t& k = next_k; k < nf; ++k) {
+    if (work_blocks > 0 && spent >= work_blocks) return false;
     const auto uk = static_cast<std::size_t>(k);
     int32_t top = nf;
     flag[uk] = k;
@@ -181,6 +239,7 @@ bool ContactCompliance::Impl::factor(const Lattice& lat) {
       y[i].setZero();
       const auto p0 = static_cast<std::size_t>(l_ptr[i]), p1 = p0 + static_cast<std::size_t>(l_nz[i]);
       for (std::size_t p = p0; p < p1; ++p) y[static_cast<std::size_t>(l_row[p])].noalias() -= l_val[p] * yi;
+      spent += static_cast<int64_t>(p1 - p0) + 1;
       const Mat3 lki = yi.transpose() * d_inv[i];
       d.noalias() -= lki * yi;
       l_row[p1] = k;
@@ -194,28 +253,77 @@ bool ContactCompliance::Impl::factor(const Lattice& lat) {
     const double p2 = p1 != 0.0 ? d(2, 2) - d(2, 0) * d(2, 0) / p0 -
                                       (d(2, 1) - d(2, 0) * d(1, 0) / p0) * (d(2, 1) - d(2, 0) * d(1, 0) / p0) / p1
                                 : 0.0;
-    if (p0 == 0.0 || p1 == 0.0 || p2 == 0.0) return false;
+    if (p0 == 0.0 || p1 == 0.0 || p2 == 0.0) {
+      // singular: no factor (the verdict below fails on the zero pivot)
+      d_min = 0.0;
+      k = nf;
+      return true;
+    }
     d_max = std::max({d_max, p0, p1, p2});
     d_min = std::min({d_min, p0, p1, p2});
     d_inv[uk] = d.inverse();
   }
+  return true;
+}
+
+bool ContactCompliance::Impl::well_conditioned() const {
   // a pivot at round-off level of the largest means a free motion (nothing fixed, a piece cut free): the system is
   // singular even when no pivot is exactly zero
   return d_max > 0.0 && d_min > kSingularPivot * d_max;
 }
 
 ContactCompliance::ContactCompliance() : impl_(std::make_unique<Impl>()) {}
+
+void ContactCompliance::set_work_per_call(int64_t blocks) { work_per_call_ = blocks; }
+
+void ContactCompliance::reserve(int64_t nodes, int64_t springs) {
+  Impl& m = *impl_;
+  const auto n = static_cast<std::size_t>(std::clamp<int64_t>(nodes, 0, kReserveMaxNodes));
+  const auto k = static_cast<std::size_t>(std::clamp<int64_t>(springs, 0, 32 * kReserveMaxNodes));
+  // written once, not only reserved: a page's first write is what costs (up to 25 ms for a 500-node region here)
+  auto touch = [](auto* v, std::size_t size) {
+    v->resize(size);
+    v->clear();
+  };
+  touch(&m.off, 2 * k + kCellPairs * n);
+  touch(&m.up_row, k + kCellPairs / 2 * n);
+  touch(&m.up_val, k + kCellPairs / 2 * n);
+  touch(&m.l_row, kFillPerNode * n);
+  touch(&m.l_val, kFillPerNode * n);
+  for (auto* v : {&m.diag, &m.d_inv, &m.y}) touch(v, n);
+  for (auto* v : {&m.free_of_node, &m.order, &m.pos, &m.up_ptr, &m.parent, &m.l_ptr, &m.l_nz, &m.flag, &m.pattern})
+    touch(v, n + 1);
+  touch(&m.cell_c, n);
+  touch(&m.cell_w, n);
+  touch(&m.neo, n);
+}
+
+bool ContactCompliance::factoring() const { return impl_->pending; }
 ContactCompliance::~ContactCompliance() = default;
 
 bool ContactCompliance::compute(const Lattice& lat, const PointWeights& w, bool refactor, Mat3* c_m_per_N) {
   Impl& m = *impl_;
-  if (refactor || lat.revision != m.revision || lat.num_nodes() != m.nodes || lat.springs.size() != m.springs || !m.ok) {
+  const bool changed = lat.revision != m.revision || lat.num_nodes() != m.nodes || lat.springs.size() != m.springs;
+  if (refactor || changed || (!m.ok && !m.pending)) {
     m.revision = lat.revision;
     m.nodes = lat.num_nodes();
     m.springs = lat.springs.size();
-    m.ok = m.factor(lat);
-    if (!m.ok) return false;
+    m.ok = false;
+    m.pending = m.assemble(lat);
+    m.stage = m.pending ? Impl::Stage::kOrder : Impl::Stage::kNone;
+    if (!m.pending) return false;
+    // a large region's factorisation is spread over calls: assembly, ordering, symbolic analysis, then columns
+    // by the work budget (a small one's whole factorisation costs less than one of those stages of a large one)
+    m.sliced = work_per_call_ > 0 && m.diag.size() > static_cast<std::size_t>(kSlicedFromFreeNodes);
+    if (m.sliced) return false;
   }
+  if (m.pending) {
+    // the stiffness assembled when the factorisation began
+    if (!m.advance(work_per_call_)) return false;
+    m.pending = false;
+    m.ok = m.well_conditioned();
+  }
+  if (!m.ok) return false;
   // C = W^T K^-1 W = Z^T D^-1 Z with Z = L^-1 W (W: the point force's share on each free node, one 3x3 block
   // w I per node): a forward solve only
   std::vector<Mat3>& z = m.y;  // zero between uses

@@ -44,12 +44,26 @@ class ContactCompliance {
   ContactCompliance& operator=(const ContactCompliance&) = delete;
 
   /// C = W^T K^-1 W for the free nodes of `lat` at its current positions; false when the system is singular
-  /// (e.g. no fixed node) and *c_m_per_N is left unchanged. refactor forces a new factorisation.
+  /// (e.g. no fixed node) and *c_m_per_N is left unchanged. refactor forces a new factorisation. With a work
+  /// budget set, a factorisation is spread over calls: each eliminates columns until the budget is spent and
+  /// returns false until the last (K as assembled at the first; a changed lattice starts again).
   bool compute(const Lattice& lat, const PointWeights& w, bool refactor, Mat3* c_m_per_N);
+
+  /// The factorisation's work per compute() call, in 3x3 block updates (<= 0, the default: all at once). A count,
+  /// not a time, so a lockstep run stays reproducible.
+  void set_work_per_call(int64_t blocks);
+
+  /// Sizes and writes the storage of a lattice of up to `nodes` nodes and `springs` springs (capped at 4096 nodes),
+  /// so its first factorisation does not pay for fresh memory; call before a realtime run starts.
+  void reserve(int64_t nodes, int64_t springs);
+
+  /// True while a factorisation is under way (begun, not finished).
+  bool factoring() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  int64_t work_per_call_ = 0;
 };
 
 }  // namespace palpate

@@ -204,5 +204,51 @@ TEST(ContactCompliance, AnotherLatticeOfTheSameSizeIsFactoredAnew) {
   EXPECT_LT((c - ref_b).norm(), 1e-10 * ref_b.norm());
 }
 
+TEST(ContactCompliance, AFactorisationSpreadOverCallsGivesTheSameCompliance) {
+  // 343 free nodes (more than 256): with a work budget the factorisation takes one call for each of assembly,
+  // ordering and analysis and then slices of columns, and ends with exactly the compliance of one call
+  LatticeSpec spec = test::spec_for(5, 40, 20, 10);
+  Lattice a = test::make_block(5, 8, spec);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  for (std::size_t i = 0; i < a.num_nodes(); ++i) a.x_m[i] = a.rest_m[i] + a.cell_m * Vec3(jitter(rng), jitter(rng), jitter(rng));
+  Lattice b = a;
+  for (std::size_t i = 0; i < b.num_nodes(); ++i) b.x_m[i] += 0.1 * b.cell_m * Vec3(jitter(rng), jitter(rng), jitter(rng));
+  b.touch();
+  PointWeights w;
+  for (int32_t i = 0; i < static_cast<int32_t>(a.num_nodes()); i += 31) ASSERT_TRUE(w.add(i, 1.0));
+  for (int i = 0; i < w.count; ++i) w.weight[i] = 1.0 / w.count;
+  Mat3 whole_a, whole_b;
+  ContactCompliance one;
+  ASSERT_TRUE(one.compute(a, w, true, &whole_a));
+  ASSERT_TRUE(one.compute(b, w, false, &whole_b));
+
+  ContactCompliance sliced;
+  sliced.set_work_per_call(2000);
+  sliced.reserve(static_cast<int64_t>(a.num_nodes()), static_cast<int64_t>(a.springs.size()));
+  Mat3 c = Mat3::Constant(7.0);
+  int calls = 1;
+  for (; !sliced.compute(a, w, false, &c); ++calls) {
+    ASSERT_TRUE(sliced.factoring());
+    ASSERT_EQ(c, Mat3::Constant(7.0));  // untouched until done
+    ASSERT_LT(calls, 10000);
+  }
+  EXPECT_FALSE(sliced.factoring());
+  EXPECT_GT(calls, 4);
+  EXPECT_EQ(c, whole_a);
+  // a lattice that changes midway starts again, and ends with its own compliance
+  ASSERT_FALSE(sliced.compute(a, w, true, &c));
+  ASSERT_FALSE(sliced.compute(a, w, false, &c));
+  while (!sliced.compute(b, w, false, &c)) ASSERT_TRUE(sliced.factoring());
+  EXPECT_EQ(c, whole_b);
+  // a region of 8 free nodes is small: factored in the first call, budget or not
+  const Lattice small = test::make_block(4, 3, test::spec_for(4, 40, 20, 10));
+  PointWeights ws;
+  ws.count = 1;
+  ws.node[0] = 0;
+  ws.weight[0] = 1.0;
+  EXPECT_TRUE(sliced.compute(small, ws, true, &c));
+}
+
 }  // namespace
 }  // namespace palpate
