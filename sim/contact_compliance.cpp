@@ -18,9 +18,9 @@ constexpr double kSingularPivot = 1e-10;  // relative pivot below which K is tak
 // 196 free nodes) factor whole in 3-5 ms; phantom_press's and block_stroke's (320-488) took 14-27 ms of one frame.
 constexpr int kSlicedFromFreeNodes = 256;
 // reserve(): at most this many nodes' storage; each node's share of K's pairs (a cell's 56 ordered corner pairs) and of
-// L's fill (the 480-node region of phantom_press fills about 60 blocks a node)
+// L's fill
 constexpr int64_t kReserveMaxNodes = 4096;
-constexpr std::size_t kCellPairs = 56, kFillPerNode = 64;
+constexpr std::size_t kCellPairs = 56, kFillPerNode = 48;
 
 // K's block (row, col), row != col, of one spring (two springs on one pair give two entries, summed when used)
 struct OffBlock {
@@ -276,7 +276,7 @@ ContactCompliance::ContactCompliance() : impl_(std::make_unique<Impl>()) {}
 
 void ContactCompliance::set_work_per_call(int64_t blocks) { work_per_call_ = blocks; }
 
-void ContactCompliance::reserve(int64_t nodes, int64_t springs) {
+void ContactCompliance::reserve(int64_t nodes, int64_t springs, bool cell_terms) {
   Impl& m = *impl_;
   const auto n = static_cast<std::size_t>(std::clamp<int64_t>(nodes, 0, kReserveMaxNodes));
   const auto k = static_cast<std::size_t>(std::clamp<int64_t>(springs, 0, 32 * kReserveMaxNodes));
@@ -285,17 +285,20 @@ void ContactCompliance::reserve(int64_t nodes, int64_t springs) {
     v->resize(size);
     v->clear();
   };
-  touch(&m.off, 2 * k + kCellPairs * n);
-  touch(&m.up_row, k + kCellPairs / 2 * n);
-  touch(&m.up_val, k + kCellPairs / 2 * n);
+  const std::size_t pairs = cell_terms ? kCellPairs * n : 0;  // the cells' terms add a block per ordered corner pair
+  touch(&m.off, 2 * k + pairs);
+  touch(&m.up_row, k + pairs / 2);
+  touch(&m.up_val, k + pairs / 2);
   touch(&m.l_row, kFillPerNode * n);
   touch(&m.l_val, kFillPerNode * n);
   for (auto* v : {&m.diag, &m.d_inv, &m.y}) touch(v, n);
   for (auto* v : {&m.free_of_node, &m.order, &m.pos, &m.up_ptr, &m.parent, &m.l_ptr, &m.l_nz, &m.flag, &m.pattern})
     touch(v, n + 1);
-  touch(&m.cell_c, n);
-  touch(&m.cell_w, n);
-  touch(&m.neo, n);
+  if (cell_terms) {
+    touch(&m.cell_c, n);
+    touch(&m.cell_w, n);
+    touch(&m.neo, n);
+  }
 }
 
 bool ContactCompliance::factoring() const { return impl_->pending; }

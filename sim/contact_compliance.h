@@ -54,8 +54,9 @@ class ContactCompliance {
   void set_work_per_call(int64_t blocks);
 
   /// Sizes and writes the storage of a lattice of up to `nodes` nodes and `springs` springs (capped at 4096 nodes),
-  /// so its first factorisation does not pay for fresh memory; call before a realtime run starts.
-  void reserve(int64_t nodes, int64_t springs);
+  /// with cell_terms its cells' volume or Neo-Hookean blocks, so its first factorisation does not pay for fresh
+  /// memory; call before a realtime run starts.
+  void reserve(int64_t nodes, int64_t springs, bool cell_terms);
 
   /// True while a factorisation is under way (begun, not finished).
   bool factoring() const;

@@ -225,7 +225,7 @@ TEST(ContactCompliance, AFactorisationSpreadOverCallsGivesTheSameCompliance) {
 
   ContactCompliance sliced;
   sliced.set_work_per_call(2000);
-  sliced.reserve(static_cast<int64_t>(a.num_nodes()), static_cast<int64_t>(a.springs.size()));
+  sliced.reserve(static_cast<int64_t>(a.num_nodes()), static_cast<int64_t>(a.springs.size()), false);
   Mat3 c = Mat3::Constant(7.0);
   int calls = 1;
   for (; !sliced.compute(a, w, false, &c); ++calls) {

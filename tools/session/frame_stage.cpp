@@ -47,7 +47,8 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   compliance_.set_work_per_call(kComplianceWorkPerFrame);
   if (scene.mode != InteractionMode::kCut) {
     const LatticeEstimate most = estimate_lattice(model.grid, scene.lattice, false);
-    compliance_.reserve(most.nodes, most.springs);
+    compliance_.reserve(most.nodes, most.springs,
+                        scene.lattice.material.enabled && scene.lattice.material.model != MaterialModel::kSprings);
   }
   region_ = make_region_policy(scene, model, &stats_);
   if (region_->lattice()) region_changed();
