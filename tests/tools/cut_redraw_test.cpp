@@ -97,12 +97,12 @@ TEST(CutRedraw, TheLayerHoldsOnlyWhatNoFrameChangedWhileABladeCuts) {
 
 // A blade drawn straight across a 12k-triangle block (16 cells of 5 mm a side, as a 10 cm scan's level-5 grid) at
 // 1 mm a frame, 80 mm of it inside the block: a redraw of the layer takes the cells the edge sweeps over the next
-// kBladeLeadFrames frames (30 mm) and kBladeReachCells cells (10 mm) around it, and the next is due when the edge
-// comes within a cell (5 mm) of a cell not taken, so one redraw serves 35 mm: one when the edge enters the block,
-// then at most ceil(80 / 35) = 3 more, 4 in all (3 here). Taking only the edge's reach (kBladeLeadFrames = 0, as
-// before) redraws every 10 mm: 6 times. The cells the blade left behind, where nothing moves, leave the part at
-// each redraw: at the end no moving cell lies more than kBladeReachCells + 1 cells behind where the edge was at the
-// last redraw (without that the part grows with every cell the blade crossed).
+// kBladeLeadFrames frames (30 mm) and kBladeReachCells cells (5 mm) around it, and the next is due when the edge
+// comes within a cell (5 mm) of a cell not taken, so one redraw serves 30 mm: one when the edge enters the block,
+// then at most ceil(80 / 30) = 3 more, 4 in all (3 here). Taking only the edge's reach (kBladeLeadFrames = 0, as
+// before) redraws every 5-10 mm (6 times with 2 cells of reach). The cells the blade left behind, where nothing
+// moves, leave the part at each redraw: at the end no moving cell lies more than kBladeReachCells + 1 cells behind
+// where the edge was at the last redraw (without that the part grows with every cell the blade crossed).
 TEST(CutRedraw, AStrokeAcrossABigMeshRedrawsTheLayerRarelyAndTheMovingPartFollowsTheBlade) {
   constexpr double kSide_m = 0.08;
   constexpr int kLevel = 5;  // 5 mm cells
