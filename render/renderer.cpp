@@ -171,8 +171,10 @@ bool Renderer::prepare_mesh(const FrameView& view) {
     }
     to_floats(*normals, &normals_f_);
   }
-  if (style_ != RenderStyle::kSolid) update_edges(triangles);
+  if (lines_drawn()) update_edges(triangles);
   if (style_ == RenderStyle::kBoth && !wire_decided_) decide_wire(vertices.size());
+  // a `both` mesh too fine for its lines: no edges to keep up (a layer split and every cut would sort them all)
+  if (!lines_drawn()) edge_indices_.clear();
   return true;
 }
 

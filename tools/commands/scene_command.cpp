@@ -27,6 +27,7 @@ constexpr double kClearance_m = 0.03;    // the tool starts and ends this far ou
 constexpr double kNear_m = 0.003;        // it slows down this far out before pressing
 constexpr double kGrabGap_m = 0.002;     // pull: the button is pressed this far out (within grab_radius_m)
 constexpr double kGrabRadius_m = 0.008;  // interaction.grab_radius_m, as the shipped scenes
+constexpr double kSceneWireMinEdgePx = 4.0;  // render.wire_min_edge_px: no wireframe over a finer mesh (below)
 
 std::string mm3(const Vec3& p_m) {
   char buf[96];
@@ -318,7 +319,10 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   j["hand"] = {{"mass_kg", 0.12}, {"stiffness_N_per_m", 150}, {"damping_Ns_per_m", 6}};
 
   const double duration_s = add_trajectory(rq.mode, P, d, clearance_m, depth_m, box, &j);
-  j["render"] = {{"width", 640}, {"height", 480}, {"style", "both"}, {"backend", "auto"}};
+  // a wireframe only where its lines leave the surface visible: 1-px lines over triangles of edge a px cover about
+  // 3.5 / a of it (all of it at a 2.6 px median edge, a 50k-triangle scan in this view), and they cost every frame
+  j["render"] = {{"width", 640}, {"height", 480}, {"style", "both"}, {"backend", "auto"},
+                 {"wire_min_edge_px", kSceneWireMinEdgePx}};
   j["run_mode"] = "lockstep";
   j["duration_s"] = duration_s;
   g.json = std::move(j);

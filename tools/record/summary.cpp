@@ -165,7 +165,9 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                 {"sim_ms_cutting", ms_json(fst.cutting_ms)},
                 {"sim_ms_after_cut", ms_json(fst.after_cut_ms)}};
   }
-  j["render"] = {{"ms", ms_json(fst.render_ms)}, {"backend", in.gl ? in.gl->backend_name() : "none"},
+  j["render"] = {{"ms", ms_json(fst.render_ms)}, {"cpu_ms", ms_json(fst.render_cpu_ms)},
+                 {"layer_build_ms", ms_json(fst.layer_build_ms)}, {"layer_build_cpu_ms", ms_json(fst.layer_build_cpu_ms)},
+                 {"backend", in.gl ? in.gl->backend_name() : "none"},
                  {"width", scene.render.width}, {"height", scene.render.height},
                  {"frames_layered", fst.frames_layered}, {"layer_builds", in.renderer ? in.renderer->layer_builds() : 0},
                  {"layer_resplits", in.renderer ? in.renderer->resplits() : 0}};

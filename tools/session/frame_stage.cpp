@@ -43,6 +43,7 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   latest_.proxy_pos_m = latest_.tool_pos_m;
   stats_.sim_ms.reserve(static_cast<std::size_t>(scene.rates.frames(scene.duration_s)) + 8);
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
+  stats_.render_cpu_ms.reserve(stats_.sim_ms.capacity());
   stats_.profile.reserve(stats_.sim_ms.capacity());
   compliance_.set_work_per_call(kComplianceWorkPerFrame);
   if (scene.mode != InteractionMode::kCut) {
@@ -307,6 +308,8 @@ void FrameStage::warm_up() {
 void FrameStage::render(int64_t index, bool block) {
   if (!renderer_ || !writer_) return;
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_clock_.now_ms();
+  const int64_t builds = renderer_->layer_builds();
   uint8_t* buf = writer_->acquire(block);
   if (!buf) {
     ++stats_.frames_dropped;
@@ -324,6 +327,11 @@ void FrameStage::render(int64_t index, bool block) {
   stats_.written_frames.push_back(index);
   ++stats_.frames_rendered;
   stats_.render_ms.push_back(ms_since(t0));
+  stats_.render_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
+  if (renderer_->layer_builds() != builds) {
+    stats_.layer_build_ms.push_back(stats_.render_ms.back());
+    stats_.layer_build_cpu_ms.push_back(stats_.render_cpu_ms.back());
+  }
 }
 
 void FrameStage::lap(FramePart part) {

@@ -42,6 +42,9 @@ struct FrameProfile {
 struct FrameStats {
   std::vector<double> sim_ms;       ///< per frame: drain + step + deform + publish
   std::vector<double> render_ms;    ///< per rendered frame
+  std::vector<double> render_cpu_ms;    ///< per rendered frame: render_ms in the render thread's CPU time
+  std::vector<double> layer_build_ms;   ///< per rendered frame that redrew the cached layer: its render_ms
+  std::vector<double> layer_build_cpu_ms;  ///< the same frames' render_cpu_ms
   int64_t frames_layered = 0;       ///< rendered frames that drew only what moves over the cached static layer
   std::vector<int64_t> written_frames; ///< scene frame index of each PNG, in file order (frame_00000 first)
   int64_t frames = 0;               ///< frames processed
