@@ -228,6 +228,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   auto model_r = load_model(spec);
   if (!model_r) return model_r.error();
   const Model& model = model_r.value();
+  if (!model.orientation.notice().empty()) g.notes.push_back(model.orientation.notice());
   const Aabb box = Aabb::of(model.rest.vertices_m);
 
   // the surface point and the direction the tool comes in along
