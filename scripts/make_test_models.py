@@ -11,6 +11,9 @@ scripts/check_scene_models.sh:
                      normals and a colour per vertex
   bracket.ply        a CAD part with sharp edges: an L-bracket of concave polygon faces, binary big-endian PLY with
                      ushort list counts and int indices
+  scan_inward.stl    a scan exported inside out: a lumpy blob of about 5 x 10^3 triangles, every face wound inward
+                     (ASCII STL, facet normals pointing in)
+  bracket_patch.obj  the L-bracket with two of its faces (an L side and the top of its foot) wound against the others, OBJ
 
 With --big also scan_1e5.ply (binary little-endian, 10^5 triangles) and scan_1e6.stl (binary, 10^6 triangles).
 Usage: scripts/make_test_models.py OUT_DIR [--big]
@@ -110,7 +113,7 @@ def bowl(n_lat, n_lon, radius, thickness):
     inner = surf(radius - thickness, True)
     for j in range(n_lon):
         a, b, c, d = outer(n_lat, j), outer(n_lat, j + 1), inner(n_lat, j), inner(n_lat, j + 1)
-        tris += [(a, c, d), (a, d, b)]
+        tris += [(a, d, c), (a, b, d)]
     return verts, tris
 
 
@@ -147,6 +150,30 @@ def plate_ascii_ply(path, sx, sy, sz, n):
             f.write("4 %d %d %d %d\n" % tuple(q))
 
 
+def write_stl_ascii(path, verts, tris):
+    with open(path, "w") as f:
+        f.write("solid scan_inward\n")
+        for t in tris:
+            a, b, c = (verts[i] for i in t)
+            u = [b[k] - a[k] for k in range(3)]
+            w = [c[k] - a[k] for k in range(3)]
+            n = (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+            f.write("facet normal %g %g %g\n outer loop\n" % n)
+            for v in (a, b, c):
+                f.write("  vertex %.6f %.6f %.6f\n" % v)
+            f.write(" endloop\nendfacet\n")
+        f.write("endsolid scan_inward\n")
+
+
+def write_obj(path, verts, polys):
+    with open(path, "w") as f:
+        f.write("# made by make_test_models.py\n")
+        for v in verts:
+            f.write("v %g %g %g\n" % v)
+        for p in polys:
+            f.write("f " + " ".join(str(i + 1) for i in p) + "\n")
+
+
 def bracket():
     """An L-bracket 80 x 60 x 40 mm, 8 mm thick: two concave L faces and six rectangles (sharp 90-degree edges)."""
     L = [(0, 0), (80, 0), (80, 8), (8, 8), (8, 60), (0, 60)]  # in x-z, counter-clockwise seen from -y
@@ -172,6 +199,10 @@ def main():
     plate_ascii_ply(os.path.join(out, "plate.ply"), 100.0, 5.0, 60.0, 16)
     v, p = bracket()
     write_ply_binary(os.path.join(out, "bracket.ply"), v, p, big=True)
+    p = [q[::-1] if k in (1, 4) else q for k, q in enumerate(p)]  # the L at y = 40 and the top of the foot (z = 8)
+    write_obj(os.path.join(out, "bracket_patch.obj"), v, p)
+    v, t = blob(50, 50, 4, 0.4)
+    write_stl_ascii(os.path.join(out, "scan_inward.stl"), v, [(a, c, b) for a, b, c in t])
     if big:
         v, t = blob(224, 224, 2, 0.3)
         write_ply_binary(os.path.join(out, "scan_1e5.ply"), v, t, big=False)

@@ -275,13 +275,14 @@ void CutModel::deform(const Lattice& lat, std::vector<Vec3>* vertices_m) const {
 void CutModel::triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
                                 std::vector<int32_t>* out) const {
   out->clear();
-  auto inside = [&](int32_t i) {
-    const Vec3& p = vertices_m[i];
-    return (p.array() >= lo_m.array()).all() && (p.array() <= hi_m.array()).all();
-  };
+  // a triangle whose box overlaps: one larger than the box (a CAD part's face) reaches into it with no vertex inside
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const auto& tri = triangles_[t];
-    if (inside(tri[0]) || inside(tri[1]) || inside(tri[2])) out->push_back(static_cast<int32_t>(t));
+    const Vec3& a = vertices_m[tri[0]];
+    const Vec3& b = vertices_m[tri[1]];
+    const Vec3& c = vertices_m[tri[2]];
+    const Vec3 t_lo = a.cwiseMin(b).cwiseMin(c), t_hi = a.cwiseMax(b).cwiseMax(c);
+    if ((t_lo.array() <= hi_m.array()).all() && (t_hi.array() >= lo_m.array()).all()) out->push_back(static_cast<int32_t>(t));
   }
 }
 

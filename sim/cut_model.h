@@ -98,7 +98,7 @@ class CutModel {
   const std::vector<Vec3>& rest_vertices_m() const { return rest_m_; }
   /// Corners each vertex is cut off from (bit = corner dx + 2dy + 4dz).
   const std::vector<uint8_t>& blocked() const { return blocked_; }
-  /// Writes the ids of triangles with a current vertex inside [lo_m, hi_m] into *out (cleared first).
+  /// Writes the ids of triangles whose current box overlaps [lo_m, hi_m] into *out (cleared first).
   void triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
                         std::vector<int32_t>* out) const;
   /// Appends the lattice cells (linear index at the bound level) whose box overlaps [lo_m, hi_m] to *cells.

@@ -156,6 +156,31 @@ TEST(CutRecord, VerticesCountedPerFrameAreTheCutMeshsAsItGrows) {
   EXPECT_EQ(largest, model.rest.vertices_m.size() + j["cut"]["vertices_added"].get<std::size_t>());
 }
 
+// A box of 12 triangles (a CAD part's large faces): the blade goes 10 mm into the top face, 40 mm or more from every
+// vertex, and strokes 30 mm across it without crossing an edge (no split brings a vertex near). The servo's patch
+// holds the face the blade crosses: a face larger than the patch's box, with no vertex in it, was left out, and the
+// cut was never felt (max force 0, "no contact", as on assimp's box.obj and cube_uv.ply).
+TEST(CutRecord, ABladeInsideOneLargeFaceIsFelt) {
+  const Scene s = parse_scene(R"({
+    "mesh": { "box_m": [0.1, 0.1, 0.1], "box_subdivisions": 1, "size_m": 0.1 },
+    "grid": { "levels": 4 },
+    "lattice": { "level": 4, "node_mass_kg": 0.001, "gravity_m_per_s2": [0, 0, 0], "fix_floor": true },
+    "interaction": { "mode": "cut", "blade_length_m": 0.05, "cut_resistance_Ns_per_m": 4 },
+    "trajectory": [
+      { "t_s": 0.0, "pos_m": [0.01, 0.004, 0.08], "button": true },
+      { "t_s": 0.3, "pos_m": [0.01, 0.004, 0.04], "button": true },
+      { "t_s": 0.8, "pos_m": [0.04, 0.004, 0.04], "button": true }
+    ],
+    "duration_s": 0.8
+  })", "big_faces.json").value();
+  ASSERT_EQ(load_model(s).value().rest.triangles.size(), 12u);
+  const RecordResult r = record(s, "cut_big_faces");
+  const auto j = nlohmann::json::parse(r.summary_json);
+  EXPECT_GT(j["cut"]["springs_cut"].get<int>(), 0);
+  EXPECT_GT(j["max_force_N"].get<double>(), 0.0);  // the blade's resistance inside the material
+  EXPECT_EQ(r.no_contact, "");
+}
+
 TEST(CutRecord, BladeDrawnAboveTheBlockChangesNothing) {
   Scene s = block_cut_scene(0.013);
   Scene above = block_cut_scene(0.08);

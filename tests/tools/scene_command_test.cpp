@@ -293,8 +293,19 @@ TEST(SceneCommand, EveryModeMeetsACubeOfEightVertices) {
     EXPECT_EQ(j["nan_events"].get<int>(), 0);
     if (std::string(mode) == "cut") {
       EXPECT_GT(j["cut"]["springs_cut"].get<int>(), 0);
+      // subdivided (below), the stroke across the top splits a row of triangles to draw its groove (12 triangles of
+      // 100 mm: the blade split 2, at the edge it left through, and its path showed nothing)
+      EXPECT_GE(j["cut"]["triangles_added"].get<int>(), 16);
     }
   }
+  // a cut scene subdivides the cube until its longest edge (the faces' 141 mm diagonals) is two 6.25 mm cells or
+  // less: 141 / 2^4 = 8.8 mm, 12 x 4^4 triangles; a touch scene leaves it as it is
+  SceneRequest cut = rq;
+  cut.mode = InteractionMode::kCut;
+  auto gc = generate_scene(cut);
+  ASSERT_TRUE(gc) << gc.error().message;
+  EXPECT_EQ(gc.value().json["mesh"]["subdivisions"], 4);
+  EXPECT_FALSE(g.value().json["mesh"].contains("subdivisions"));
 }
 
 }  // namespace

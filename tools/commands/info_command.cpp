@@ -9,6 +9,7 @@
 #include "core/binding.h"
 #include "core/grid_hierarchy.h"
 #include "core/mesh_io.h"
+#include "core/mesh_orientation.h"
 
 namespace palpate {
 
@@ -19,6 +20,8 @@ int run_info(const std::string& path, int levels, bool json) {
     return 1;
   }
   TriMesh mesh = std::move(mesh_r).value();
+  // as a scene loads it: faces turned outward
+  const MeshOrientation turned = orient_outward(&mesh);
   const Aabb raw = Aabb::of(mesh.vertices_m);
   auto norm = normalize_mesh(&mesh, 1.0, path);
   if (!norm) {
@@ -35,6 +38,10 @@ int run_info(const std::string& path, int levels, bool json) {
   j["mesh"] = path;
   j["vertices"] = mesh.num_vertices();
   j["triangles"] = mesh.num_triangles();
+  j["parts"] = turned.components;
+  j["closed_parts"] = turned.closed_components;
+  j["triangles_turned"] = turned.triangles_flipped;
+  if (!turned.notice().empty()) j["orientation"] = turned.notice();
   j["box_min"] = {raw.min_m.x(), raw.min_m.y(), raw.min_m.z()};
   j["box_max"] = {raw.max_m.x(), raw.max_m.y(), raw.max_m.z()};
   j["normalization_scale"] = norm.value().scale;
@@ -61,6 +68,9 @@ int run_info(const std::string& path, int levels, bool json) {
   }
   std::printf("mesh       %s\n", path.c_str());
   std::printf("vertices   %zu\ntriangles  %zu\n", mesh.num_vertices(), mesh.num_triangles());
+  std::printf("parts      %lld (%lld closed)\n", static_cast<long long>(turned.components),
+              static_cast<long long>(turned.closed_components));
+  if (!turned.notice().empty()) std::printf("faces      %s\n", turned.notice().c_str());
   std::printf("box        [%.6g, %.6g, %.6g] .. [%.6g, %.6g, %.6g] (extent %.6g x %.6g x %.6g)\n", raw.min_m.x(),
               raw.min_m.y(), raw.min_m.z(), raw.max_m.x(), raw.max_m.y(), raw.max_m.z(), raw.extent().x(),
               raw.extent().y(), raw.extent().z());

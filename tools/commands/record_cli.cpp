@@ -186,6 +186,8 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     return 1;
   }
   const RecordResult& r = res.value();
+  if (!r.mesh_notice.empty())
+    std::fprintf(stderr, "palpate: mesh '%s': %s\n", printable_text(plan.scene.mesh.file).c_str(), r.mesh_notice.c_str());
   print_outputs(plan, r);
   // 128 + SIGINT, as shells report a command ended by Ctrl-C
   if (!r.interrupted.empty()) {

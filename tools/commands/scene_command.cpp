@@ -24,6 +24,8 @@ namespace {
 
 constexpr double kSize_m = 0.1;          // largest side after normalisation, as the shipped scenes
 constexpr double kClearance_m = 0.03;    // the tool starts and ends this far out of the surface
+constexpr double kCutMaxEdgeCells = 2.0;  // a cut scene's longest edge, in lattice cells, after its subdivisions
+constexpr std::size_t kCutSubdivideMaxTriangles = 20'000;  // no subdivision past this many triangles
 constexpr double kNear_m = 0.003;        // it slows down this far out before pressing
 constexpr double kGrabGap_m = 0.002;     // pull: the button is pressed this far out (within grab_radius_m)
 constexpr double kGrabRadius_m = 0.008;  // interaction.grab_radius_m, as the shipped scenes
@@ -220,15 +222,39 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
                 level, rq.level > 0 ? " (--level)" : "", 1e3 * thin_m, 1e3 * kSize_m, grid_levels, tris);
   g.notes.push_back(buf);
 
+  // a cut draws its incision with the triangles it splits: a face much larger than the lattice's cells (a CAD
+  // part's, a coarse box's) is split along its edges only and the blade's path across it shows nothing, so a cut
+  // scene subdivides the mesh (same shape) until its longest edge is two cells or less, within a triangle budget
+  int subdivisions = 0;
+  if (rq.mode == InteractionMode::kCut && e.maxCoeff() > 0.0) {
+    double longest = 0.0;
+    for (const auto& t : raw.triangles)
+      for (int c = 0; c < 3; ++c)
+        longest = std::max(longest, (raw.vertices_m[static_cast<std::size_t>(t[c])] -
+                                     raw.vertices_m[static_cast<std::size_t>(t[(c + 1) % 3])]).norm());
+    const double longest_m = kSize_m * longest / e.maxCoeff(), cell_m = kSize_m / static_cast<double>(1 << (level - 1));
+    while (subdivisions < 5 && longest_m / static_cast<double>(1 << subdivisions) > kCutMaxEdgeCells * cell_m &&
+           tris << (2 * (subdivisions + 1)) <= kCutSubdivideMaxTriangles)
+      ++subdivisions;
+    if (subdivisions > 0) {
+      std::snprintf(buf, sizeof buf, "mesh.subdivisions %d (cut: the longest edge, %.0f mm, down to %.1f mm of %.1f mm "
+                    "cells; %zu triangles)", subdivisions, 1e3 * longest_m, 1e3 * longest_m / (1 << subdivisions),
+                    1e3 * cell_m, tris << (2 * subdivisions));
+      g.notes.push_back(buf);
+    }
+  }
+
   Scene spec;
   spec.mesh.file = rq.mesh_path;
   spec.mesh.size_m = kSize_m;
   spec.mesh.up_axis = up;
+  spec.mesh.subdivisions = subdivisions;
   spec.grid_levels = grid_levels;
   spec.lattice.level = level;
   auto model_r = load_model(spec);
   if (!model_r) return model_r.error();
   const Model& model = model_r.value();
+  if (!model.orientation.notice().empty()) g.notes.push_back(model.orientation.notice());
   const Aabb box = Aabb::of(model.rest.vertices_m);
 
   // the surface point and the direction the tool comes in along
@@ -292,6 +318,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   const fs::path rel = mesh_abs.lexically_relative(dir_abs);
   const bool below = !rel.empty() && *rel.begin() != "..";
   j["mesh"] = {{"file", (below ? rel : mesh_abs).string()}, {"size_m", kSize_m}, {"up_axis", std::string(1, up)}};
+  if (subdivisions > 0) j["mesh"]["subdivisions"] = subdivisions;
   j["grid"] = {{"levels", grid_levels}};
   // the shipped scenes' materials: soft for touch and pull, stiffer and under gravity for cut
   nlohmann::ordered_json lat;

@@ -361,6 +361,7 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   res.nan_events = fst.nan_events;
   res.divergence_events = fst.divergence_events;
   res.no_contact = no_contact;
+  res.mesh_notice = rec.model->orientation.notice();
   const Status summary_status = write_file_atomic(res.summary_path, res.summary_json, "summary");
   if (opt.live) {
     // the live view ends on the figures summary.json holds

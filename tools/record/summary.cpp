@@ -85,6 +85,7 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   j["duration_s"] = scene.duration_s;
   j["model"] = {{"vertices", model.rest.vertices_m.size()}, {"triangles", model.rest.triangles.size()},
                 {"startup_s", in.startup_s}};
+  if (const std::string turned = model.orientation.notice(); !turned.empty()) j["model"]["orientation"] = turned;
   // what the material became on the lattice (nu represented, total mass)
   if (scene.lattice.material.enabled) j["material"] = material_summary(scene, model.grid);
   if (!in.run->aborted.empty()) j["aborted"] = in.run->aborted;

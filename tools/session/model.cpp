@@ -23,6 +23,8 @@ Result<Model> load_model(const Scene& scene) {
     auto mesh = load_mesh(scene.mesh.file);
     if (!mesh) return mesh.error();
     m.rest = std::move(mesh).value();
+    // contact starts on a face's front: faces wound inward or against their neighbours are turned first
+    m.orientation = orient_outward(&m.rest);
   }
   // triangles after subdividing, bounded before any subdivision allocates them
   const auto triangles = static_cast<int64_t>(m.rest.triangles.size()) << (2 * scene.mesh.subdivisions);

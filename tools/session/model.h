@@ -6,6 +6,7 @@
 #include "core/aabb.h"
 #include "core/binding.h"
 #include "core/grid_hierarchy.h"
+#include "core/mesh_orientation.h"
 #include "core/result.h"
 #include "core/scene.h"
 #include "core/tri_mesh.h"
@@ -21,13 +22,15 @@ struct Model {
   std::vector<VertexBinding> bindings;   ///< per vertex, at the lattice level (lattice.refine.level when refined)
   VertexTriangles adjacency;             ///< triangles at each vertex of `rest` (normals of moved vertices)
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
+  MeshOrientation orientation;           ///< what was turned outward at load (a mesh file's faces)
 };
 
 /// A point or direction of a mesh file with up axis `up_axis` ('x', 'y' or 'z') in world axes (its up becomes +z;
 /// a right-handed rotation), before normalisation.
 Vec3 file_to_world_axes(const Vec3& v, char up_axis);
 
-/// Loads the scene's mesh (or generates its box) and builds grid and bindings. Errors name the mesh file, or the
+/// Loads the scene's mesh (or generates its box), turns a mesh file's faces outward (orient_outward) and builds
+/// grid and bindings. Errors name the mesh file, or the
 /// scene when its lattice could pass kMaxLatticeNodes / kMaxLatticeSprings (sim/lattice_estimate.h).
 Result<Model> load_model(const Scene& scene);
 

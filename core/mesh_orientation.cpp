@@ -1,0 +1,206 @@
+#include "core/mesh_orientation.h"
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "core/vertex_triangles.h"
+
+namespace palpate {
+namespace {
+
+using Tri = std::array<int32_t, 3>;
+
+bool holds(const Tri& t, int32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
+
+// whether t runs from a to b (b follows a in its cyclic order)
+bool runs(const Tri& t, int32_t a, int32_t b) {
+  return (t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b);
+}
+
+// the one other triangle on edge (a, b) of t: -1 when none (an open edge), -2 when several (a non-manifold edge)
+int32_t across(const std::vector<Tri>& tris, const VertexTriangles& adj, int32_t t, int32_t a, int32_t b) {
+  int32_t found = -1;
+  for (int32_t k = adj.offsets[static_cast<std::size_t>(a)]; k < adj.offsets[static_cast<std::size_t>(a) + 1]; ++k) {
+    const int32_t u = adj.triangles[static_cast<std::size_t>(k)];
+    if (u == t || u == found || !holds(tris[static_cast<std::size_t>(u)], b)) continue;
+    if (found >= 0) return -2;
+    found = u;
+  }
+  return found;
+}
+
+// the triangle's corners, in its winding or reversed
+std::array<Vec3, 3> corners(const TriMesh& m, int32_t t, bool reversed) {
+  const Tri& tr = m.triangles[static_cast<std::size_t>(t)];
+  const Vec3& a = m.vertices_m[static_cast<std::size_t>(tr[0])];
+  const Vec3& b = m.vertices_m[static_cast<std::size_t>(tr[1])];
+  const Vec3& c = m.vertices_m[static_cast<std::size_t>(tr[2])];
+  return reversed ? std::array<Vec3, 3>{a, c, b} : std::array<Vec3, 3>{a, b, c};
+}
+
+// whether the ray from p along d crosses triangle (a, b, c) ahead of p (either side)
+bool ray_crosses(const Vec3& p, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e1 = b - a, e2 = c - a;
+  const Vec3 h = d.cross(e2);
+  const double det = e1.dot(h);
+  if (det == 0.0) return false;
+  const Vec3 s = p - a;
+  const double u = s.dot(h) / det;
+  if (u < 0.0 || u > 1.0) return false;
+  const Vec3 q = s.cross(e1);
+  const double v = d.dot(q) / det;
+  if (v < 0.0 || u + v > 1.0) return false;
+  return e2.dot(q) / det > 0.0;
+}
+
+// one part: its triangles' range in the walk's order, whether it is closed and whether its windings agree
+struct Part {
+  std::size_t begin = 0, end = 0;
+  bool closed = true;
+  bool orientable = true;
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);  // the part's box
+
+  // whether other's box lies within this one's
+  bool holds_box(const Part& other) const {
+    return (lo.array() <= other.lo.array()).all() && (hi.array() >= other.hi.array()).all();
+  }
+};
+
+}  // namespace
+
+std::string MeshOrientation::notice() const {
+  if (triangles_flipped == 0 && not_orientable == 0) return "";
+  std::string s;
+  if (triangles_flipped > 0) {
+    s = "turned " + std::to_string(triangles_flipped) + " of " + std::to_string(triangles) + " triangles outward:";
+    std::string sep = " ";
+    if (turned_inside_out > 0) {
+      s += sep + std::to_string(turned_inside_out) + " closed part" + (turned_inside_out > 1 ? "s" : "") +
+           " wound inside out";
+      sep = "; ";
+    }
+    if (made_consistent > 0)
+      s += sep + std::to_string(made_consistent) + " part" + (made_consistent > 1 ? "s" : "") +
+           " with faces wound against their neighbours across shared edges";
+  }
+  if (not_orientable > 0)
+    s += std::string(s.empty() ? "" : "; ") + std::to_string(not_orientable) + " part" +
+         (not_orientable > 1 ? "s" : "") + " left as read (no winding agrees across all its edges)";
+  return s;
+}
+
+MeshOrientation orient_outward(TriMesh* mesh) {
+  MeshOrientation r;
+  const std::vector<Tri>& tris = mesh->triangles;
+  const auto n = static_cast<int32_t>(tris.size());
+  r.triangles = n;
+  if (n == 0) return r;
+  const VertexTriangles adj = VertexTriangles::build(mesh->vertices_m.size(), tris);
+
+  // walk each part across its manifold edges: flip[u] makes u run against its neighbour t along their edge
+  std::vector<int32_t> part_of(static_cast<std::size_t>(n), -1), order;
+  std::vector<uint8_t> flip(static_cast<std::size_t>(n), 0);
+  std::vector<Part> parts;
+  order.reserve(static_cast<std::size_t>(n));
+  for (int32_t seed = 0; seed < n; ++seed) {
+    if (part_of[static_cast<std::size_t>(seed)] >= 0) continue;
+    Part p;
+    p.begin = order.size();
+    const auto id = static_cast<int32_t>(parts.size());
+    part_of[static_cast<std::size_t>(seed)] = id;
+    order.push_back(seed);
+    for (std::size_t q = p.begin; q < order.size(); ++q) {
+      const int32_t t = order[q];
+      const Tri& tr = tris[static_cast<std::size_t>(t)];
+      for (int e = 0; e < 3; ++e) {
+        const int32_t a = tr[static_cast<std::size_t>(e)], b = tr[static_cast<std::size_t>((e + 1) % 3)];
+        const int32_t u = across(tris, adj, t, a, b);
+        // an open or non-manifold edge is not walked, and the part has no inside of its own
+        if (u < 0) {
+          p.closed = false;
+          continue;
+        }
+        const uint8_t want = flip[static_cast<std::size_t>(t)] ^ (runs(tris[static_cast<std::size_t>(u)], a, b) ? 1 : 0);
+        if (part_of[static_cast<std::size_t>(u)] < 0) {
+          part_of[static_cast<std::size_t>(u)] = id;
+          flip[static_cast<std::size_t>(u)] = want;
+          order.push_back(u);
+        } else if (flip[static_cast<std::size_t>(u)] != want) {
+          p.orientable = false;
+        }
+      }
+    }
+    p.end = order.size();
+    for (std::size_t q = p.begin; q < p.end; ++q)
+      for (int32_t v : tris[static_cast<std::size_t>(order[q])]) {
+        p.lo = p.lo.cwiseMin(mesh->vertices_m[static_cast<std::size_t>(v)]);
+        p.hi = p.hi.cwiseMax(mesh->vertices_m[static_cast<std::size_t>(v)]);
+      }
+    parts.push_back(p);
+  }
+  r.components = static_cast<int64_t>(parts.size());
+
+  // a closed part nested in an odd number of other closed parts is a cavity's wall: it faces into the cavity
+  std::vector<int32_t> closed_ids;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    if (parts[i].closed) closed_ids.push_back(static_cast<int32_t>(i));
+  r.closed_components = static_cast<int64_t>(closed_ids.size());
+  std::vector<uint8_t> cavity(parts.size(), 0);
+  if (closed_ids.size() > 1 && static_cast<int64_t>(closed_ids.size()) <= kMaxNestedParts) {
+    const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();  // off every axis and diagonal
+    for (int32_t i : closed_ids) {
+      const Part& inner = parts[static_cast<std::size_t>(i)];
+      const Vec3 p = mesh->vertices_m[static_cast<std::size_t>(tris[static_cast<std::size_t>(order[inner.begin])][0])];
+      int depth = 0;
+      for (int32_t j : closed_ids) {
+        const Part& outer = parts[static_cast<std::size_t>(j)];
+        if (j == i || !outer.holds_box(inner)) continue;
+        int crossings = 0;
+        for (std::size_t q = outer.begin; q < outer.end; ++q) {
+          const auto c = corners(*mesh, order[q], false);
+          crossings += ray_crosses(p, dir, c[0], c[1], c[2]) ? 1 : 0;
+        }
+        depth += crossings % 2;
+      }
+      cavity[static_cast<std::size_t>(i)] = static_cast<uint8_t>(depth % 2);
+    }
+  }
+
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const Part& p = parts[i];
+    if (!p.orientable) {
+      ++r.not_orientable;
+      for (std::size_t q = p.begin; q < p.end; ++q) flip[static_cast<std::size_t>(order[q])] = 0;
+      continue;
+    }
+    r.cavities += cavity[i];
+    // the winding the walk agreed on, or its reverse: a closed part by its volume's sign, an open one by the
+    // larger area already wound that way
+    double volume = 0.0, area_kept = 0.0, area_flipped = 0.0;
+    const Vec3 o = 0.5 * (p.lo + p.hi);
+    for (std::size_t q = p.begin; q < p.end; ++q) {
+      const int32_t t = order[q];
+      const auto c = corners(*mesh, t, flip[static_cast<std::size_t>(t)] != 0);
+      volume += (c[0] - o).dot((c[1] - o).cross(c[2] - o));
+      (flip[static_cast<std::size_t>(t)] ? area_flipped : area_kept) += (c[1] - c[0]).cross(c[2] - c[0]).norm();
+    }
+    const bool reverse = p.closed ? (cavity[i] ? volume > 0.0 : volume < 0.0) : area_flipped > area_kept;
+    int64_t flipped = 0;
+    for (std::size_t q = p.begin; q < p.end; ++q) {
+      uint8_t& f = flip[static_cast<std::size_t>(order[q])];
+      f ^= reverse ? 1 : 0;
+      flipped += f;
+    }
+    r.triangles_flipped += flipped;
+    if (flipped == static_cast<int64_t>(p.end - p.begin))
+      ++r.turned_inside_out;
+    else if (flipped > 0)
+      ++r.made_consistent;
+  }
+  for (int32_t t = 0; t < n; ++t)
+    if (flip[static_cast<std::size_t>(t)]) std::swap(mesh->triangles[static_cast<std::size_t>(t)][1], mesh->triangles[static_cast<std::size_t>(t)][2]);
+  return r;
+}
+
+}  // namespace palpate
