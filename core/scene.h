@@ -35,11 +35,12 @@ struct MaterialSpec {
 };
 
 /// The local mass-spring lattice (paper section 4.2) and its dynamics.
-/// Refinement where the tool is (sim/refined_lattice.h): the region's cells within radius_m of the contact are split
-/// to `level`, the rest stay at the lattice level. Plain data; level 0 = off.
+/// Refinement where the tool is (sim/refined_lattice.h, sim/graded_zone.h): the region's cells near the contact are
+/// split a level at a time down to `level`, the rest stay at the lattice level. Plain data; level 0 = off.
 struct RefineSpec {
   int level = 0;          ///< fine grid level (> lattice.level); 0 = a uniform lattice
-  double radius_m = 0.0;  ///< cells closer than this to the contact are refined; the zone moves when the contact
+  double radius_m = 0.0;  ///< cells closer than this to the contact (twice this into the body) are split to `level`,
+                          ///< each coarser ring within twice the next one's reach; the zone moves when the contact
                           ///< goes more than half of it from where the zone was built
 };
 

@@ -3,7 +3,7 @@
 namespace palpate {
 
 void spread_hanging(const Lattice& lat, std::vector<Vec3>* v) {
-  // masters are coarse corners, never hanging themselves: one pass is exact
+  // in list order: a node whose masters hang comes after them (sim/refined_lattice.h), so one pass is exact
   for (const HangingNode& h : lat.hanging) {
     Vec3 s = Vec3::Zero();
     for (int k = 0; k < h.count; ++k) s += h.weight[static_cast<std::size_t>(k)] * (*v)[static_cast<std::size_t>(h.master[static_cast<std::size_t>(k)])];
@@ -12,7 +12,9 @@ void spread_hanging(const Lattice& lat, std::vector<Vec3>* v) {
 }
 
 void fold_hanging(const Lattice& lat, std::vector<Vec3>* f) {
-  for (const HangingNode& h : lat.hanging) {
+  // in reverse: a hanging master's share is folded on before the master's own entry moves on
+  for (auto it = lat.hanging.rbegin(); it != lat.hanging.rend(); ++it) {
+    const HangingNode& h = *it;
     const Vec3 fh = (*f)[static_cast<std::size_t>(h.node)];
     for (int k = 0; k < h.count; ++k)
       (*f)[static_cast<std::size_t>(h.master[static_cast<std::size_t>(k)])] += h.weight[static_cast<std::size_t>(k)] * fh;

@@ -11,11 +11,11 @@
 namespace palpate {
 
 /// Sets each hanging node's entry of *v (positions, velocities or a solver's increment, n) to the weighted sum of
-/// its masters' entries. No effect on a lattice without hanging nodes.
+/// its masters' entries, in list order (masters that hang themselves come first). No effect without hanging nodes.
 void spread_hanging(const Lattice& lat, std::vector<Vec3>* v);
 
-/// Adds each hanging node's entry of *f (forces or residuals, n) to its masters by their weights and zeroes it:
-/// the force the constrained lattice's free coordinates feel. No effect without hanging nodes.
+/// Adds each hanging node's entry of *f (forces or residuals, n) to its masters by their weights and zeroes it, in
+/// reverse list order: the force the constrained lattice's free coordinates feel. No effect without hanging nodes.
 void fold_hanging(const Lattice& lat, std::vector<Vec3>* f);
 
 /// Marks the hanging nodes in *mask (n; set to 1), e.g. to leave them out of a solver's free coordinates.

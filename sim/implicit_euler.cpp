@@ -73,12 +73,12 @@ void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::ve
     neo_.clear();
   }
   // a refined lattice: a hanging node's block moves to its masters (the diagonal of P^T J P, less the coupling
-  // between masters)
-  for (const HangingNode& hn : lat.hanging)
-    for (int k = 0; k < hn.count; ++k) {
-      const auto m = static_cast<std::size_t>(hn.master[static_cast<std::size_t>(k)]);
-      const double w = hn.weight[static_cast<std::size_t>(k)];
-      node_block_[m] += w * w * node_block_[static_cast<std::size_t>(hn.node)];
+  // between masters), finest first so a hanging master passes its share on
+  for (auto h = lat.hanging.rbegin(); h != lat.hanging.rend(); ++h)
+    for (int k = 0; k < h->count; ++k) {
+      const auto m = static_cast<std::size_t>(h->master[static_cast<std::size_t>(k)]);
+      const double w = h->weight[static_cast<std::size_t>(k)];
+      node_block_[m] += w * w * node_block_[static_cast<std::size_t>(h->node)];
     }
   // block-Jacobi preconditioner: each free node's 3x3 diagonal block inverted (symmetric positive definite)
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
@@ -192,6 +192,7 @@ int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>&
   std::copy(v0_m_per_s_.begin(), v0_m_per_s_.end(), v_m_per_s_.begin());
   const double tol_m_per_s = 1e-9 * lat->cell_m / h_s;
   int it = 0;
+  step_cg_iterations_ = 0;
   while (it < std::max(1, max_iterations)) {
     // residual g(v) = M (v - v0) - h f(x0 + h v, v); the Newton system is J delta = -g
     for (std::size_t i = 0; i < n; ++i) x_m_[i] = lat->fixed[i] ? x0_m_[i] : Vec3(x0_m_[i] + h_s * v_m_per_s_[i]);
@@ -214,6 +215,7 @@ int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>&
       return -1;
     }
     ++it;
+    step_cg_iterations_ += last_cg_iterations_;
     spread_hanging(*lat, &delta_);
     double worst = 0.0;
     for (std::size_t i = 0; i < n; ++i)

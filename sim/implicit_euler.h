@@ -34,6 +34,8 @@ class ImplicitEulerSolver {
 
   /// Conjugate gradient iterations of the last Newton solve (for benchmarks and tests).
   int last_cg_iterations() const { return last_cg_iterations_; }
+  /// Conjugate gradient iterations over every Newton solve of the last step (for benchmarks and tests).
+  int step_cg_iterations() const { return step_cg_iterations_; }
   /// Relative residual reached by the last Newton solve (for tests).
   double last_cg_residual() const { return last_cg_residual_; }
 
@@ -46,6 +48,7 @@ class ImplicitEulerSolver {
   uint64_t revision_ = 0;
   std::size_t num_springs_ = 0;
   int last_cg_iterations_ = 0;
+  int step_cg_iterations_ = 0;
   double last_cg_residual_ = 0.0;
   std::vector<Mat3> spring_block_;       // h c I + h^2 K_s of each spring (n_s)
   std::vector<Mat3> node_block_;         // diagonal block m I + sum of its springs' blocks (n)

@@ -31,6 +31,7 @@ StepOptions step_options(const LatticeSpec& spec);
 struct StepReport {
   int substeps = 0;         ///< substeps taken
   int iterations = 0;       ///< solver iterations over all substeps (Newton or local/global; 0 for explicit schemes)
+  int cg_iterations = 0;    ///< implicit Euler: conjugate gradient iterations over all its Newton solves (else 0)
   bool finite = true;       ///< false when the state went non-finite (the caller resets it)
   bool diverged = false;    ///< non-finite, or a spring stretched past kDivergedStrain (the caller resets it)
   bool solver_ok = true;    ///< false when a linear solve or factorisation failed (the step then fell back to symplectic Euler)

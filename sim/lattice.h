@@ -57,7 +57,7 @@ struct Lattice {
   std::vector<int32_t> grid_node;        ///< grid vertex index i + (N+1)(j + (N+1)k) of each node (n)
   std::vector<int32_t> cell_span;        ///< edge of each cell in units of cell_m (n_c; empty: every cell 1), > 1 for
                                          ///< the coarse cells of a refined lattice (sim/refined_lattice.h)
-  std::vector<HangingNode> hanging;      ///< nodes held on coarse faces (empty: none; sim/hanging.h)
+  std::vector<HangingNode> hanging;      ///< nodes held on coarse faces, masters first (empty: none; sim/hanging.h)
   uint64_t revision = 0;                 ///< changes whenever nodes, springs or parameters change (solver caches key on it)
 
   std::size_t num_nodes() const { return x_m.size(); }

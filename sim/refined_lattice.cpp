@@ -1,6 +1,7 @@
 #include "sim/refined_lattice.h"
 
 #include <algorithm>
+#include <bit>
 #include <string>
 #include <unordered_map>
 
@@ -29,6 +30,15 @@ void coarse_range(int g, int r, int n, int* lo, int* hi) {
 Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSpec& spec,
                                       const std::vector<int32_t>& coarse_cells, int fine_level,
                                       const std::vector<int32_t>& refine) {
+  if (fine_level <= spec.level || fine_level > grid.levels())
+    return make_error("refined lattice: fine level ", std::to_string(fine_level), " is not between lattice level ",
+                      std::to_string(spec.level + 1), " and grid level ", std::to_string(grid.levels()));
+  return build_refined_lattice(grid, spec, coarse_cells, fine_level, split_leaves(grid, spec.level, coarse_cells, fine_level, refine));
+}
+
+Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSpec& spec,
+                                      const std::vector<int32_t>& coarse_cells, int fine_level,
+                                      const std::vector<LeafCell>& leaves) {
   const int lc = spec.level, lf = fine_level;
   if (coarse_cells.empty()) return make_error("refined lattice: no solid cells in the region at level ", std::to_string(lc));
   if (lf <= lc || lf > grid.levels())
@@ -37,24 +47,26 @@ Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSp
   if (!spec.material.enabled || spec.material.model != MaterialModel::kSprings)
     return make_error("refined lattice: needs a material with material.model 'springs' (each cell's springs are "
                       "calibrated at its own edge; the volume terms assume one cell size)");
+  for (const LeafCell& c : leaves)
+    if (c.level < lc || c.level > lf)
+      return make_error("refined lattice: a cell at level ", std::to_string(c.level), " is not between levels ",
+                        std::to_string(lc), " and ", std::to_string(lf));
   const int r = 1 << (lf - lc);
   const int nc = grid.cells_per_axis(lc), nf = grid.cells_per_axis(lf), nv = nf + 1;
   Lattice lat;
   lat.level = lf;
   lat.cells_per_axis = nf;
   lat.cell_m = grid.cell_size_m(lf);
-  const double coarse_m = grid.cell_size_m(lc);
-  const LatticeCalibration fine_cal = calibrate_lattice(spec.material, lat.cell_m);
-  const LatticeCalibration coarse_cal = calibrate_lattice(spec.material, coarse_m);
-  // one damping coefficient serves every spring: the fine cells' (the coarse ones are then damped less; the rest
+  // each level's calibration (its cells' edge)
+  std::vector<LatticeCalibration> cal;
+  for (int l = 0; l <= lf; ++l) cal.push_back(calibrate_lattice(spec.material, grid.cell_size_m(std::max(l, 1))));
+  // one damping coefficient serves every spring: the fine cells' (the coarser ones are then damped less; the rest
   // state does not depend on it)
-  lat.damping_Ns_per_m = fine_cal.damping_Ns_per_m;
+  lat.damping_Ns_per_m = cal[static_cast<std::size_t>(lf)].damping_Ns_per_m;
   lat.gravity_m_per_s2 = spec.gravity_m_per_s2;
   lat.slot_of_cell.assign(static_cast<std::size_t>(grid.num_cells(lf)), -1);
-  std::vector<uint8_t> in_region(static_cast<std::size_t>(grid.num_cells(lc)), 0), split(in_region.size(), 0);
+  std::vector<uint8_t> in_region(static_cast<std::size_t>(grid.num_cells(lc)), 0);
   for (int32_t c : coarse_cells) in_region[static_cast<std::size_t>(c)] = 1;
-  for (int32_t c : refine)
-    if (in_region[static_cast<std::size_t>(c)]) split[static_cast<std::size_t>(c)] = 1;
 
   // nodes at fine grid vertices, in first-seen order; each cell's corners
   std::vector<int32_t> node_of_gv(static_cast<std::size_t>(nv) * nv * nv, -1);
@@ -72,43 +84,24 @@ Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSp
   };
   std::vector<double> cell_share_kg;  // each cell's solid mass over 8 (n_c)
   const double rho = spec.material.density_kg_per_m3;
-  auto add_cell = [&](const CellCoord& g0, int span, int32_t fine_index, double solid_kg) {
+  for (const LeafCell& leaf : leaves) {
+    // the leaf's slot covers every fine cell under it, so a fine-level lookup finds it
+    const int span = 1 << (lf - leaf.level);
+    const CellCoord c = grid.coord_of(leaf.index, leaf.level);
+    const CellCoord g0{c.i * span, c.j * span, c.k * span};
+    const double l = grid.cell_size_m(leaf.level);
     const auto slot = static_cast<int32_t>(lat.cells.size());
-    lat.cells.push_back(fine_index);
+    lat.cells.push_back(grid.linear_index(g0, lf));
     lat.cell_span.push_back(span);
     std::array<int32_t, 8> corners{};
     for (int corner = 0; corner < 8; ++corner)
       corners[corner] = node_at({g0.i + span * (corner & 1), g0.j + span * ((corner >> 1) & 1), g0.k + span * ((corner >> 2) & 1)});
     lat.cell_nodes.push_back(corners);
-    cell_share_kg.push_back(solid_kg / 8.0);
-    return slot;
-  };
-  std::vector<int32_t> sorted = coarse_cells;
-  std::sort(sorted.begin(), sorted.end());
-  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-  for (int32_t c : sorted) {
-    const CellCoord cc = grid.coord_of(c, lc);
-    const CellCoord g0{cc.i * r, cc.j * r, cc.k * r};
-    if (split[static_cast<std::size_t>(c)]) {
-      // the solid children at the fine level
-      for (int dk = 0; dk < r; ++dk)
-        for (int dj = 0; dj < r; ++dj)
-          for (int di = 0; di < r; ++di) {
-            const CellCoord fc{g0.i + di, g0.j + dj, g0.k + dk};
-            const int32_t idx = grid.linear_index(fc, lf);
-            if (!grid.solid_cell(idx, lf)) continue;
-            const double kg = rho * lat.cell_m * lat.cell_m * lat.cell_m * cell_solid_fraction(grid, idx, lf);
-            lat.slot_of_cell[static_cast<std::size_t>(idx)] = add_cell(fc, 1, idx, kg);
-          }
-    } else {
-      // whole: its slot covers every fine child, so a fine-level lookup finds it
-      const double kg = rho * coarse_m * coarse_m * coarse_m * cell_solid_fraction(grid, c, lc);
-      const int32_t slot = add_cell(g0, r, grid.linear_index(g0, lf), kg);
-      for (int dk = 0; dk < r; ++dk)
-        for (int dj = 0; dj < r; ++dj)
-          for (int di = 0; di < r; ++di)
-            lat.slot_of_cell[static_cast<std::size_t>(grid.linear_index({g0.i + di, g0.j + dj, g0.k + dk}, lf))] = slot;
-    }
+    cell_share_kg.push_back(rho * l * l * l * cell_solid_fraction(grid, leaf.index, leaf.level) / 8.0);
+    for (int dk = 0; dk < span; ++dk)
+      for (int dj = 0; dj < span; ++dj)
+        for (int di = 0; di < span; ++di)
+          lat.slot_of_cell[static_cast<std::size_t>(grid.linear_index({g0.i + di, g0.j + dj, g0.k + dk}, lf))] = slot;
   }
   if (lat.cells.empty()) return make_error("refined lattice: no solid cells in the region at level ", std::to_string(lc));
   const std::size_t num = lat.rest_m.size();
@@ -140,41 +133,51 @@ Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSp
     if (spec.fix_floor && g.k == min_k * r) lat.fixed[i] = 1;
   }
 
-  // hanging: a free node off the corners of a whole coarse cell whose closed box holds it moves with that cell's face
+  // hanging: a free node on the closed box of a coarser cell but not at its corners moves with that cell's face or
+  // edge (the coarsest such cell: a finer one's face lies in it). Listed coarsest cell first, so a node hanging on a
+  // cell whose corners hang themselves comes after them: spread_hanging in list order and fold_hanging in reverse
+  // are exact.
+  std::vector<std::vector<HangingNode>> by_level(static_cast<std::size_t>(lf + 1));
   for (std::size_t i = 0; i < num; ++i) {
     const CellCoord g = node_g[i];
-    if (lat.fixed[i] || (g.i % r == 0 && g.j % r == 0 && g.k % r == 0)) continue;
-    int lo[3], hi[3];
-    coarse_range(g.i, r, nc, &lo[0], &hi[0]);
-    coarse_range(g.j, r, nc, &lo[1], &hi[1]);
-    coarse_range(g.k, r, nc, &lo[2], &hi[2]);
+    if (lat.fixed[i]) continue;
     bool found = false;
-    for (int k = lo[2]; k <= hi[2] && !found; ++k)
-      for (int j = lo[1]; j <= hi[1] && !found; ++j)
-        for (int ii = lo[0]; ii <= hi[0] && !found; ++ii) {
-          const int32_t idx = grid.linear_index({ii, j, k}, lc);
-          if (!in_region[static_cast<std::size_t>(idx)] || split[static_cast<std::size_t>(idx)]) continue;
-          const int32_t slot = lat.slot_of_cell[static_cast<std::size_t>(grid.linear_index({ii * r, j * r, k * r}, lf))];
-          const Vec3 local = Vec3(g.i - ii * r, g.j - j * r, g.k - k * r) / r;
-          const auto w = trilinear_weights(local);
-          HangingNode h;
-          h.node = static_cast<int32_t>(i);
-          for (int corner = 0; corner < 8; ++corner) {
-            if (!(w[corner] > 1e-12)) continue;
-            h.master[static_cast<std::size_t>(h.count)] = lat.cell_nodes[static_cast<std::size_t>(slot)][corner];
-            h.weight[static_cast<std::size_t>(h.count)] = w[corner];
-            ++h.count;
+    for (int level = lc; level < lf && !found; ++level) {
+      const int s = 1 << (lf - level);
+      if (g.i % s == 0 && g.j % s == 0 && g.k % s == 0) break;  // a corner at this level is one at every finer level
+      int lo[3], hi[3];
+      const int n = grid.cells_per_axis(level);
+      coarse_range(g.i, s, n, &lo[0], &hi[0]);
+      coarse_range(g.j, s, n, &lo[1], &hi[1]);
+      coarse_range(g.k, s, n, &lo[2], &hi[2]);
+      for (int k = lo[2]; k <= hi[2] && !found; ++k)
+        for (int j = lo[1]; j <= hi[1] && !found; ++j)
+          for (int ii = lo[0]; ii <= hi[0] && !found; ++ii) {
+            const int32_t slot = lat.slot_of_cell[static_cast<std::size_t>(grid.linear_index({ii * s, j * s, k * s}, lf))];
+            if (slot < 0 || lat.cell_span[static_cast<std::size_t>(slot)] != s) continue;  // not a leaf at this level
+            const Vec3 local = Vec3(g.i - ii * s, g.j - j * s, g.k - k * s) / s;
+            const auto w = trilinear_weights(local);
+            HangingNode h;
+            h.node = static_cast<int32_t>(i);
+            for (int corner = 0; corner < 8; ++corner) {
+              if (!(w[corner] > 1e-12)) continue;
+              h.master[static_cast<std::size_t>(h.count)] = lat.cell_nodes[static_cast<std::size_t>(slot)][corner];
+              h.weight[static_cast<std::size_t>(h.count)] = w[corner];
+              ++h.count;
+            }
+            by_level[static_cast<std::size_t>(level)].push_back(h);
+            found = true;
           }
-          lat.hanging.push_back(h);
-          found = true;
-        }
+    }
   }
+  for (const auto& hs : by_level) lat.hanging.insert(lat.hanging.end(), hs.begin(), hs.end());
 
-  // springs: each cell its own calibration
+  // springs: each cell its own level's calibration
   SpringBuilder b{&lat, {}, true, {}};
   for (std::size_t s = 0; s < lat.cells.size(); ++s) {
-    const LatticeCalibration& cal = lat.cell_span[s] == 1 ? fine_cal : coarse_cal;
-    b.add_cell(lat.cell_nodes[s], cal.edge_N_per_m, cal.diagonal_N_per_m);
+    const int level = lf - std::countr_zero(static_cast<unsigned>(lat.cell_span[s]));
+    const LatticeCalibration& c = cal[static_cast<std::size_t>(level)];
+    b.add_cell(lat.cell_nodes[s], c.edge_N_per_m, c.diagonal_N_per_m);
   }
   lat.touch();
   return lat;

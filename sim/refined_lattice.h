@@ -13,6 +13,7 @@
 #include "core/grid_hierarchy.h"
 #include "core/result.h"
 #include "core/scene.h"
+#include "sim/graded_zone.h"
 #include "sim/lattice.h"
 
 namespace palpate {
@@ -24,6 +25,13 @@ namespace palpate {
 Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSpec& spec,
                                       const std::vector<int32_t>& coarse_cells, int fine_level,
                                       const std::vector<int32_t>& refine);
+
+/// Builds the lattice of `leaves` (sim/graded_zone.h; levels spec.level..fine_level, their union inside coarse_cells,
+/// the region at spec.level): each leaf a cell calibrated at its own edge, a node on a coarser leaf's face or edge and
+/// off its corners hanging on it. Border and floor nodes fixed as above. Errors as above, or naming a leaf's level.
+Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSpec& spec,
+                                      const std::vector<int32_t>& coarse_cells, int fine_level,
+                                      const std::vector<LeafCell>& leaves);
 
 /// The cells of `cells` (at `level`) whose box comes closer than radius_m to p_m: the zone to refine.
 std::vector<int32_t> cells_near(const GridHierarchy& grid, int level, const std::vector<int32_t>& cells, const Vec3& p_m,

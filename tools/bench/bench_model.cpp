@@ -42,6 +42,7 @@ struct Row {
   double model = 0.0, closed_form = 0.0, rel_error = 0.0;
   const char* unit = "";
   double ms_per_frame = 0.0;
+  double step_ms = NAN, cg_iterations = NAN;  // hertz: the step alone (CPU ms per frame) and its CG iterations
   int64_t frames = 0;
   int refine_level = 0;               // hertz refined near the tool to this level (0: uniform)
 };
@@ -115,6 +116,8 @@ Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level,
   c.frames = h.frames;
   c.region_moves = h.region_moves;
   c.ms_per_frame_p50 = h.sim_ms_p50;
+  c.step_ms_p50 = h.step_ms_p50;
+  c.cg_iterations_p50 = h.cg_iterations_p50;
   return c;
 }
 
@@ -161,6 +164,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       const HertzToolCheck& h = r.value();
       row.nodes = h.nodes, row.springs = h.springs, row.model = h.force_N, row.closed_form = h.closed_form_N;
       row.rel_error = h.rel_error, row.unit = "N", row.ms_per_frame = h.ms_per_frame_p50, row.frames = h.frames;
+      row.step_ms = h.step_ms_p50, row.cg_iterations = h.cg_iterations_p50;
       return row;
     }
     auto r = ref == "compression" ? check_compression(mat, level, 1e-4, so) : check_cantilever(mat, level, so);
@@ -201,11 +205,15 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       auto a = run("hertz", m, coarse, refine);
       adaptive_wall_s += seconds_since(a0);
       if (!a) return a.error();
-      auto f = uniform(o.adaptive_fine_level);
-      if (!f) return f.error();
+      Row fine;  // not run: zeros, printed as such
+      if (o.adaptive_uniform_fine) {
+        auto f = uniform(o.adaptive_fine_level);
+        if (!f) return f.error();
+        fine = f.value();
+      }
       a.value().reference = "hertz adapt";
       rows.push_back(a.value());
-      adaptive.push_back({c.value(), a.value(), f.value()});
+      adaptive.push_back({c.value(), a.value(), fine});
     }
   // the volumetric model at each nu: compression at level 4 (uniform strain: any level), the others at poisson_level
   for (double nu : o.poisson_ratios) {
@@ -307,12 +315,15 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
                   "\nadaptive vs uniform: hertz by the sphere tool (springs, nu 0.25), the cells within %.1f mm of the "
                   "contact refined to level %d\n", 1e3 * o.adaptive_radius_m, o.adaptive_fine_level);
     t << line;
-    t << "coarse level  uniform coarse: error  CPU ms | adaptive: nodes  error  CPU ms  CPU/coarse | uniform fine: nodes  error  CPU ms\n";
+    t << "coarse level  uniform coarse: nodes  error  CPU ms  step ms  CG it | adaptive: nodes  error  CPU ms  step ms  "
+         "CG it  CPU/coarse | uniform fine: nodes  error  CPU ms\n";
     for (const AdaptiveRow& a : adaptive) {
-      std::snprintf(line, sizeof line, "%12d  %+21.2e  %6.2f | %15zu  %+.2e  %6.2f  %10.2f | %19zu  %+.2e  %6.2f\n",
-                    a.coarse.level, a.coarse.rel_error, a.coarse.ms_per_frame, a.adaptive.nodes, a.adaptive.rel_error,
-                    a.adaptive.ms_per_frame, a.adaptive.ms_per_frame / a.coarse.ms_per_frame, a.fine.nodes,
-                    a.fine.rel_error, a.fine.ms_per_frame);
+      std::snprintf(line, sizeof line,
+                    "%12d  %21zu  %+.2e  %6.2f  %7.2f  %5.0f | %15zu  %+.2e  %6.2f  %7.2f  %5.0f  %10.2f | %19zu  %+.2e  %6.2f\n",
+                    a.coarse.level, a.coarse.nodes, a.coarse.rel_error, a.coarse.ms_per_frame, a.coarse.step_ms,
+                    a.coarse.cg_iterations, a.adaptive.nodes, a.adaptive.rel_error, a.adaptive.ms_per_frame,
+                    a.adaptive.step_ms, a.adaptive.cg_iterations, a.adaptive.ms_per_frame / a.coarse.ms_per_frame,
+                    a.fine.nodes, a.fine.rel_error, a.fine.ms_per_frame);
       t << line;
     }
   }

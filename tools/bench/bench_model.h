@@ -34,7 +34,10 @@ struct BenchModelOptions {
   std::vector<int> adaptive_levels{4, 5};            ///< coarse levels of the "adaptive vs uniform" Hertz rows (springs,
                                                      ///< nu 0.25): the lattice refined to adaptive_fine_level near the tool
   int adaptive_fine_level = 6;                       ///< the fine level of those rows (and the uniform level they aim at)
-  double adaptive_radius_m = 0.01;                   ///< cells closer than this to the contact are refined (2 contact radii)
+  double adaptive_radius_m = 0.004;                  ///< cells closer than this to the contact are split to the fine level
+                                                     ///< (0.8 contact radii; twice as far into the body; coarser rings
+                                                     ///< within twice the next one's radius: sim/graded_zone.h)
+  bool adaptive_uniform_fine = true;                 ///< run the uniform fine level beside them (most of their time)
   std::string json_path;                             ///< write the rows as JSON here when not empty
   std::string plot_path;                             ///< log-log plot of force error against ms per frame (PNG)
 };
@@ -52,6 +55,8 @@ struct HertzToolCheck {
   int64_t frames = 0;              ///< sim frames to rest
   int64_t region_moves = 0;        ///< times the region (a refined lattice's fine zone) moved while at it
   double ms_per_frame_p50 = 0.0;   ///< frame stage thread CPU time per frame (median)
+  double step_ms_p50 = 0.0;        ///< the integrator step alone, thread CPU per stepped frame (median)
+  double cg_iterations_p50 = 0.0;  ///< conjugate gradient iterations per stepped frame (median; implicit Euler)
 };
 
 /// Hertz's force 4/3 E / (1 - nu^2) sqrt(R) d^(3/2) of a rigid sphere of radius R pressed d deep (N).

@@ -146,6 +146,7 @@ bool FrameStage::step_lattice_frame() {
   stats_.step_ms.push_back(ms_since(t0));
   lap(FramePart::kStep);
   profile_.iterations = rep.iterations;
+  profile_.cg_iterations = rep.cg_iterations;
   ++stats_.frames_stepped;
   stats_.node_frames += static_cast<int64_t>(lat.num_nodes());
   stats_.spring_frames += static_cast<int64_t>(lat.springs.size());

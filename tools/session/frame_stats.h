@@ -35,6 +35,7 @@ struct FrameProfile {
   double frame_cpu_ms = 0.0;           ///< the same in the sim thread's CPU time (as sim_cpu_ms)
   int64_t involuntary_switches = -1;   ///< times the CPU was taken from the sim thread in the frame (-1: unknown)
   int iterations = 0;                  ///< solver iterations the step took (0: not stepped or an explicit scheme)
+  int cg_iterations = 0;               ///< implicit Euler: conjugate gradient iterations the step took
   int springs_cut = 0;                 ///< springs the frame's cut removed
 };
 

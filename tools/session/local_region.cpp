@@ -44,7 +44,7 @@ bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh, bool recen
   const RefineSpec& refine = scene_.lattice.refine;
   Result<Lattice> lat = make_error("no lattice");
   if (refine.level > 0) {
-    // the coarse cells around the contact and those still deformed; the ones near the contact split to the fine level
+    // the coarse cells around the contact and those still deformed; those near the contact split a level at a time
     std::vector<int32_t> cells = region_cells(model_.grid, level, center, radius);
     if (lattice_) {
       const auto kept = deformed_coarse_cells(model_.grid, *lattice_, level, 1e-3 * lattice_->cell_m);
@@ -53,7 +53,7 @@ bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh, bool recen
       cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
     }
     lat = build_refined_lattice(model_.grid, scene_.lattice, cells, refine.level,
-                                cells_near(model_.grid, level, cells, p_m, refine.radius_m));
+                                graded_leaves(model_.grid, level, cells, refine.level, p_m, refine.radius_m));
   } else {
     // a moved region keeps the old cells that are still deformed (beyond 1e-3 of a cell), so nothing snaps back
     lat = build_lattice(model_.grid, scene_.lattice,

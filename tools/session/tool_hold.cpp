@@ -36,6 +36,14 @@ class ClampedDevice final : public Device {
   Vec3 force_N_ = Vec3::Zero();
 };
 
+// The median of *v (reordered), 0 when empty.
+double median(std::vector<double>* v) {
+  if (v->empty()) return 0.0;
+  const auto mid = v->begin() + static_cast<std::ptrdiff_t>(v->size() / 2);
+  std::nth_element(v->begin(), mid, v->end());
+  return *mid;
+}
+
 }  // namespace
 
 Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const ToolHoldOptions& o) {
@@ -109,6 +117,11 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
     std::nth_element(sim_ms.begin(), sim_ms.begin() + static_cast<std::ptrdiff_t>(sim_ms.size() / 2), sim_ms.end());
     r.sim_ms_p50 = sim_ms[sim_ms.size() / 2];
   }
+  std::vector<double> step_ms = stage.stats().step_cpu_ms, cg;
+  for (const FrameProfile& p : stage.stats().profile)
+    if (p.iterations > 0) cg.push_back(p.cg_iterations);
+  r.step_ms_p50 = median(&step_ms);
+  r.cg_iterations_p50 = median(&cg);
   r.substeps = stage.stats().substeps_total;
   r.region_moves = stage.stats().region_moves;
   r.vertices_m = stage.vertices_m();

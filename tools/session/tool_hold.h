@@ -41,6 +41,8 @@ struct ToolHoldResult {
   std::size_t nodes = 0, springs = 0; ///< lattice size
   int force_nodes = 0;                ///< lattice nodes the contact force was spread over in the last frame
   double sim_ms_p50 = 0.0;            ///< frame stage thread CPU time per frame (median)
+  double step_ms_p50 = 0.0;           ///< the integrator step alone, thread CPU per stepped frame (median)
+  double cg_iterations_p50 = 0.0;     ///< implicit Euler: conjugate gradient iterations per stepped frame (median)
   int64_t region_moves = 0;           ///< times the region followed the contact (a refined lattice: its fine zone moved)
   int64_t substeps = 0;               ///< integrator substeps over all frames
   std::vector<Vec3> vertices_m;       ///< the deformed mesh at the end
