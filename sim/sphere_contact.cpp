@@ -162,14 +162,16 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
     rep.active = static_cast<int>(touch.size());
     rep.max_penetration_m = deepest;
     rep.max_residual_N = r.cwiseAbs().maxCoeff();
-    if (stable && dx.cwiseAbs().maxCoeff() < options.step_tol_m) return rep;
+    if (stable && (dx.cwiseAbs().maxCoeff() < options.step_tol_m || rep.max_residual_N < options.residual_tol_N)) return rep;
     if (it == options.max_iterations) break;
     // tangent: the lattice's, each touching sample's kappa A n n^T spread by its weights (and on the centre, with
     // the opposite sign across), the coupling spring on the centre. The sample's exact tangent also has
     // -kappa A pen / dist (I - n n^T) across the normal; left out (Gauss-Newton), as with kappa >> E l it would make
     // the matrix indefinite for a sample pressed a few per mille of the radius deep
     trip.clear();
-    add_stiffness_triplets(*lat, col, &trip);
+    // compressed springs' transverse terms dropped: a deep press squashes cells enough to make the exact tangent
+    // indefinite; the energy's line search keeps the step a descent
+    add_stiffness_triplets(*lat, col, &trip, true);
     auto add_block = [&](int row0, int col0, const Mat3& blk) {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) trip.emplace_back(row0 + i, col0 + j, blk(i, j));
@@ -240,7 +242,7 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
   }
   return make_error("sphere contact: no convergence after ", std::to_string(options.max_iterations), " Newton steps (",
                     stable ? "active set stable" : "active set still changing", ", ", std::to_string(rep.active),
-                    " samples in contact, largest force imbalance ", std::to_string(rep.max_residual_N), " N)");
+                    " samples in contact, largest force imbalance ", std::to_string(rep.max_residual_N * 1e9), " nN)");
 }
 
 }  // namespace palpate

@@ -47,7 +47,8 @@ struct SphereContactOptions {
                                    ///< 0: the centre is where it is given
   Vec3 device_m = Vec3::Zero();    ///< where that spring is anchored
   int max_iterations = 60;         ///< Newton steps at most
-  double step_tol_m = 1e-13;       ///< converged: no DOF moved more than this in a step, and the active set is stable
+  double step_tol_m = 1e-13;       ///< converged: the active set is stable and no DOF moved more than this in a step,
+  double residual_tol_N = 1e-9;    ///< or no free DOF is out of balance by more than this
   bool iterative = false;          ///< conjugate gradients with incomplete Cholesky instead of LDL^T (large lattices)
 };
 

@@ -27,12 +27,13 @@ std::vector<Vec3> spring_forces_N(const Lattice& lat, const std::vector<Vec3>& x
   return f;
 }
 
-void add_stiffness_triplets(const Lattice& lat, const std::vector<int>& col, std::vector<Eigen::Triplet<double>>* trip) {
+void add_stiffness_triplets(const Lattice& lat, const std::vector<int>& col, std::vector<Eigen::Triplet<double>>* trip,
+                            bool clamp_compression) {
   std::vector<std::array<Vec3, 8>> cell_c;
   std::vector<double> cell_w;
   std::vector<NeoHookeanCell> neo;
   for (const Spring& s : lat.springs) {
-    const Mat3 blk = spring_stiffness_block(s, lat.x_m[s.b] - lat.x_m[s.a], false);
+    const Mat3 blk = spring_stiffness_block(s, lat.x_m[s.b] - lat.x_m[s.a], clamp_compression);
     const int32_t ends[2] = {s.a, s.b};
     for (int p = 0; p < 2; ++p)
       for (int q = 0; q < 2; ++q) {
