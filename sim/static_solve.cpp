@@ -27,6 +27,57 @@ std::vector<Vec3> spring_forces_N(const Lattice& lat, const std::vector<Vec3>& x
   return f;
 }
 
+void add_stiffness_triplets(const Lattice& lat, const std::vector<int>& col, std::vector<Eigen::Triplet<double>>* trip,
+                            bool clamp_compression) {
+  std::vector<std::array<Vec3, 8>> cell_c;
+  std::vector<double> cell_w;
+  std::vector<NeoHookeanCell> neo;
+  for (const Spring& s : lat.springs) {
+    const Mat3 blk = spring_stiffness_block(s, lat.x_m[s.b] - lat.x_m[s.a], clamp_compression);
+    const int32_t ends[2] = {s.a, s.b};
+    for (int p = 0; p < 2; ++p)
+      for (int q = 0; q < 2; ++q) {
+        const double sign = p == q ? 1.0 : -1.0;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            const int ri = col[3 * static_cast<std::size_t>(ends[p]) + i];
+            const int cj = col[3 * static_cast<std::size_t>(ends[q]) + j];
+            if (ri >= 0 && cj >= 0) trip->emplace_back(ri, cj, sign * blk(i, j));
+          }
+      }
+  }
+  // the cells' volume terms: Gauss-Newton blocks w c_a c_b^T
+  if (lat.volume_Pa != 0.0) {
+    volume_gradients(lat, lat.x_m, &cell_c, &cell_w);
+    for (std::size_t cell = 0; cell < cell_c.size(); ++cell)
+      for (int p = 0; p < 8; ++p)
+        for (int q = 0; q < 8; ++q) {
+          const Mat3 blk = cell_w[cell] * cell_c[cell][p] * cell_c[cell][q].transpose();
+          const auto np = static_cast<std::size_t>(lat.cell_nodes[cell][p]), nq = static_cast<std::size_t>(lat.cell_nodes[cell][q]);
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const int ri = col[3 * np + i], cj = col[3 * nq + j];
+              if (ri >= 0 && cj >= 0) trip->emplace_back(ri, cj, blk(i, j));
+            }
+        }
+  }
+  // the cells' Neo-Hookean terms: their tangent blocks
+  if (lat.neo_mu_Pa != 0.0) {
+    neo_hookean_cells(lat, lat.x_m, &neo);
+    for (std::size_t cell = 0; cell < neo.size(); ++cell)
+      for (int p = 0; p < 8; ++p)
+        for (int q = 0; q < 8; ++q) {
+          const Mat3 blk = neo_hookean_block(lat, neo[cell], p, q);
+          const auto np = static_cast<std::size_t>(lat.cell_nodes[cell][p]), nq = static_cast<std::size_t>(lat.cell_nodes[cell][q]);
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const int ri = col[3 * np + i], cj = col[3 * nq + j];
+              if (ri >= 0 && cj >= 0) trip->emplace_back(ri, cj, blk(i, j));
+            }
+        }
+  }
+}
+
 Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held_dof, const std::vector<Vec3>& f_ext_N,
                                   const StaticOptions& options) {
   const std::size_t n = lat->num_nodes();
@@ -45,9 +96,6 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
   cg.setTolerance(options.cg_tolerance);
   cg.setMaxIterations(20000);
   std::vector<Eigen::Triplet<double>> trip;
-  std::vector<std::array<Vec3, 8>> cell_c;
-  std::vector<double> cell_w;
-  std::vector<NeoHookeanCell> neo;
   Eigen::VectorXd r(free), dx(free);
   for (int it = 0; it <= options.max_iterations; ++it) {
     // residual: spring + gravity + external force on the free DOFs
@@ -63,50 +111,7 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
     if (it == options.max_iterations) break;
     // tangent stiffness K (f(x + dx) ~ f(x) - K dx), assembled over free DOFs
     trip.clear();
-    for (const Spring& s : lat->springs) {
-      const Mat3 blk = spring_stiffness_block(s, lat->x_m[s.b] - lat->x_m[s.a], false);
-      const int32_t ends[2] = {s.a, s.b};
-      for (int p = 0; p < 2; ++p)
-        for (int q = 0; q < 2; ++q) {
-          const double sign = p == q ? 1.0 : -1.0;
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) {
-              const int ri = col[3 * static_cast<std::size_t>(ends[p]) + i];
-              const int cj = col[3 * static_cast<std::size_t>(ends[q]) + j];
-              if (ri >= 0 && cj >= 0) trip.emplace_back(ri, cj, sign * blk(i, j));
-            }
-        }
-    }
-    // the cells' volume terms: Gauss-Newton blocks w c_a c_b^T
-    if (lat->volume_Pa != 0.0) {
-      volume_gradients(*lat, lat->x_m, &cell_c, &cell_w);
-      for (std::size_t cell = 0; cell < cell_c.size(); ++cell)
-        for (int p = 0; p < 8; ++p)
-          for (int q = 0; q < 8; ++q) {
-            const Mat3 blk = cell_w[cell] * cell_c[cell][p] * cell_c[cell][q].transpose();
-            const auto np = static_cast<std::size_t>(lat->cell_nodes[cell][p]), nq = static_cast<std::size_t>(lat->cell_nodes[cell][q]);
-            for (int i = 0; i < 3; ++i)
-              for (int j = 0; j < 3; ++j) {
-                const int ri = col[3 * np + i], cj = col[3 * nq + j];
-                if (ri >= 0 && cj >= 0) trip.emplace_back(ri, cj, blk(i, j));
-              }
-          }
-    }
-    // the cells' Neo-Hookean terms: their tangent blocks
-    if (lat->neo_mu_Pa != 0.0) {
-      neo_hookean_cells(*lat, lat->x_m, &neo);
-      for (std::size_t cell = 0; cell < neo.size(); ++cell)
-        for (int p = 0; p < 8; ++p)
-          for (int q = 0; q < 8; ++q) {
-            const Mat3 blk = neo_hookean_block(*lat, neo[cell], p, q);
-            const auto np = static_cast<std::size_t>(lat->cell_nodes[cell][p]), nq = static_cast<std::size_t>(lat->cell_nodes[cell][q]);
-            for (int i = 0; i < 3; ++i)
-              for (int j = 0; j < 3; ++j) {
-                const int ri = col[3 * np + i], cj = col[3 * nq + j];
-                if (ri >= 0 && cj >= 0) trip.emplace_back(ri, cj, blk(i, j));
-              }
-          }
-    }
+    add_stiffness_triplets(*lat, col, &trip);
     Eigen::SparseMatrix<double> k(free, free);
     k.setFromTriplets(trip.begin(), trip.end());
     if (options.iterative) {

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/SparseCore>
+
 #include "core/result.h"
 #include "sim/lattice.h"
 
@@ -30,6 +32,12 @@ struct StaticReport {
 /// is singular (free rigid modes) or the iteration does not converge, naming the step and residual.
 Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held_dof, const std::vector<Vec3>& f_ext_N,
                                   const StaticOptions& options = {});
+
+/// Adds the lattice's tangent stiffness K at lat.x_m (springs, volume and Neo-Hookean terms; f(x + dx) ~ f(x) - K dx)
+/// to trip as entries (col[dof a], col[dof b], K_ab); col (3n) numbers the unknown DOFs, -1 for the held ones.
+/// clamp_compression drops a compressed spring's transverse term (sim/forces.h), keeping the springs' part definite.
+void add_stiffness_triplets(const Lattice& lat, const std::vector<int>& col, std::vector<Eigen::Triplet<double>>* trip,
+                            bool clamp_compression = false);
 
 /// Net spring and cell-volume force on every node at positions x_m (n), including the held ones (there: minus the reaction).
 std::vector<Vec3> spring_forces_N(const Lattice& lat, const std::vector<Vec3>& x_m);

@@ -9,10 +9,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "sim/frame_budget.h"
+#include "sim/hertz_reference.h"
 #include "sim/material.h"
 #include "sim/pull_reference.h"
 #include "sim/reference_cases.h"
 #include "sim/richardson.h"
+#include "tools/bench/bench_press.h"
 #include "tools/bench/plot.h"
 #include "tools/session/model.h"
 #include "tools/session/tool_hold.h"
@@ -25,10 +28,8 @@ constexpr double kHertzDepth_m = 2.5e-4;
 constexpr double kBlockSide_m = 0.08, kBlockDepth_m = 0.04;
 constexpr double kCoupling_N_per_m = 300.0;
 
-// The Poisson ratio the lattice of `material` represents.
-double represented_poisson(const MaterialSpec& material) {
-  return material.model == MaterialModel::kSprings ? kLatticePoissonRatio : material.poisson_ratio;
-}
+// The depths of the solved Hertz rows: the tool check's, and four times it (contact radius 5 and 10 mm).
+constexpr double kSolvedDepths_m[] = {2.5e-4, 1e-3};
 
 // One row of the table: a reference at a level.
 struct Row {
@@ -53,11 +54,6 @@ struct AdaptiveRow {
 };
 
 }  // namespace
-
-double hertz_force_N(double young_modulus_Pa, double poisson_ratio, double radius_m, double depth_m) {
-  const double e_star = young_modulus_Pa / (1.0 - poisson_ratio * poisson_ratio);
-  return 4.0 / 3.0 * e_star * std::sqrt(radius_m) * std::pow(std::max(depth_m, 0.0), 1.5);
-}
 
 Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator,
                                         const RefineSpec& refine) {
@@ -137,8 +133,9 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
   std::vector<Row> rows;
   auto wanted = [&](const char* name) { return std::find(o.references.begin(), o.references.end(), name) != o.references.end(); };
   for (const std::string& name : o.references)
-    if (name != "compression" && name != "cantilever" && name != "hertz" && name != "pull")
-      return make_error("bench model: reference '", name, "' is not one of: compression, cantilever, hertz, pull");
+    if (name != "none" && name != "compression" && name != "cantilever" && name != "hertz" && name != "hertz-solved" && name != "pull")
+      return make_error("bench model: reference '", name,
+                        "' is not one of: compression, cantilever, hertz, hertz-solved, pull, none");
   for (std::size_t k = 1; k < o.pull_levels.size(); ++k)
     if (o.pull_levels.size() != 3 || o.pull_levels[k] != o.pull_levels[k - 1] + 1)
       return make_error("bench model: --pull-levels needs three consecutive levels (e.g. 3,4,5)");
@@ -175,6 +172,34 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     if (ref == "compression") row.lateral = c.poisson_effective;
     return row;
   };
+  // Hertz with the contact solved under the sphere (sim/hertz_reference.h): prescribed depth, solved force; one row
+  // per depth, CPU ms of the whole static solve in the CPU column and its Newton steps in the last
+  auto run_solved = [&](const MaterialSpec& mat, int level) -> Status {
+    for (double depth : kSolvedDepths_m) {
+      std::fprintf(stderr, "bench model: hertz solved, level %d, depth %.2f mm, nu %.2f ...\n", level, 1e3 * depth,
+                   represented_poisson(mat));
+      ThreadCpuClock cpu;
+      const double c0 = cpu.now_ms();
+      HertzSolvedOptions ho;
+      ho.iterative = level >= 7;
+      auto r = solve_hertz_block(mat, level, kHertzRadius_m, depth, ho);
+      if (!r) return make_error("bench model: ", r.error().message);
+      Row row;
+      row.reference = depth < 5e-4 ? "hertz-s.25mm" : "hertz-s 1mm";
+      row.level = level;
+      row.nu = represented_poisson(mat);
+      row.model_kind = mat.model;
+      row.nodes = r.value().nodes, row.springs = r.value().springs, row.model = r.value().force_N;
+      row.closed_form = r.value().closed_form_N, row.rel_error = r.value().rel_error, row.unit = "N";
+      row.ms_per_frame = cpu.now_ms() - c0, row.frames = r.value().iterations;
+      rows.push_back(row);
+    }
+    return Ok{};
+  };
+  if (wanted("hertz-solved"))
+    for (int level : o.levels)
+      if (level >= 3)
+        if (auto st = run_solved(m, level); !st) return st.error();
   for (const char* ref : {"compression", "cantilever", "hertz"}) {
     if (!wanted(ref)) continue;
     for (int level : o.levels) {
@@ -226,6 +251,9 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       if (!row) return make_error(row.error().message, " (material.model ", name_of(o.poisson_model), ", nu ", std::to_string(nu), ")");
       rows.push_back(row.value());
     }
+    if (wanted("hertz-solved"))
+      if (auto st = run_solved(mv, o.poisson_level); !st)
+        return make_error(st.error().message, " (material.model ", name_of(o.poisson_model), ", nu ", std::to_string(nu), ")");
   }
   // large strain: 30 % compression of the Neo-Hookean model against the Neo-Hookean closed form, per nu (uniform
   // strain: one level does); the 40 mm pull against the Richardson extrapolation of its three levels
@@ -309,7 +337,29 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
        "compress 30%: the 4 cm cube between frictionless plates moved 30 % together, model = the plates' force against\n"
        "the compressible Neo-Hookean solid's uniaxial stress x face (closed form), lateral column = lateral stretch over\n"
        "the closed form's, minus 1; pull 40mm: the 8 cm cube glued to the floor and to a plate pulled up 40 mm, the\n"
-       "plate's force against the Richardson extrapolation of the three levels (not a closed form; order p observed)\n";
+       "plate's force against the Richardson extrapolation of the three levels (not a closed form; order p observed);\n"
+       "hertz-s: the contact solved under the sphere (R 10 cm pressed 0.25 or 1 mm into the hertz block; the lattice's\n"
+       "surface kept outside it, the force the sum of the reactions), model = solved force against Hertz's at that depth;\n"
+       "its CPU column is the whole static solve's CPU ms (one thread), its last column the Newton steps\n";
+  if (!o.press_scene.empty()) {
+    auto press = run_solved_press(o.press_scene, o.press_young_modulus_Pa, o.press_levels);
+    if (!press) return make_error("bench model: ", press.error().message);
+    std::snprintf(line, sizeof line, "\nsolved press: %s, E %.3g Pa, its tool a rigid sphere held by the coupling and hand "
+                  "springs at the trajectory's lowest key\n", o.press_scene.c_str(), o.press_young_modulus_Pa);
+    t << line;
+    t << "level  radius cells   nodes  samples/edge  force N   depth mm  in contact  Newton steps  penalty give um\n";
+    for (const PressRow& p : press.value()) {
+      if (!p.failure.empty()) {
+        std::snprintf(line, sizeof line, "%5d  %12d  %6zu  %12d  no equilibrium: ", p.level, p.radius_cells, p.nodes,
+                      p.samples_per_edge);
+        t << line << p.failure << "\n";
+        continue;
+      }
+      std::snprintf(line, sizeof line, "%5d  %12d  %6zu  %12d  %7.4f  %9.3f  %10d  %12d  %15.3f\n", p.level, p.radius_cells,
+                    p.nodes, p.samples_per_edge, p.force_N, 1e3 * p.depth_m, p.active, p.iterations, 1e6 * p.max_penetration_m);
+      t << line;
+    }
+  }
   if (!adaptive.empty()) {
     std::snprintf(line, sizeof line,
                   "\nadaptive vs uniform: hertz by the sphere tool (springs, nu 0.25), the cells within %.1f mm of the "

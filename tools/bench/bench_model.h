@@ -11,6 +11,7 @@
 
 #include "core/result.h"
 #include "core/scene.h"
+#include "sim/hertz_reference.h"
 #include "tools/bench/plot.h"
 
 namespace palpate {
@@ -21,6 +22,7 @@ struct BenchModelOptions {
   int compression_max_level = 5;                     ///< compression rows stop here (uniform strain is exact at every level;
                                                      ///< level 6 costs 13 s for the same -5e-5)
   std::vector<std::string> references{"compression", "cantilever", "hertz", "pull"};  ///< which references to run
+                                                     ///< (also "hertz-solved": the contact solved, opt-in)
   double young_modulus_Pa = 1e5;                     ///< E of every case
   double density_kg_per_m3 = 1070.0;                 ///< rho
   double stiffness_damping_s = 0.02;                 ///< Rayleigh beta: how fast each run comes to rest
@@ -38,6 +40,10 @@ struct BenchModelOptions {
                                                      ///< (0.8 contact radii; twice as far into the body; coarser rings
                                                      ///< within twice the next one's radius: sim/graded_zone.h)
   bool adaptive_uniform_fine = true;                 ///< run the uniform fine level beside them (most of their time)
+  std::string press_scene;                           ///< a scene whose tool press is solved per press_levels (tools/bench/
+                                                     ///< bench_press.h); empty: none
+  std::vector<int> press_levels{3, 4, 5};            ///< lattice levels of that press
+  double press_young_modulus_Pa = 1e4;               ///< E of that press (0: the scene's)
   std::string json_path;                             ///< write the rows as JSON here when not empty
   std::string plot_path;                             ///< log-log plot of force error against ms per frame (PNG)
 };
@@ -58,9 +64,6 @@ struct HertzToolCheck {
   double step_ms_p50 = 0.0;        ///< the integrator step alone, thread CPU per stepped frame (median)
   double cg_iterations_p50 = 0.0;  ///< conjugate gradient iterations per stepped frame (median; implicit Euler)
 };
-
-/// Hertz's force 4/3 E / (1 - nu^2) sqrt(R) d^(3/2) of a rigid sphere of radius R pressed d deep (N).
-double hertz_force_N(double young_modulus_Pa, double poisson_ratio, double radius_m, double depth_m);
 
 /// A block 8 x 8 x 4 cm of `material` (floor fixed) at lattice `level`, pressed by a sphere tool of radius 10 cm
 /// whose device is held so the sphere goes about 0.25 mm deep (contact radius 5 mm), run until at rest; with

@@ -155,7 +155,8 @@ void add_model(CLI::App* bench, BenchArgs& a) {
   c->add_option("--young-modulus", mo.young_modulus_Pa, "E in Pa")->check(finite_range(1.0, 1e12))->capture_default_str();
   c->add_option("--damping", mo.stiffness_damping_s, "Rayleigh beta in s (how fast the runs come to rest)")
       ->check(finite_range(0.0, 10.0))->capture_default_str();
-  c->add_option("--references", mo.references, "Which references: compression, cantilever, hertz, pull")->delimiter(',')
+  c->add_option("--references", mo.references, "Which references: compression, cantilever, hertz, pull, hertz-solved (the contact solved under the "
+                "sphere at two depths, not in the default), none")->delimiter(',')
       ->capture_default_str();
   c->add_option("--integrator", a.model_integrator, "Integrator that steps every run to rest")->capture_default_str();
   c->add_option("--poisson", a.poisson_text, "Poisson ratios of the material.model 'volumetric' rows, each in "
@@ -181,6 +182,12 @@ void add_model(CLI::App* bench, BenchArgs& a) {
       ->check(finite_range(1e-4, 0.1))->capture_default_str();
   c->add_flag_callback("--adaptive-no-fine", [&mo] { mo.adaptive_uniform_fine = false; }, "Leave out the uniform "
                        "fine level beside the adaptive rows (most of their time: uniform level 6 runs about 190 ms a frame)");
+  c->add_option("--press", mo.press_scene, "Also solve this scene's tool press (the tool a rigid sphere of its radius, "
+                "the contact found from the lattice's deformation) at --press-levels");
+  c->add_option("--press-levels", mo.press_levels, "Lattice levels of that press")->delimiter(',')
+      ->check(CLI::Range(2, 6))->capture_default_str();
+  c->add_option("--press-young-modulus", mo.press_young_modulus_Pa, "E of that press in Pa (0: the scene's)")
+      ->check(finite_range(0.0, 1e12))->capture_default_str();
   c->add_option("--json", mo.json_path, "Write the rows as JSON");
   c->add_option("--plot", mo.plot_path, "Plot force error against ms per frame (log-log) as PNG");
 }
