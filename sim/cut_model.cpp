@@ -164,6 +164,11 @@ CutReport CutModel::apply_quads(const std::vector<BladeQuad>& quads_W, Lattice* 
       if (take > 0 && items > static_cast<std::size_t>(max_work_)) break;
       ++take;
     }
+    // and at least a quarter of the queue, so the cut never falls more than about four applies behind the blade:
+    // the limit counts every triangle and vertex of the cubes and cells a quad reaches (what their box tests cost),
+    // which on a dense mesh a stroke's quads of one frame exceed many times over (a 10^6-triangle scan: 8000 counted
+    // for 7 of its 270 pieces a frame); the queue then grew without end and the stroke was never cut where it went
+    take = std::max(take, std::min(queued_.size(), (queued_.size() + 3) / 4));
   }
   last_batch_.assign(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));
   queued_.erase(queued_.begin(), queued_.begin() + static_cast<std::ptrdiff_t>(take));

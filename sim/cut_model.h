@@ -65,7 +65,8 @@ class CutModel {
   /// bound to a lattice cell a quad's box overlaps). The quads mapped to rest wait in order in a queue and each
   /// apply() takes from its front while the items of the cubes and cells they reach stay within n (always at
   /// least one quad), so a long or fast stroke is cut over several frames and CutReport::work() stays within n
-  /// plus one quad's items.
+  /// plus one quad's items; but always at least a quarter of the queue, so the cut is never more than about four
+  /// applies behind the blade (on a mesh so dense that the limit lets through less than a frame's stroke).
   void set_max_cut_work_per_apply(int n) { max_work_ = std::max(n, 0); }
   /// Rest quads mapped but not cut yet.
   std::size_t queued_quads() const { return queued_.size(); }
