@@ -274,7 +274,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
                       std::to_string(static_cast<int>(std::lround(1e3 * hit->distance_m))) + " mm away), approached along " +
                       dir_name(g.approach));
   } else {
-    // from above unless told; a model with no face turned up (an open or inward-wound one) is met from another side
+    // from above unless told; a model with no face turned up (an open shell facing down) is met from another side
     std::vector<Vec3> sides{rq.from.value_or(Vec3::UnitZ())};
     if (!rq.from)
       for (const Vec3& s : {Vec3(Vec3::UnitX()), Vec3(-Vec3::UnitX()), Vec3(Vec3::UnitY()), Vec3(-Vec3::UnitY()),
@@ -293,7 +293,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
     if (!hit)
       return make_error("mesh '", rq.mesh_path, "': ", rq.from ? "--from " + dir_name(from) + ": no face of the model faces " +
                         dir_name(from) : std::string("no face of the model faces outward on any side"),
-                        " where the tool can feel it (are its faces wound inward?)");
+                        " where the tool can feel it (an open shell facing away from every side?)");
     if (from != sides.front())
       g.notes.push_back("no face turned to +z can be touched from above: coming in from " + dir_name(from) + " instead");
     g.surface_point_m = hit->point_m;
@@ -302,7 +302,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
     const bool hidden = any && any->distance_m < 0.2 - 1e-6;
     g.notes.push_back("at " + mm3(g.surface_point_m) + ", the first surface facing " + dir_name(from) + " on a ray from " +
                       dir_name(from) + (offset ? " beside the model's centre (none through it)" : " through the model's centre") +
-                      (hidden ? "; a face turned away lies in front of it (inward-wound faces?)" : ""));
+                      (hidden ? "; a face turned away lies in front of it (an open shell, or a part inside another)" : ""));
   }
 
   const Vec3 P = g.surface_point_m;

@@ -55,7 +55,8 @@ std::string no_contact_note(const Scene& scene, const Model& model, const std::v
   if (closest_m <= 0.5 * model.leaf_cell_m)
     return h + "the tool comes within " + mm(closest_m) +
            " of the surface but never enters it from outside (contact starts where the tool crosses a face from its "
-           "front, counter-clockwise side: are the mesh's faces wound inward?)";
+           "front, counter-clockwise side; closed parts are turned outward at load, an open shell keeps the side most "
+           "of it faces: does it face away from the tool?)";
   return h + (scene.mode == InteractionMode::kCut ? "with the button held, the blade tip stays " : "the trajectory stays ") +
          mm(closest_m) + " from the surface at its closest";
 }
