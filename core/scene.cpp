@@ -332,6 +332,9 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   r.name("backend", &s->render.backend);
   r.number("wire_min_edge_px", &s->render.wire_min_edge_px, 0.0, 1000.0);
   r.number("lod_min_edge_px", &s->render.lod_min_edge_px, 0.0, 100.0);
+  r.vec3("view_from", &s->render.view_from, -1e3, 1e3);
+  if (err->empty() && r.has("view_from") && !(s->render.view_from.norm() > 1e-6))
+    r.fail("render.view_from", "must be a direction (not zero): from the model toward the camera");
   r.finish();
   const int64_t pixels = int64_t{s->render.width} * s->render.height;
   if (err->empty() && pixels > kMaxImagePixels)

@@ -119,6 +119,7 @@ struct RenderSpec {
   RenderBackend backend = RenderBackend::kAuto;
   double wire_min_edge_px = kWireMinEdgePxDefault;  ///< `both`: no wireframe when the median edge is shorter (0: always)
   double lod_min_edge_px = kLodMinEdgePxDefault;    ///< drawn clustered when the median edge is shorter (0: never)
+  Vec3 view_from = Vec3::Zero();                    ///< direction from the model toward the camera (zero: front-right-above)
 };
 
 /// A whole scene.

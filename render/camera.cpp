@@ -13,6 +13,10 @@ constexpr double kMinRadiusM = 0.01;  // half-size of the box used for degenerat
 }  // namespace
 
 Camera Camera::framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspect) {
+  return framing(box_min_m, box_max_m, aspect, kDefaultViewFrom);
+}
+
+Camera Camera::framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspect, const Vec3& from) {
   if (!(aspect > 0.0) || !std::isfinite(aspect)) aspect = 1.0;
   Camera cam;
   Vec3 center = 0.5 * (box_min_m + box_max_m);
@@ -26,11 +30,11 @@ Camera Camera::framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspe
   const double half_fov = std::min(half_fov_y, half_fov_x);
   const double distance_m = 1.05 * radius_m / std::sin(half_fov);
 
-  // front (-y), right (+x), above (+z)
-  const Vec3 direction = Vec3(0.55, -1.0, 0.6).normalized();
+  const Vec3 direction = from.allFinite() && from.norm() > 1e-9 ? from.normalized() : kDefaultViewFrom.normalized();
   cam.target_m = center;
   cam.eye_m = center + distance_m * direction;
-  cam.up = Vec3::UnitZ();
+  // z up, unless the camera looks (nearly) along z: then +y is up in the image
+  cam.up = direction.cross(Vec3::UnitZ()).norm() > 0.05 ? Vec3::UnitZ() : Vec3::UnitY();
   cam.near_m = std::max(distance_m - 2.0 * radius_m, 0.02 * distance_m);
   cam.far_m = distance_m + 3.0 * radius_m;
   return cam;

@@ -7,6 +7,9 @@
 
 namespace palpate {
 
+/// The default direction framing() looks from: front (-y), right (+x), above (+z).
+inline const Vec3 kDefaultViewFrom = Vec3(0.55, -1.0, 0.6);
+
 /// Perspective look-at camera; plain data, copyable.
 struct Camera {
   Vec3 eye_m = Vec3(0.0, -1.0, 0.0);  ///< eye position, metres
@@ -19,6 +22,9 @@ struct Camera {
   /// A camera looking at the box from the front-right-above (z up), whole box in view at the given aspect
   /// (width / height; non-positive or non-finite means 1). A degenerate box is framed as a 2 cm cube.
   static Camera framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspect);
+  /// The same, looking from `from` (a direction from the box's centre toward the eye; zero or non-finite means the
+  /// default front-right-above); straight down or up takes +y as the image's up.
+  static Camera framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspect, const Vec3& from);
 
   /// World-to-eye transform (OpenGL convention: eye looks down -z), 4x4, column-major like glLoadMatrixd.
   Eigen::Matrix4d view_matrix() const;

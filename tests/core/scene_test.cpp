@@ -167,6 +167,11 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   ASSERT_TRUE(wire) << wire.error().message;
   EXPECT_EQ(wire.value().render.wire_min_edge_px, 0.0);
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"lod_min_edge_px": 101}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.lod_min_edge_px: 101 out of range");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,0,0]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.view_from: must be a direction (not zero)");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.view_from");
+  auto view = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,0,2]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(view) << view.error().message;
+  EXPECT_EQ(view.value().render.view_from, Vec3(0, 0, 2));
   auto lod = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"lod_min_edge_px": 0}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
   ASSERT_TRUE(lod) << lod.error().message;
   EXPECT_EQ(lod.value().render.lod_min_edge_px, 0.0);

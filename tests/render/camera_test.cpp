@@ -25,6 +25,27 @@ TEST(Camera, FramingLooksFromFrontRightAbove) {
   EXPECT_GT(cam.far_m, (cam.eye_m - center).norm() + 0.5 * (hi - lo).norm());
 }
 
+TEST(Camera, FramingFromAGivenSideKeepsTheBoxInViewAndStraightDownHasAnUp) {
+  const Vec3 lo(-0.05, -0.04, 0.0), hi(0.05, 0.04, 0.06), center = 0.5 * (lo + hi);
+  for (const Vec3& from : {Vec3(0, 0, 1), Vec3(0.2, -0.3, 0.9), Vec3(-1, 0, 0)}) {
+    const Camera cam = Camera::framing(lo, hi, 4.0 / 3.0, from);
+    EXPECT_TRUE(cam.target_m.isApprox(center));
+    EXPECT_GT((cam.eye_m - center).normalized().dot(from.normalized()), 0.999);
+    // the box's every corner in front of the near plane and inside the view's clip box
+    const Eigen::Matrix4d pv = cam.projection_matrix(4.0 / 3.0) * cam.view_matrix();
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector4d p(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(), c & 4 ? hi.z() : lo.z(), 1.0);
+      const Eigen::Vector4d q = pv * p;
+      ASSERT_GT(q.w(), 0.0);
+      EXPECT_LT(std::abs(q.x() / q.w()), 1.0) << from.transpose();
+      EXPECT_LT(std::abs(q.y() / q.w()), 1.0) << from.transpose();
+    }
+    EXPECT_TRUE(cam.view_matrix().allFinite());  // straight down: +y is up, not the view direction itself
+  }
+  // zero: the default view
+  EXPECT_TRUE(Camera::framing(lo, hi, 1.0, Vec3::Zero()).eye_m.isApprox(Camera::framing(lo, hi, 1.0).eye_m));
+}
+
 TEST(Camera, ViewMatrixPutsEyeAtOriginLookingDownMinusZ) {
   const Camera cam = Camera::framing(Vec3(0, 0, 0), Vec3(1, 2, 3), 1.0);
   const Eigen::Matrix4d v = cam.view_matrix();

@@ -115,6 +115,18 @@ TEST(SceneCommand, FromPicksTheFirstSurfaceOnThatSideAndDepthSetsThePress) {
   ASSERT_TRUE(g) << g.error().message;
   EXPECT_NEAR(g.value().surface_point_m.z(), 0.0125, 1e-9);
   EXPECT_TRUE(g.value().approach.isApprox(Vec3(0, 0, -1)));
+  EXPECT_FALSE(g.value().json["render"].contains("view_from"));  // touch: the default view
+
+  // a cut is seen from the side the blade comes in (the fixed view saw a flat part's top edge-on)
+  rq.mode = InteractionMode::kCut;
+  for (const Vec3& from : {Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
+    rq.from = from;
+    g = generate_scene(rq);
+    ASSERT_TRUE(g) << g.error().message;
+    const auto& v = g.value().json["render"]["view_from"];
+    const Vec3 view(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+    EXPECT_GT(view.normalized().dot(-g.value().approach), 0.8) << from.transpose();
+  }
 }
 
 TEST(SceneCommand, AtPicksTheNearestSurfacePointInTheFilesCoordinates) {

@@ -13,6 +13,7 @@
 #include "core/aabb.h"
 #include "core/atomic_file.h"
 #include "core/mesh_io.h"
+#include "render/camera.h"
 #include "tools/session/model.h"
 #include "tools/commands/scene_target.h"
 #include "tools/commands/subcommand.h"
@@ -30,6 +31,7 @@ constexpr double kNear_m = 0.003;        // it slows down this far out before pr
 constexpr double kGrabGap_m = 0.002;     // pull: the button is pressed this far out (within grab_radius_m)
 constexpr double kGrabRadius_m = 0.008;  // interaction.grab_radius_m, as the shipped scenes
 constexpr double kSceneWireMinEdgePx = 4.0;  // render.wire_min_edge_px: no wireframe over a finer mesh (below)
+constexpr double kCutViewTurn = 0.6;     // a cut scene's view: from the blade's side, this much of the default view
 
 std::string mm3(const Vec3& p_m) {
   char buf[96];
@@ -350,6 +352,13 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   // 3.5 / a of it (all of it at a 2.6 px median edge, a 50k-triangle scan in this view), and they cost every frame
   j["render"] = {{"width", 640}, {"height", 480}, {"style", "both"}, {"backend", "auto"},
                  {"wire_min_edge_px", kSceneWireMinEdgePx}};
+  if (rq.mode == InteractionMode::kCut) {
+    // a cut is seen from the side the blade comes in, a little turned the default way so the groove has depth: the
+    // fixed front-right-above view sees the top of a flat part edge-on and a slit on the far side not at all
+    const Vec3 v = (-d.normalized() + kCutViewTurn * kDefaultViewFrom.normalized()).normalized();
+    auto r3 = [](double x) { return std::round(1e3 * x) / 1e3; };
+    j["render"]["view_from"] = {r3(v.x()), r3(v.y()), r3(v.z())};
+  }
   j["run_mode"] = "lockstep";
   j["duration_s"] = duration_s;
   g.json = std::move(j);

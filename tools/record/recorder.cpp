@@ -159,7 +159,8 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   if (auto* b = dynamic_cast<BrowserDevice*>(rec->device.get())) {
     const Aabb box = Aabb::of(model.rest.vertices_m);
     b->set_view(browser_view(Camera::framing(box.min_m, box.max_m,
-                                             static_cast<double>(scene.render.width) / scene.render.height),
+                                             static_cast<double>(scene.render.width) / scene.render.height,
+                                             scene.render.view_from),
                              static_cast<double>(scene.render.width) / scene.render.height,
                              (box.max_m - box.min_m).norm()));
   }
@@ -178,7 +179,8 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
     const Aabb box = Aabb::of(model.rest.vertices_m);
     rec->renderer = std::make_unique<Renderer>(
         rec->gl.get(), style,
-        Camera::framing(box.min_m, box.max_m, static_cast<double>(scene.render.width) / scene.render.height));
+        Camera::framing(box.min_m, box.max_m, static_cast<double>(scene.render.width) / scene.render.height,
+                        scene.render.view_from));
     rec->renderer->set_layered(!opt.full_redraw);
     rec->renderer->set_wire_min_edge_px(scene.render.wire_min_edge_px);
     // lockstep: two encoder threads use the core the single sim/render thread leaves idle; realtime: one, so
