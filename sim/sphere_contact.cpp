@@ -92,12 +92,8 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
     return make_error("sphere contact: penalty ", std::to_string(options.penalty_Pa_per_m), " Pa/m and radius ",
                       std::to_string(radius_m), " m must be > 0");
   const std::size_t n = lat->num_nodes();
-  std::vector<int> col(3 * n, -1);
-  int free = 0;
-  for (std::size_t d = 0; d < 3 * n; ++d) {
-    const bool held = held_dof.empty() ? lat->fixed[d / 3] != 0 : held_dof[d] != 0;
-    if (!held) col[d] = free++;
-  }
+  std::vector<int> col;
+  const int free = number_free_dofs(*lat, held_dof, &col);
   const bool free_sphere = options.coupling_N_per_m > 0.0;
   const int dofs = free + (free_sphere ? 3 : 0);
   SphereContactResult rep;

@@ -78,16 +78,21 @@ void add_stiffness_triplets(const Lattice& lat, const std::vector<int>& col, std
   }
 }
 
+int number_free_dofs(const Lattice& lat, const std::vector<uint8_t>& held_dof, std::vector<int>* col) {
+  col->assign(3 * lat.num_nodes(), -1);
+  int free = 0;
+  for (std::size_t d = 0; d < col->size(); ++d) {
+    const bool held = held_dof.empty() ? lat.fixed[d / 3] != 0 : held_dof[d] != 0;
+    if (!held) (*col)[d] = free++;
+  }
+  return free;
+}
+
 Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held_dof, const std::vector<Vec3>& f_ext_N,
                                   const StaticOptions& options) {
   const std::size_t n = lat->num_nodes();
-  // free DOF numbering; -1 for held DOFs
-  std::vector<int> col(3 * n, -1);
-  int free = 0;
-  for (std::size_t d = 0; d < 3 * n; ++d) {
-    const bool held = held_dof.empty() ? lat->fixed[d / 3] != 0 : held_dof[d] != 0;
-    if (!held) col[d] = free++;
-  }
+  std::vector<int> col;
+  const int free = number_free_dofs(*lat, held_dof, &col);
   StaticReport rep;
   if (free == 0) return rep;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;

@@ -26,6 +26,10 @@ struct StaticReport {
   double max_residual_N = 0.0;    ///< largest free-DOF force imbalance at the end
 };
 
+/// Numbers the free DOFs: (*col)[d] for each of the 3 n DOFs, -1 where held (held_dof, or when empty the node's
+/// fixed flag); returns how many are free.
+int number_free_dofs(const Lattice& lat, const std::vector<uint8_t>& held_dof, std::vector<int>* col);
+
 /// Moves the free DOFs of lat->x_m to equilibrium of the springs, gravity (mass_kg g) and f_ext_N (n, or empty).
 /// held_dof (3n, dof 3i + axis; empty = every DOF of lat->fixed nodes) marks DOFs kept at their current lat->x_m,
 /// which may be displaced from rest (prescribed displacement). Velocities are left alone. Errors when the system

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "pressed_rest.h"
+
 #include <random>
 
 #include "sim/forces.h"
@@ -143,28 +145,7 @@ TEST(GradedZone, ImplicitEulerComesToTheStaticRestWithHangingNodesOnTheirFaces) 
   const auto box = make_box_model(0.04, kFine);
   Lattice lat = graded_box(box);
   const Vec3 top(0.0049, 0.0, 0.02);
-  std::vector<Vec3> f_ext(lat.num_nodes(), Vec3::Zero());
-  std::size_t pressed = 0;
-  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
-    if ((lat.rest_m[i] - top).norm() < (lat.rest_m[pressed] - top).norm()) pressed = i;
-  f_ext[pressed] = Vec3(0.0, 0.0, -0.05);
-  IntegratorWorkspace ws;
-  for (int frame = 0; frame < 200; ++frame)
-    ASSERT_TRUE(step_lattice(&lat, IntegratorKind::kImplicitEuler, 1.0 / 60.0, 1, f_ext, &ws).solver_ok);
-  for (const HangingNode& h : lat.hanging) {
-    Vec3 on_face = Vec3::Zero();
-    for (int k = 0; k < h.count; ++k)
-      on_face += h.weight[static_cast<std::size_t>(k)] * lat.x_m[static_cast<std::size_t>(h.master[static_cast<std::size_t>(k)])];
-    EXPECT_LT((lat.x_m[static_cast<std::size_t>(h.node)] - on_face).norm(), 1e-14);
-  }
-  std::vector<Vec3> f;
-  compute_forces(lat, lat.x_m, lat.v_m_per_s, f_ext, &f);
-  fold_hanging(lat, &f);
-  double worst = 0.0;
-  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
-    if (!lat.fixed[i]) worst = std::max(worst, f[i].norm());
-  EXPECT_LT(worst, 1e-4 * 0.05);
-  EXPECT_GT((lat.x_m[pressed] - lat.rest_m[pressed]).norm(), 1e-6);
+  test::expect_pressed_rest_on_faces(lat, top);
 }
 
 }  // namespace
