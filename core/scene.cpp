@@ -272,6 +272,8 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.number("tool_radius_m", &d.tool_radius_m, 1e-5, 1.0);
   const int shape = r.choice("tool_shape", {"point", "sphere"});
   if (shape >= 0) d.sphere_tool = shape == 1;
+  const int contact = r.choice("contact", {"prescribed", "solved"});
+  if (contact >= 0) d.solved_contact = contact == 1;
   r.number("workspace_half_m", &d.workspace_half_m, 1e-3, 100.0);
   r.number("max_stiffness_N_per_m", &d.max_stiffness_N_per_m, 1.0, 1e5);
   r.number("damping_Ns_per_m", &d.damping_Ns_per_m, 0.0, 1e3);
@@ -405,6 +407,8 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   top.finish();
   if (err.empty() && s.lattice.level > s.grid_levels)
     err = "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);
+  if (err.empty() && s.device.solved_contact && s.mode != InteractionMode::kTouch)
+    err = std::string("device.contact: 'solved' is for a touch; interaction.mode is '") + mode_name(s.mode) + "'";
   if (err.empty() && s.device.sphere_tool && s.mode != InteractionMode::kTouch)
     err = std::string("device.tool_shape: 'sphere' is a touch tool; interaction.mode is '") + mode_name(s.mode) + "'";
   if (err.empty() && s.dynamic_friction > s.static_friction)

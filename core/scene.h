@@ -80,6 +80,9 @@ struct DeviceSetup {
   double coupling_damping_Ns_per_m = 0.5;   ///< b_c on the tool velocity while in contact
   double tool_radius_m = 0.003;             ///< tool sphere radius: drawn, and the contact radius of a sphere tool
   bool sphere_tool = false;                 ///< touch with a sphere of tool_radius_m (key tool_shape "sphere"); else a point
+  bool solved_contact = false;              ///< key contact "solved": the push goes where the surface, deformed by it,
+                                            ///< meets the tool's tip (a sphere of tool_radius_m; sim/solved_contact.h);
+                                            ///< "prescribed" (default): a point load, or a sphere's Hertz pressure
   double workspace_half_m = 0.5;            ///< poses outside this cube around the origin are rejected
   double max_stiffness_N_per_m = 700.0;     ///< highest stable rendered stiffness; caps coupling_N_per_m
   double damping_Ns_per_m = 2.0;            ///< the device's own viscous damping at the handle (shm, plugin, replay;

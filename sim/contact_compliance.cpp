@@ -43,6 +43,8 @@ struct ContactCompliance::Impl {
   // L's strict lower triangle by column (rows l_row[l_ptr[j] ..+ l_nz[j]) > j) and D^-1
   std::vector<int32_t> parent, l_ptr, l_nz, l_row, flag, pattern;
   std::vector<Mat3> l_val, d_inv, y;
+  std::vector<Vec3> x;     // solve()'s vector in elimination order (nf)
+  Eigen::MatrixXd z, dz;   // condense()'s L^-1 W and D^-1 L^-1 W (3 nf x loads)
   std::vector<OffBlock> off;
   uint64_t revision = 0;  // the factored lattice's
   std::size_t nodes = 0, springs = 0;
@@ -348,6 +350,62 @@ bool ContactCompliance::compute(const Lattice& lat, const PointWeights& w, bool 
   // symmetric by construction up to round-off
   *c_m_per_N = 0.5 * (c + c.transpose());
   return true;
+}
+
+bool ContactCompliance::ready(const Lattice& lat) const {
+  const Impl& m = *impl_;
+  return m.ok && !m.pending && lat.revision == m.revision && lat.num_nodes() == m.nodes && lat.springs.size() == m.springs;
+}
+
+bool ContactCompliance::solve(const std::vector<Vec3>& f_N, std::vector<Vec3>* u_m) {
+  Impl& m = *impl_;
+  if (!m.ok || m.pending || f_N.size() != m.free_of_node.size()) return false;
+  const std::size_t nf = m.d_inv.size();
+  m.x.assign(nf, Vec3::Zero());
+  for (std::size_t i = 0; i < f_N.size(); ++i)
+    if (const int32_t f = m.free_of_node[i]; f >= 0) m.x[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])] = f_N[i];
+  // K = L D L^T: forward (L y = f), the pivots (D w = y), backward (L^T x = w)
+  for (std::size_t j = 0; j < nf; ++j)
+    for (auto p = static_cast<std::size_t>(m.l_ptr[j]); p < static_cast<std::size_t>(m.l_ptr[j] + m.l_nz[j]); ++p)
+      m.x[static_cast<std::size_t>(m.l_row[p])].noalias() -= m.l_val[p] * m.x[j];
+  for (std::size_t j = 0; j < nf; ++j) m.x[j] = m.d_inv[j] * m.x[j];
+  for (std::size_t j = nf; j-- > 0;)
+    for (auto p = static_cast<std::size_t>(m.l_ptr[j]); p < static_cast<std::size_t>(m.l_ptr[j] + m.l_nz[j]); ++p)
+      m.x[j].noalias() -= m.l_val[p].transpose() * m.x[static_cast<std::size_t>(m.l_row[p])];
+  u_m->assign(f_N.size(), Vec3::Zero());
+  for (std::size_t i = 0; i < f_N.size(); ++i)
+    if (const int32_t f = m.free_of_node[i]; f >= 0) (*u_m)[i] = m.x[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])];
+  return true;
+}
+
+bool ContactCompliance::condense(const std::vector<PointWeights>& loads, const std::vector<Vec3>& dirs, Eigen::MatrixXd* c) {
+  Impl& m = *impl_;
+  if (!m.ok || m.pending || loads.size() != dirs.size()) return false;
+  const auto nf = static_cast<Eigen::Index>(m.d_inv.size());
+  const auto k = static_cast<Eigen::Index>(loads.size());
+  m.z.setZero(3 * nf, k);
+  for (Eigen::Index col = 0; col < k; ++col) {
+    const PointWeights& w = loads[static_cast<std::size_t>(col)];
+    for (int i = 0; i < w.count; ++i) {
+      if (w.node[i] < 0 || static_cast<std::size_t>(w.node[i]) >= m.free_of_node.size()) return false;
+      const int32_t f = m.free_of_node[static_cast<std::size_t>(w.node[i])];
+      if (f >= 0) m.z.block<3, 1>(3 * m.pos[static_cast<std::size_t>(f)], col) += w.weight[i] * dirs[static_cast<std::size_t>(col)];
+    }
+  }
+  // Z = L^-1 W (the loads reach only their nodes' ancestors in the elimination tree: zero blocks are skipped), then
+  // C = Z^T D^-1 Z
+  for (Eigen::Index j = 0; j < nf; ++j) {
+    const auto zj = m.z.middleRows<3>(3 * j);
+    if (zj.isZero(0.0)) continue;
+    const auto uj = static_cast<std::size_t>(j);
+    for (auto p = static_cast<std::size_t>(m.l_ptr[uj]); p < static_cast<std::size_t>(m.l_ptr[uj] + m.l_nz[uj]); ++p)
+      m.z.middleRows<3>(3 * static_cast<Eigen::Index>(m.l_row[p])).noalias() -= m.l_val[p] * zj;
+  }
+  m.dz.resize(3 * nf, k);
+  for (Eigen::Index j = 0; j < nf; ++j) m.dz.middleRows<3>(3 * j).noalias() = m.d_inv[static_cast<std::size_t>(j)] * m.z.middleRows<3>(3 * j);
+  c->noalias() = m.z.transpose() * m.dz;
+  *c = 0.5 * (*c + c->transpose()).eval();
+  return c->allFinite();
 }
 
 }  // namespace palpate

@@ -61,6 +61,19 @@ class ContactCompliance {
   /// True while a factorisation is under way (begun, not finished).
   bool factoring() const;
 
+  /// True when a factorisation of `lat` as it is numbered now (its revision, nodes and springs) is done and sound:
+  /// solve() and condense() use it.
+  bool ready(const Lattice& lat) const;
+
+  /// u = K^-1 f for node forces f (n; fixed nodes' entries ignored, their u zero). False when no factorisation is done or f's
+  /// size is not the factored lattice's.
+  bool solve(const std::vector<Vec3>& f_N, std::vector<Vec3>* u_m);
+
+  /// The compliance between point loads: C(i, j) = (W_i d_i)^T K^-1 (W_j d_j), the displacement of load i's point along
+  /// its direction d_i per newton of load j along d_j (loads[i]: weights W_i, dirs[i]: d_i). Dense, symmetric,
+  /// positive semi-definite. False when no factorisation is done or a load names a node it does not have.
+  bool condense(const std::vector<PointWeights>& loads, const std::vector<Vec3>& dirs, Eigen::MatrixXd* c);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

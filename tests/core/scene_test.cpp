@@ -152,6 +152,20 @@ TEST(Scene, ToolShapeIsAPointUnlessASphereIsAskedForATouch) {
                    "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.tool_shape: 'sphere' is a touch tool; interaction.mode is 'pull'");
 }
 
+TEST(Scene, TheContactIsPrescribedUnlessSolvedIsAskedForATouch) {
+  auto prescribed = parse_scene(kMinimal, "s.json");
+  ASSERT_TRUE(prescribed) << prescribed.error().message;
+  EXPECT_FALSE(prescribed.value().device.solved_contact);
+  auto solved = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "device": {"contact": "solved"},
+                                "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(solved) << solved.error().message;
+  EXPECT_TRUE(solved.value().device.solved_contact);
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"contact": "hertz"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "device.contact: 'hertz' is not one of: prescribed, solved");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"contact": "solved"}, "interaction": {"mode": "cut"},
+                   "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.contact: 'solved' is for a touch; interaction.mode is 'cut'");
+}
+
 TEST(Scene, UnknownKeysAreErrorsNamingTheKey) {
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}], "colour": 1})", "colour: unknown key");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "lattice": {"levle": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "lattice.levle: unknown key");

@@ -7,43 +7,15 @@
 #include "core/binding.h"
 #include "sim/contact_load.h"
 #include "sim/contact_response.h"
+#include "contact_block.h"
 #include "sim_test_util.h"
 
 namespace palpate {
 namespace {
 
-constexpr double kSide_m = 0.08;  // block from -0.04 to 0.04; level 3 cells of 2 cm, mesh quads of 1 cm
-constexpr int kLevel = 3;
+constexpr double kSide_m = test::kContactBlockSide_m;
 
-struct Block {
-  test::BoxModel box = test::make_box_model(kSide_m, 4, 8);
-  LatticeSpec spec = [] {
-    LatticeSpec s = test::spec_for(kLevel, 40, 20, 10);
-    s.fix_floor = true;  // held at the bottom, so the stiffness is not singular
-    return s;
-  }();
-  Lattice lat = build_lattice(box.grid, spec, region_cells(box.grid, kLevel, {1, 1, 1}, 8)).value();
-  std::vector<VertexBinding> bindings = bind_vertices(box.grid, kLevel, box.mesh.vertices_m);
-  RestObject rest{&box.mesh, &box.grid, &bindings};
-
-  // a triangle of the top face (z = +0.04) whose centroid is nearest (x, y)
-  int32_t top_triangle(double x, double y) const {
-    int32_t best = -1;
-    double best_d = 1e9;
-    for (std::size_t t = 0; t < box.mesh.triangles.size(); ++t) {
-      const auto& tri = box.mesh.triangles[t];
-      Vec3 c = Vec3::Zero();
-      bool top = true;
-      for (int k = 0; k < 3; ++k) {
-        top = top && std::abs(box.mesh.vertices_m[tri[k]].z() - kSide_m / 2) < 1e-12;
-        c += box.mesh.vertices_m[tri[k]] / 3.0;
-      }
-      const double d = std::hypot(c.x() - x, c.y() - y);
-      if (top && d < best_d) best = static_cast<int32_t>(t), best_d = d;
-    }
-    return best;
-  }
-};
+using Block = test::ContactBlock;
 
 // Sum of the weights and the weighted rest position of the loaded nodes.
 std::pair<double, Vec3> moments(const Lattice& lat, const PointWeights& w) {

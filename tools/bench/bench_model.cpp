@@ -56,7 +56,7 @@ struct AdaptiveRow {
 }  // namespace
 
 Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator,
-                                        const RefineSpec& refine) {
+                                        const RefineSpec& refine, bool solved_contact) {
   // the block's top lies just below a cell plane, so no empty cell above it joins the lattice
   const double top = 0.5 * kBlockDepth_m * (1.0 - 1e-3);
   // the device held where the sphere, pushed back by the Hertz force through the coupling, sits about d deep
@@ -74,7 +74,7 @@ Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level,
                     {"stiffness_damping_s", material.stiffness_damping_s}, {"model", name_of(material.model)}}},
       {"device", {{"max_force_N", 100.0}, {"coupling_N_per_m", kCoupling_N_per_m}, {"coupling_damping_Ns_per_m", 0.0},
                   {"tool_radius_m", kHertzRadius_m}, {"tool_shape", "sphere"}, {"workspace_half_m", 1.0},
-                  {"max_stiffness_N_per_m", kCoupling_N_per_m}}},
+                  {"max_stiffness_N_per_m", kCoupling_N_per_m}, {"contact", solved_contact ? "solved" : "prescribed"}}},
       {"interaction", {{"mode", "touch"}}},
       {"trajectory", {{{"t_s", 0.0}, {"pos_m", {0.0, 0.0, device_z}}}}},
   };
@@ -109,6 +109,7 @@ Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level,
   c.nodes = h.nodes;
   c.springs = h.springs;
   c.force_nodes = h.force_nodes;
+  c.solved_frames = h.solved_frames;
   c.frames = h.frames;
   c.region_moves = h.region_moves;
   c.ms_per_frame_p50 = h.sim_ms_p50;
@@ -156,7 +157,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     row.model_kind = mat.model;
     row.refine_level = refine.level;
     if (ref == "hertz") {
-      auto r = check_hertz_tool(mat, level, o.integrator, refine);
+      auto r = check_hertz_tool(mat, level, o.integrator, refine, o.solved_contact);
       if (!r) return make_error("bench model: hertz level ", std::to_string(level), ": ", r.error().message);
       const HertzToolCheck& h = r.value();
       row.nodes = h.nodes, row.springs = h.springs, row.model = h.force_N, row.closed_form = h.closed_form_N;
@@ -327,9 +328,11 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     if (std::isfinite(r.lateral)) row["lateral_over_axial"] = r.lateral;
     if (std::isfinite(r.order)) row["richardson_order"] = r.order;
     if (r.refine_level > 0) row["refine_level"] = r.refine_level;
+    if (r.reference == "hertz") row["contact"] = o.solved_contact ? "solved" : "prescribed";
     js.push_back(row);
   }
-  t << "model / closed form: compression shortening, cantilever tip deflection (m), hertz force at the drop of the surface under the sphere (N);\n"
+  t << "model / closed form: compression shortening, cantilever tip deflection (m), hertz force at the drop of the surface under the sphere (N;\n"
+       "the sphere's push spread by " << (o.solved_contact ? "the contact solved under it, --contact solved" : "Hertz's pressure, --contact prescribed") << ");\n"
        "force error: the force the lattice needs for the closed form's displacement over the closed form's, minus 1;\n"
        "lateral/axial: compression's lateral over axial strain (closed form: nu); springs: central springs only (nu 0.25),\n"
        "volumetric: springs for the shear modulus plus each cell's volume term (below nu 0.25: the neo_hookean split),\n"

@@ -40,6 +40,8 @@ struct BenchModelOptions {
                                                      ///< (0.8 contact radii; twice as far into the body; coarser rings
                                                      ///< within twice the next one's radius: sim/graded_zone.h)
   bool adaptive_uniform_fine = true;                 ///< run the uniform fine level beside them (most of their time)
+  bool solved_contact = false;                       ///< the "hertz" and adaptive rows' sphere loads the lattice where
+                                                     ///< the contact puts it (device.contact "solved"), not by Hertz
   std::string press_scene;                           ///< a scene whose tool press is solved per press_levels (tools/bench/
                                                      ///< bench_press.h); empty: none
   std::vector<int> press_levels{3, 4, 5};            ///< lattice levels of that press
@@ -58,6 +60,7 @@ struct HertzToolCheck {
   double rel_error = 0.0;          ///< force_N / closed_form_N - 1
   std::size_t nodes = 0, springs = 0;
   int force_nodes = 0;             ///< lattice nodes the contact force was spread over
+  int64_t solved_frames = 0;       ///< frames loaded by the solved contact (device.contact "solved")
   int64_t frames = 0;              ///< sim frames to rest
   int64_t region_moves = 0;        ///< times the region (a refined lattice's fine zone) moved while at it
   double ms_per_frame_p50 = 0.0;   ///< frame stage thread CPU time per frame (median)
@@ -67,9 +70,10 @@ struct HertzToolCheck {
 
 /// A block 8 x 8 x 4 cm of `material` (floor fixed) at lattice `level`, pressed by a sphere tool of radius 10 cm
 /// whose device is held so the sphere goes about 0.25 mm deep (contact radius 5 mm), run until at rest; with
-/// refine.level > 0 the lattice is refined near the tool (lattice.refine).
+/// refine.level > 0 the lattice is refined near the tool (lattice.refine); solved_contact: the scene's
+/// device.contact "solved" (the push goes where the surface meets the sphere, sim/solved_contact.h).
 Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator,
-                                        const RefineSpec& refine = {});
+                                        const RefineSpec& refine = {}, bool solved_contact = false);
 
 /// Runs every case; returns the table as text. Errors name the case, its level or the output path.
 Result<std::string> run_bench_model(const BenchModelOptions& options, PlotSpec* plot = nullptr);

@@ -41,6 +41,7 @@ struct BenchArgs {
   BenchModelOptions model;
   std::string model_integrator = integrator_name(BenchModelOptions{}.integrator);
   std::string poisson_model = name_of(BenchModelOptions{}.poisson_model);
+  std::string model_contact = "prescribed";
   std::vector<std::string> poisson_text = number_texts(BenchModelOptions{}.poisson_ratios);
   std::vector<std::string> large_strain_text = number_texts(BenchModelOptions{}.large_strain_poisson_ratios);
   BenchPngOptions png;
@@ -182,6 +183,9 @@ void add_model(CLI::App* bench, BenchArgs& a) {
       ->check(finite_range(1e-4, 0.1))->capture_default_str();
   c->add_flag_callback("--adaptive-no-fine", [&mo] { mo.adaptive_uniform_fine = false; }, "Leave out the uniform "
                        "fine level beside the adaptive rows (most of their time: uniform level 6 runs about 190 ms a frame)");
+  c->add_option("--contact", a.model_contact, "How the 'hertz' and adaptive rows' sphere loads the lattice: "
+                "prescribed (Hertz's pressure) or solved (where the surface, deformed by the push, meets the sphere: "
+                "Hertz only the check; device.contact)")->check(CLI::IsMember({"prescribed", "solved"}))->capture_default_str();
   c->add_option("--press", mo.press_scene, "Also solve this scene's tool press (the tool a rigid sphere of its radius, "
                 "the contact found from the lattice's deformation) at --press-levels");
   c->add_option("--press-levels", mo.press_levels, "Lattice levels of that press")->delimiter(',')
@@ -243,6 +247,7 @@ int run_bench(BenchArgs& a) {
       return 2;
     }
     a.model.poisson_model = *pm;
+    a.model.solved_contact = a.model_contact == "solved";
     std::string bad;
     if (!parse_number_list(a.poisson_text, "--poisson", 0.0, 0.49, &a.model.poisson_ratios, &bad) ||
         !parse_number_list(a.large_strain_text, "--large-strain", 0.0, 0.49, &a.model.large_strain_poisson_ratios,

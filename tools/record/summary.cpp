@@ -147,6 +147,12 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
               {"frame_latency_us", hist_json(in.run->frame_latency)},
               {"frames_late", in.run->frames_late},
               {"profile", profile_json(fst.profile)}};
+  // where the push went: solved under the tool's tip, or by formula (device.contact; a solved one falls back to the
+  // formula until the lattice's stiffness is factored, and on a refined lattice)
+  j["contact_load"] = {{"asked", scene.device.solved_contact ? "solved" : "prescribed"},
+                       {"solved_frames", fst.solved_contact_frames},
+                       {"prescribed_frames", fst.prescribed_contact_frames},
+                       {"solved_radius_m", fst.solved_contact_radius_m}};
   if (scene.lattice.budget_ms > 0.0) j["budget"] = budget_summary(scene, stage, in.lockstep);
   if (scene.mode == InteractionMode::kCut) {
     const CutModel* cut = stage.cut_model();

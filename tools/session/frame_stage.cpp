@@ -45,7 +45,9 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
   stats_.render_ms.reserve(stats_.sim_ms.capacity());
   stats_.render_cpu_ms.reserve(stats_.sim_ms.capacity());
   stats_.profile.reserve(stats_.sim_ms.capacity());
-  compliance_.set_work_per_call(kComplianceWorkPerFrame);
+  // a lockstep run has no deadline: a solved contact gets its factor in the first frame it is asked for, not after
+  // tens of frames of slices loaded by formula (a realtime run keeps the slices and loads by formula until done)
+  compliance_.set_work_per_call(scene.device.solved_contact && scene.run_mode == RunMode::kLockstep ? 0 : kComplianceWorkPerFrame);
   if (scene.mode != InteractionMode::kCut) {
     const LatticeEstimate most = estimate_lattice(model.grid, scene.lattice, false);
     compliance_.reserve(most.nodes, most.springs,
@@ -93,6 +95,7 @@ void FrameStage::drain_remaining() { drain(); }
 
 void FrameStage::region_changed() {
   resting_ = false;
+  solved_.reset();
   f_ext_N_.assign(region_->lattice()->num_nodes(), Vec3::Zero());
 }
 
@@ -173,14 +176,33 @@ ToolContact FrameStage::tool_contact(const HapticSample& s) const {
   return c;
 }
 
-int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) const {
+int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) {
   std::fill(f_ext->begin(), f_ext->end(), Vec3::Zero());
-  if (!contact_this_frame_ || frame_samples_ == 0) return 0;
+  solved_this_frame_ = false;
+  if (!contact_this_frame_ || frame_samples_ == 0) {
+    solved_.reset();
+    return 0;
+  }
   // the frame's mean device force, reacted on the material point P_s: -F spread over the cell nodes of the
-  // contact triangle's vertices by barycentric and trilinear weights (a sphere tool: over its contact patch)
+  // contact triangle's vertices by barycentric and trilinear weights (a sphere tool: over its contact patch), or
+  // (device.contact "solved") where the surface, deformed by it, meets the tool's tip
   const ToolContact c = tool_contact(contact_);
   const Vec3 f_obj = object_force(rest_, c, -force_sum_N_ / static_cast<double>(frame_samples_));
-  const PointWeights w = contact_load_weights(*region_->lattice(), rest_, c);
+  if (scene_.device.solved_contact) {
+    // a sphere tool's centre is the proxy; a point tool's tip is a sphere of its radius resting on the proxy
+    const double radius = scene_.device.tool_radius_m;
+    const Vec3 push = f_obj.norm() > 0.0 ? Vec3(f_obj.normalized()) : Vec3::Zero();
+    const Vec3 centre = c.sphere ? c.centre_m : Vec3(contact_.proxy_pos_m - radius * push);
+    solved_this_frame_ = solved_.weights(*region_->lattice(), rest_, vertices_m_, near_tris_, centre, radius, f_obj,
+                                         &compliance_, &solved_w_);
+  }
+  if (solved_this_frame_) {
+    ++stats_.solved_contact_frames;
+    stats_.solved_contact_radius_m = solved_.report().contact_radius_m;
+  } else {
+    ++stats_.prescribed_contact_frames;
+  }
+  const PointWeights w = solved_this_frame_ ? solved_w_ : contact_load_weights(*region_->lattice(), rest_, c);
   for (int i = 0; i < w.count; ++i) (*f_ext)[w.node[i]] += w.weight[i] * f_obj;
   int loaded = 0;
   for (const Vec3& f : *f_ext) loaded += f.squaredNorm() > 0.0 ? 1 : 0;
@@ -197,7 +219,7 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   }
   if (!region_->lattice() || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
   const Lattice& lat = *region_->lattice();
-  const PointWeights w = contact_load_weights(lat, rest_, tool_contact(latest_));
+  const PointWeights w = solved_this_frame_ ? solved_w_ : contact_load_weights(lat, rest_, tool_contact(latest_));
   const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)],
                                latest_.contact_bary);
   ContactResponse r;
@@ -356,6 +378,7 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   frame_opts_ = budget_ ? &budget_->begin_frame() : nullptr;
   t_s_ = t_s;
   contact_this_frame_ = false;
+  solved_this_frame_ = false;
   force_sum_N_.setZero();
   frame_samples_ = 0;
   drain();

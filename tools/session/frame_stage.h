@@ -27,6 +27,7 @@
 #include "sim/frame_budget.h"
 #include "sim/integrator.h"
 #include "sim/lattice.h"
+#include "sim/solved_contact.h"
 #include "tools/session/frame_stats.h"
 #include "tools/session/haptic_log.h"
 #include "tools/live/live_feed.h"
@@ -98,7 +99,7 @@ class FrameStage {
   // steps the lattice unless it rests; true when it moved
   bool step_lattice_frame();
   // the frame's contact force on the lattice nodes; returns how many nodes it went to
-  int apply_contact_force(std::vector<Vec3>* f_ext) const;
+  int apply_contact_force(std::vector<Vec3>* f_ext);
   // the contact of sample s as the contact load reads it (sim/contact_load.h), with the scene's tool
   ToolContact tool_contact(const HapticSample& s) const;
   // the object's linearised response at the current contact (sim/contact_response.h), for the servo between frames
@@ -139,6 +140,9 @@ class FrameStage {
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
+  SolvedContactLoad solved_;         // device.contact "solved": the push's weights from the contact
+  PointWeights solved_w_;            // those of this frame (valid while solved_this_frame_)
+  bool solved_this_frame_ = false;
   bool compliance_next_frame_ = false;  // the region was placed or moved this frame: no contact model until the next
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
   double t_s_ = 0.0;                 // scene time of the current frame

@@ -66,6 +66,9 @@ struct FrameStats {
   int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
   int64_t contact_models = 0;       ///< frames that published a contact model for the servo
   int force_nodes = 0;              ///< lattice nodes loaded by the contact force in the last frame with contact
+  int64_t solved_contact_frames = 0;  ///< frames whose push went where the solved contact put it (device.contact)
+  int64_t prescribed_contact_frames = 0;  ///< frames with a push loaded by formula (no factor yet, or not asked)
+  double solved_contact_radius_m = 0.0;   ///< the last solved contact's radius
   int64_t substeps_total = 0;       ///< integrator substeps over all stepped frames
   // cut mode
   int64_t frames_cutting = 0;       ///< frames that applied blade sweeps

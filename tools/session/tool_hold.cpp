@@ -113,6 +113,7 @@ Result<ToolHoldResult> hold_tool(const Scene& scene, const Model& model, const T
     r.springs = stage.lattice()->springs.size();
   }
   r.force_nodes = stage.stats().force_nodes;
+  r.solved_frames = stage.stats().solved_contact_frames;
   if (!sim_ms.empty()) {
     std::nth_element(sim_ms.begin(), sim_ms.begin() + static_cast<std::ptrdiff_t>(sim_ms.size() / 2), sim_ms.end());
     r.sim_ms_p50 = sim_ms[sim_ms.size() / 2];

@@ -40,6 +40,7 @@ struct ToolHoldResult {
   double max_node_speed_m_per_s = 0.0;///< at the end
   std::size_t nodes = 0, springs = 0; ///< lattice size
   int force_nodes = 0;                ///< lattice nodes the contact force was spread over in the last frame
+  int64_t solved_frames = 0;          ///< frames whose push went where the solved contact put it (device.contact)
   double sim_ms_p50 = 0.0;            ///< frame stage thread CPU time per frame (median)
   double step_ms_p50 = 0.0;           ///< the integrator step alone, thread CPU per stepped frame (median)
   double cg_iterations_p50 = 0.0;     ///< implicit Euler: conjugate gradient iterations per stepped frame (median)
