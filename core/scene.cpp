@@ -226,9 +226,9 @@ std::string refine_conflict(const Scene& s) {
            " (a coarse cell of more than 8 x 8 x 8 fine ones; raise lattice.level)";
   if (l.refine.level > s.grid_levels)
     return "lattice.refine.level " + level + " is deeper than grid.levels " + std::to_string(s.grid_levels);
-  if (!l.material.enabled || l.material.model != MaterialModel::kSprings)
-    return "lattice.refine needs a \"material\" object with material.model 'springs' (each cell's springs are "
-           "calibrated at its own size; the volume terms assume one)";
+  if (!l.material.enabled)
+    return "lattice.refine needs a \"material\" object (each cell's springs and volume or Neo-Hookean term are "
+           "calibrated at its own size)";
   if (l.integrator != IntegratorKind::kImplicitEuler)
     return std::string("lattice.refine needs lattice.integrator 'implicit_euler' (the solver that holds the hanging "
                        "nodes on their coarse faces); the scene asks for '") + integrator_name(l.integrator) + "'";

@@ -200,10 +200,12 @@ int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>&
     for (std::size_t i = 0; i < n; ++i)
       rhs_[i] = lat->fixed[i] ? Vec3::Zero() : Vec3(h_s * f_N_[i] - lat->mass_kg[i] * (v_m_per_s_[i] - v0_m_per_s_[i]));
     if (!lat->hanging.empty()) {
-      // the residual of the constrained lattice: P^T g (fixed masters take none)
+      // the residual of the constrained lattice: P^T g (fixed masters and held DOFs take none)
       fold_hanging(*lat, &rhs_);
       for (std::size_t i = 0; i < n; ++i)
         if (lat->fixed[i]) rhs_[i].setZero();
+      for (std::size_t d = 0; d < lat->held_dof.size(); ++d)
+        if (lat->held_dof[d]) rhs_[d / 3][static_cast<int>(d % 3)] = 0.0;
     }
     assemble(*lat, h_s, x_m_);
     // warm start: the first solve from the previous step's velocity change (accelerations change little between

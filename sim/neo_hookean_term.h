@@ -1,10 +1,10 @@
 #pragma once
 /// The per-cell Neo-Hookean term of material.model "neo_hookean" (sim/material.h): each region cell stores
-/// l^3 psi(F), psi = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2 (compressible Neo-Hookean; Bonet & Wood),
-/// F the cell's deformation gradient at its centre (sim/volume_term.h). First Piola stress
-/// P = mu (F - F^-T) + lambda ln J F^-T; corner a gets -l^3 P g_a. One quadrature point per cell: nothing locks as
-/// nu -> 1/2, and the lattice's springs (a share of the stiffness) hold the cell's hourglass modes. A cell turned
-/// inside out (J <= kMinCellJ) is pushed back by the stress at kMinCellJ. Thread: the stepping thread.
+/// l^3 psi(F), l the cell's own edge (Lattice::cell_edge_m), psi = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2
+/// (compressible Neo-Hookean; Bonet & Wood), F the cell's deformation gradient at its centre (sim/volume_term.h).
+/// First Piola stress P = mu (F - F^-T) + lambda ln J F^-T; corner a gets -l^3 P g_a. One quadrature point per cell:
+/// nothing locks as nu -> 1/2, and the lattice's springs (a share of the stiffness) hold the cell's hourglass modes.
+/// A cell turned inside out (J <= kMinCellJ) is pushed back by the stress at kMinCellJ. Thread: the stepping thread.
 
 #include <array>
 #include <vector>
@@ -16,10 +16,11 @@ namespace palpate {
 /// Smallest J the Neo-Hookean stress is evaluated at (a cell squashed further keeps that stress).
 inline constexpr double kMinCellJ = 1e-2;
 
-/// One cell's state for the tangent: F^-T and ln J at the configuration it was taken at. Plain data.
+/// One cell's state for the tangent: F^-T and ln J at the configuration it was taken at, and the cell's edge. Plain data.
 struct NeoHookeanCell {
   Mat3 f_inv_t = Mat3::Identity();  ///< F^-T
   double log_j = 0.0;               ///< ln J
+  double edge_m = 0.0;              ///< the cell's edge l (Lattice::cell_edge_m: a refined lattice's cells differ)
 };
 
 /// First Piola stress of the term at F (Pa).
@@ -31,7 +32,7 @@ void add_neo_hookean_forces(const Lattice& lat, const std::vector<Vec3>& x_m, st
 /// The term's energy at positions x_m, J.
 double neo_hookean_energy_J(const Lattice& lat, const std::vector<Vec3>& x_m);
 
-/// Every cell's tangent state at positions x_m (cells).
+/// Every cell's tangent state at positions x_m, with its edge (cells).
 void neo_hookean_cells(const Lattice& lat, const std::vector<Vec3>& x_m, std::vector<NeoHookeanCell>* cells);
 
 /// y += K p over the cells: K the term's tangent stiffness (l^3 dP(dF) g_b with dF = sum_a p_a g_a^T).

@@ -44,9 +44,8 @@ Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSp
   if (lf <= lc || lf > grid.levels())
     return make_error("refined lattice: fine level ", std::to_string(lf), " is not between lattice level ",
                       std::to_string(lc + 1), " and grid level ", std::to_string(grid.levels()));
-  if (!spec.material.enabled || spec.material.model != MaterialModel::kSprings)
-    return make_error("refined lattice: needs a material with material.model 'springs' (each cell's springs are "
-                      "calibrated at its own edge; the volume terms assume one cell size)");
+  if (!spec.material.enabled)
+    return make_error("refined lattice: needs a material (each cell's springs are calibrated at its own edge)");
   for (const LeafCell& c : leaves)
     if (c.level < lc || c.level > lf)
       return make_error("refined lattice: a cell at level ", std::to_string(c.level), " is not between levels ",
@@ -63,6 +62,10 @@ Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSp
   // one damping coefficient serves every spring: the fine cells' (the coarser ones are then damped less; the rest
   // state does not depend on it)
   lat.damping_Ns_per_m = cal[static_cast<std::size_t>(lf)].damping_Ns_per_m;
+  // the cells' volume or Neo-Hookean moduli do not depend on the edge (each cell's term takes its own: cell_span)
+  lat.volume_Pa = cal[static_cast<std::size_t>(lf)].volume_Pa;
+  lat.neo_mu_Pa = cal[static_cast<std::size_t>(lf)].neo_mu_Pa;
+  lat.neo_lambda_Pa = cal[static_cast<std::size_t>(lf)].neo_lambda_Pa;
   lat.gravity_m_per_s2 = spec.gravity_m_per_s2;
   lat.slot_of_cell.assign(static_cast<std::size_t>(grid.num_cells(lf)), -1);
   std::vector<uint8_t> in_region(static_cast<std::size_t>(grid.num_cells(lc)), 0);

@@ -19,8 +19,8 @@
 namespace palpate {
 
 /// Builds the lattice over coarse_cells (grid indices at spec.level) with the cells listed in `refine` (a subset,
-/// same level) split at fine_level (> spec.level). Needs spec.material (springs model: the cells' volume and
-/// Neo-Hookean terms assume one cell size). Border nodes (touching a solid coarse cell outside the region) and,
+/// same level) split at fine_level (> spec.level). Needs spec.material (any material.model: each cell's springs and
+/// volume or Neo-Hookean term take its own edge). Border nodes (touching a solid coarse cell outside the region) and,
 /// with spec.fix_floor, the model's lowest node plane are fixed. Errors name what is missing or out of range.
 Result<Lattice> build_refined_lattice(const GridHierarchy& grid, const LatticeSpec& spec,
                                       const std::vector<int32_t>& coarse_cells, int fine_level,

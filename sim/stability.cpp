@@ -61,16 +61,13 @@ StabilityBound stability_bound(const Lattice& lat, double safety) {
     csum[s.a] += lat.damping_Ns_per_m;
     csum[s.b] += lat.damping_Ns_per_m;
   }
-  // the cells' volume terms at rest: Gershgorin row sum 3/2 |lambda_v| l per cell over a corner, written as the
-  // spring sum that gives the same bound (a spring adds k to the diagonal and k off it)
-  if (lat.volume_Pa != 0.0)
-    for (const auto& nodes : lat.cell_nodes)
-      for (int32_t node : nodes) ksum[static_cast<std::size_t>(node)] += 0.75 * std::abs(lat.volume_Pa) * lat.cell_m;
-  // the cells' Neo-Hookean terms at rest (stiffness 2 mu I + lambda I x I): bounded the same way by 2 mu + |lambda|
-  if (lat.neo_mu_Pa != 0.0)
-    for (const auto& nodes : lat.cell_nodes)
-      for (int32_t node : nodes)
-        ksum[static_cast<std::size_t>(node)] += 0.75 * (2.0 * lat.neo_mu_Pa + std::abs(lat.neo_lambda_Pa)) * lat.cell_m;
+  // the cells' volume terms at rest: Gershgorin row sum 3/2 |lambda_v| l per cell over a corner (l the cell's own
+  // edge), written as the spring sum that gives the same bound (a spring adds k to the diagonal and k off it); the
+  // Neo-Hookean terms at rest (stiffness 2 mu I + lambda I x I) bounded the same way by 2 mu + |lambda|
+  const double cell_Pa = std::abs(lat.volume_Pa) + (lat.neo_mu_Pa != 0.0 ? 2.0 * lat.neo_mu_Pa + std::abs(lat.neo_lambda_Pa) : 0.0);
+  if (cell_Pa != 0.0)
+    for (std::size_t k = 0; k < lat.cell_nodes.size(); ++k)
+      for (int32_t node : lat.cell_nodes[k]) ksum[static_cast<std::size_t>(node)] += 0.75 * cell_Pa * lat.cell_edge_m(k);
   double w2 = 0.0, g = 0.0;
   StabilityBound b;
   for (std::size_t i = 0; i < n; ++i) {

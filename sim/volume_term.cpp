@@ -49,37 +49,39 @@ Mat3 cofactor(const Mat3& f) {
 
 void add_volume_forces(const Lattice& lat, const std::vector<Vec3>& x_m, std::vector<Vec3>* f_N) {
   if (lat.volume_Pa == 0.0) return;
-  const double volume_m3 = lat.cell_m * lat.cell_m * lat.cell_m;
-  for (const auto& nodes : lat.cell_nodes) {
-    const Mat3 f = cell_deformation_gradient(x_m, nodes, lat.cell_m);
+  for (std::size_t k = 0; k < lat.cell_nodes.size(); ++k) {
+    const auto& nodes = lat.cell_nodes[k];
+    const double l = lat.cell_edge_m(k);
+    const Mat3 f = cell_deformation_gradient(x_m, nodes, l);
     const Mat3 cof = cofactor(f);
     const double j = f.col(0).dot(cof.col(0));
     // -dE/dx_a = -l^3 psi'(J) cof(F) g_a
-    const Mat3 p = (-volume_m3 * volume_pressure_Pa(lat.volume_Pa, j)) * cof;
-    for (int a = 0; a < 8; ++a) (*f_N)[static_cast<std::size_t>(nodes[a])] += p * corner_gradient(a, lat.cell_m);
+    const Mat3 p = (-l * l * l * volume_pressure_Pa(lat.volume_Pa, j)) * cof;
+    for (int a = 0; a < 8; ++a) (*f_N)[static_cast<std::size_t>(nodes[a])] += p * corner_gradient(a, l);
   }
 }
 
 double volume_energy_J(const Lattice& lat, const std::vector<Vec3>& x_m) {
   if (lat.volume_Pa == 0.0) return 0.0;
   double e = 0.0;
-  for (const auto& nodes : lat.cell_nodes) {
-    e += volume_energy_density(lat.volume_Pa, cell_deformation_gradient(x_m, nodes, lat.cell_m).determinant());
+  for (std::size_t k = 0; k < lat.cell_nodes.size(); ++k) {
+    const double l = lat.cell_edge_m(k);
+    e += l * l * l * volume_energy_density(lat.volume_Pa, cell_deformation_gradient(x_m, lat.cell_nodes[k], l).determinant());
   }
-  return lat.cell_m * lat.cell_m * lat.cell_m * e;
+  return e;
 }
 
 void volume_gradients(const Lattice& lat, const std::vector<Vec3>& x_m, std::vector<std::array<Vec3, 8>>* c,
                       std::vector<double>* w_J) {
   c->resize(lat.cell_nodes.size());
   w_J->resize(lat.cell_nodes.size());
-  const double volume_m3 = lat.cell_m * lat.cell_m * lat.cell_m;
   for (std::size_t k = 0; k < lat.cell_nodes.size(); ++k) {
-    const Mat3 f = cell_deformation_gradient(x_m, lat.cell_nodes[k], lat.cell_m);
+    const double l = lat.cell_edge_m(k);
+    const Mat3 f = cell_deformation_gradient(x_m, lat.cell_nodes[k], l);
     const Mat3 cof = cofactor(f);
     const double s = f.col(0).dot(cof.col(0)) - 1.0;
-    (*w_J)[k] = lat.volume_Pa >= 0.0 || std::abs(s) <= kVolumeSoftening ? lat.volume_Pa * volume_m3 : 0.0;
-    for (int a = 0; a < 8; ++a) (*c)[k][static_cast<std::size_t>(a)] = cof * corner_gradient(a, lat.cell_m);
+    (*w_J)[k] = lat.volume_Pa >= 0.0 || std::abs(s) <= kVolumeSoftening ? lat.volume_Pa * l * l * l : 0.0;
+    for (int a = 0; a < 8; ++a) (*c)[k][static_cast<std::size_t>(a)] = cof * corner_gradient(a, l);
   }
 }
 

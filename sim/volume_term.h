@@ -1,12 +1,13 @@
 #pragma once
 /// The per-cell volume term of material.model "volumetric" (sim/material.h): each region cell stores
-/// (1/2) lambda_v l^3 (J - 1)^2, J = det F of the cell's deformation gradient at its centre,
-/// F = sum_a x_a g_a^T with g_a = s_a / (4 l) the trilinear shape functions' gradients there (s_a the corner's
-/// signs, +-1 per axis). The force on corner a is -lambda_v l^3 (J - 1) cof(F) g_a (dJ/dF = cof F). Exact under
-/// rotation; one quadrature point per cell, so only a cell's mean volume change is penalised and nothing locks
-/// as nu -> 1/2. A negative lambda_v (nu < 1/4) is quadratic only while |J - 1| <= kVolumeSoftening and linear
-/// beyond (its force stays at the value there): a softening term unbounded below would let a cell blow up under
-/// large stretch. Thread: the stepping thread; no allocation once the buffers have their size.
+/// (1/2) lambda_v l^3 (J - 1)^2, l the cell's own edge (Lattice::cell_edge_m: a refined lattice's cells differ),
+/// J = det F of the cell's deformation gradient at its centre, F = sum_a x_a g_a^T with g_a = s_a / (4 l) the
+/// trilinear shape functions' gradients there (s_a the corner's signs, +-1 per axis). The force on corner a is
+/// -lambda_v l^3 (J - 1) cof(F) g_a (dJ/dF = cof F). Exact under rotation; one quadrature point per cell, so only a
+/// cell's mean volume change is penalised and nothing locks as nu -> 1/2. A negative lambda_v (nu < 1/4) is quadratic
+/// only while |J - 1| <= kVolumeSoftening and linear beyond (its force stays at the value there): a softening term
+/// unbounded below would let a cell blow up under large stretch. Thread: the stepping thread; no allocation once the
+/// buffers have their size.
 
 #include <array>
 #include <cstdint>

@@ -126,6 +126,14 @@ TEST(Scene, RefineIsOffUnlessAskedAndNamesWhatItNeeds) {
   ASSERT_TRUE(ok) << ok.error().message;
   EXPECT_EQ(ok.value().lattice.refine.level, 6);
   EXPECT_EQ(ok.value().lattice.refine.radius_m, 0.01);
+  // each cell's volume or Neo-Hookean term takes its own edge: any material.model refines
+  for (const char* model : {"volumetric", "neo_hookean"}) {
+    auto cells = parse_scene(scene(R"("integrator": "implicit_euler", "refine": {"level": 6, "radius_m": 0.01})",
+                                   R"(, "material": {"young_modulus_Pa": 1e5, "poisson_ratio": 0.45, "density_kg_per_m3": 1000, "model": ")" +
+                                       std::string(model) + "\"}"),
+                             "s.json");
+    ASSERT_TRUE(cells) << model << ": " << cells.error().message;
+  }
   expect_error(scene(R"("integrator": "implicit_euler", "refine": {"level": 4, "radius_m": 0.01})", springs),
                "lattice.refine.level 4 is not finer than lattice.level 4");
   expect_error(scene(R"("integrator": "implicit_euler", "refine": {"level": 8, "radius_m": 0.01})", springs),

@@ -375,6 +375,9 @@ TEST(Cli, BenchModelListsTakeNoneAndNameABadItem) {
   EXPECT_NE(bad.out.find("--poisson: 'x' is not a number in [0, 0.49]"), std::string::npos) << bad.out;
   const CliRun high = palpate("bench model --large-strain 0.5");
   EXPECT_NE(high.out.find("--large-strain: '0.5' is not a number in [0, 0.49]"), std::string::npos) << high.out;
+  const CliRun adaptive = palpate("bench model --adaptive-poisson 0.45,0.6");
+  EXPECT_EQ(adaptive.code, 2) << adaptive.out;
+  EXPECT_NE(adaptive.out.find("--adaptive-poisson: '0.6' is not a number in [0, 0.49]"), std::string::npos) << adaptive.out;
 }
 
 // The browser device is the live page: without --serve there is nothing to steer it; refused before any output.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -212,15 +213,27 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     }
   }
   // adaptive vs uniform: Hertz with the lattice refined near the tool, beside the uniform coarse and fine levels
-  // (those of the sweep above when it ran them, else run here)
+  // (those of the sweep above when it ran them, else run here and added to it): springs, then poisson_model at each
+  // adaptive nu
   std::vector<AdaptiveRow> adaptive;
+  std::vector<std::pair<MaterialSpec, int>> adaptive_runs;
+  for (std::size_t k = 0; k <= o.adaptive_poisson_ratios.size(); ++k) {
+    MaterialSpec mat = m;
+    if (k > 0) mat.model = o.poisson_model, mat.poisson_ratio = o.adaptive_poisson_ratios[k - 1];
+    for (int coarse : o.adaptive_levels) adaptive_runs.emplace_back(mat, coarse);
+  }
   if (wanted("hertz"))
-    for (int coarse : o.adaptive_levels) {
+    for (const auto& [mat_spec, coarse] : adaptive_runs) {
+      const MaterialSpec& mat = mat_spec;  // a reference the lambda below can capture
       if (coarse < 2 || coarse >= o.adaptive_fine_level) continue;
       auto uniform = [&](int level) -> Result<Row> {
         for (const Row& r : rows)
-          if (r.reference == "hertz" && r.model_kind == MaterialModel::kSprings && r.level == level && r.refine_level == 0) return r;
-        return run("hertz", m, level);
+          if (r.reference == "hertz" && r.model_kind == mat.model && r.nu == represented_poisson(mat) && r.level == level &&
+              r.refine_level == 0)
+            return r;
+        auto row = run("hertz", mat, level);
+        if (row) rows.push_back(row.value());
+        return row;
       };
       auto c = uniform(coarse);
       if (!c) return c.error();
@@ -228,7 +241,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
       refine.level = o.adaptive_fine_level;
       refine.radius_m = o.adaptive_radius_m;
       const auto a0 = std::chrono::steady_clock::now();
-      auto a = run("hertz", m, coarse, refine);
+      auto a = run("hertz", mat, coarse, refine);
       adaptive_wall_s += seconds_since(a0);
       if (!a) return a.error();
       Row fine;  // not run: zeros, printed as such
@@ -365,17 +378,18 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
   }
   if (!adaptive.empty()) {
     std::snprintf(line, sizeof line,
-                  "\nadaptive vs uniform: hertz by the sphere tool (springs, nu 0.25), the cells within %.1f mm of the "
-                  "contact refined to level %d\n", 1e3 * o.adaptive_radius_m, o.adaptive_fine_level);
+                  "\nadaptive vs uniform: hertz by the sphere tool, the cells within %.1f mm of the contact refined to "
+                  "level %d\n", 1e3 * o.adaptive_radius_m, o.adaptive_fine_level);
     t << line;
-    t << "coarse level  uniform coarse: nodes  error  CPU ms  step ms  CG it | adaptive: nodes  error  CPU ms  step ms  "
-         "CG it  CPU/coarse | uniform fine: nodes  error  CPU ms\n";
+    t << "material     nu    coarse level  uniform coarse: nodes  error  CPU ms  step ms  CG it | adaptive: nodes  error  "
+         "CPU ms  step ms  CG it  CPU/coarse | uniform fine: nodes  error  CPU ms\n";
     for (const AdaptiveRow& a : adaptive) {
       std::snprintf(line, sizeof line,
-                    "%12d  %21zu  %+.2e  %6.2f  %7.2f  %5.0f | %15zu  %+.2e  %6.2f  %7.2f  %5.0f  %10.2f | %19zu  %+.2e  %6.2f\n",
-                    a.coarse.level, a.coarse.nodes, a.coarse.rel_error, a.coarse.ms_per_frame, a.coarse.step_ms,
-                    a.coarse.cg_iterations, a.adaptive.nodes, a.adaptive.rel_error, a.adaptive.ms_per_frame,
-                    a.adaptive.step_ms, a.adaptive.cg_iterations, a.adaptive.ms_per_frame / a.coarse.ms_per_frame,
+                    "%-11s %5.2f  %12d  %21zu  %+.2e  %6.2f  %7.2f  %5.0f | %15zu  %+.2e  %6.2f  %7.2f  %5.0f  %10.2f | %19zu  "
+                    "%+.2e  %6.2f\n",
+                    name_of(a.adaptive.model_kind), a.adaptive.nu, a.coarse.level, a.coarse.nodes, a.coarse.rel_error,
+                    a.coarse.ms_per_frame, a.coarse.step_ms, a.coarse.cg_iterations, a.adaptive.nodes, a.adaptive.rel_error,
+                    a.adaptive.ms_per_frame, a.adaptive.step_ms, a.adaptive.cg_iterations, a.adaptive.ms_per_frame / a.coarse.ms_per_frame,
                     a.fine.nodes, a.fine.rel_error, a.fine.ms_per_frame);
       t << line;
     }
@@ -426,7 +440,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     ad.style = PlotStyle::kLinesPoints;
     PlotColumn level{"level", {}};
     for (const Row& r : rows)
-      if (r.refine_level > 0) {
+      if (r.refine_level > 0 && r.model_kind == MaterialModel::kSprings) {
         ad.x.push_back(r.ms_per_frame);
         ad.y.push_back(std::abs(r.rel_error));
         level.values.push_back(r.level);

@@ -34,7 +34,8 @@ struct BenchModelOptions {
   MaterialModel poisson_model = MaterialModel::kVolumetric;  ///< material.model of those rows
   int poisson_level = 6;                             ///< level of those rows' cantilever and Hertz (compression: 4)
   std::vector<int> adaptive_levels{4, 5};            ///< coarse levels of the "adaptive vs uniform" Hertz rows (springs,
-                                                     ///< nu 0.25): the lattice refined to adaptive_fine_level near the tool
+                                                     ///< nu 0.25, and adaptive_poisson_ratios): the lattice refined to
+                                                     ///< adaptive_fine_level near the tool
   int adaptive_fine_level = 6;                       ///< the fine level of those rows (and the uniform level they aim at)
   double adaptive_radius_m = 0.004;                  ///< cells closer than this to the contact are split to the fine level
                                                      ///< (0.8 contact radii; twice as far into the body; coarser rings
@@ -42,6 +43,8 @@ struct BenchModelOptions {
   bool adaptive_uniform_fine = true;                 ///< run the uniform fine level beside them (most of their time)
   bool solved_contact = false;                       ///< the "hertz" and adaptive rows' sphere loads the lattice where
                                                      ///< the contact puts it (device.contact "solved"), not by Hertz
+  std::vector<double> adaptive_poisson_ratios;       ///< also those rows for material.model poisson_model at each nu
+                                                     ///< (beside the springs ones); empty: springs only
   std::string press_scene;                           ///< a scene whose tool press is solved per press_levels (tools/bench/
                                                      ///< bench_press.h); empty: none
   std::vector<int> press_levels{3, 4, 5};            ///< lattice levels of that press

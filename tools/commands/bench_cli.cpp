@@ -44,6 +44,7 @@ struct BenchArgs {
   std::string model_contact = "prescribed";
   std::vector<std::string> poisson_text = number_texts(BenchModelOptions{}.poisson_ratios);
   std::vector<std::string> large_strain_text = number_texts(BenchModelOptions{}.large_strain_poisson_ratios);
+  std::vector<std::string> adaptive_poisson_text{"none"};
   BenchPngOptions png;
   BenchMeshOptions mesh;
   CLI::App *loop_cmd = nullptr, *force_cmd = nullptr, *feel_cmd = nullptr, *sim_cmd = nullptr, *scale_cmd = nullptr, *model_cmd = nullptr,
@@ -167,7 +168,8 @@ void add_model(CLI::App* bench, BenchArgs& a) {
                 "extrapolation over --pull-levels, each in [0, 0.49] (none: --large-strain none)")->delimiter(',')->capture_default_str();
   c->add_option("--pull-levels", mo.pull_levels, "Three consecutive levels of the 40 mm pull (Richardson)")
       ->delimiter(',')->check(CLI::Range(3, 7))->capture_default_str();
-  c->add_option("--poisson-model", a.poisson_model, "material.model of those rows: volumetric or neo_hookean")
+  c->add_option("--poisson-model", a.poisson_model, "material.model of those rows (and of --adaptive-poisson's): "
+                "volumetric or neo_hookean")
       ->capture_default_str();
   c->add_option("--poisson-level", mo.poisson_level, "Level of those rows' cantilever and Hertz")
       ->check(CLI::Range(4, 7))->capture_default_str();
@@ -181,6 +183,9 @@ void add_model(CLI::App* bench, BenchArgs& a) {
   c->add_option("--adaptive-radius", mo.adaptive_radius_m, "Cells closer than this to the contact (twice this into "
                 "the body) are split to --adaptive-fine, coarser rings within twice the next one's reach (m)")
       ->check(finite_range(1e-4, 0.1))->capture_default_str();
+  c->add_option("--adaptive-poisson", a.adaptive_poisson_text, "Poisson ratios of more such rows, material.model "
+                "--poisson-model (beside the springs ones), each in [0, 0.49] (none: springs only)")
+      ->delimiter(',')->capture_default_str();
   c->add_flag_callback("--adaptive-no-fine", [&mo] { mo.adaptive_uniform_fine = false; }, "Leave out the uniform "
                        "fine level beside the adaptive rows (most of their time: uniform level 6 runs about 190 ms a frame)");
   c->add_option("--contact", a.model_contact, "How the 'hertz' and adaptive rows' sphere loads the lattice: "
@@ -251,6 +256,8 @@ int run_bench(BenchArgs& a) {
     std::string bad;
     if (!parse_number_list(a.poisson_text, "--poisson", 0.0, 0.49, &a.model.poisson_ratios, &bad) ||
         !parse_number_list(a.large_strain_text, "--large-strain", 0.0, 0.49, &a.model.large_strain_poisson_ratios,
+                           &bad) ||
+        !parse_number_list(a.adaptive_poisson_text, "--adaptive-poisson", 0.0, 0.49, &a.model.adaptive_poisson_ratios,
                            &bad)) {
       std::fprintf(stderr, "palpate: bench model: %s\n", bad.c_str());
       return 2;
