@@ -1,16 +1,18 @@
 // The static solve and the solved sphere contact on a graded lattice (hanging nodes eliminated, sim/free_coords.h):
 // uniform compression gives the uniform lattice's force and keeps the hanging nodes on their faces; a sphere pressed
 // where the graded lattice is as fine as a uniform one gives that lattice's force; the surface samples of a graded
-// lattice cover its surface once.
+// lattice cover its surface once; the graded Hertz block names a bad block scale or coarse level.
 #include "sim/free_coords.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "sim/graded_zone.h"
 #include "sim/hanging.h"
+#include "sim/hertz_reference.h"
 #include "sim/refined_lattice.h"
 #include "sim/sphere_contact.h"
 #include "sim/static_solve.h"
@@ -127,6 +129,20 @@ TEST(GradedStatic, SurfaceSamplesCoverTheSurfaceOnce) {
   EXPECT_NEAR(all_m2, 6.0 * kSide_m * kSide_m, 1e-12);
   EXPECT_NEAR(top_m2, kSide_m * kSide_m, 1e-12);
   EXPECT_GT(fine_top, 0u);
+}
+
+TEST(GradedStatic, HertzBlockNamesABadScaleOrCoarseLevel) {
+  MaterialSpec m = spec_at(kFine).material;
+  HertzSolvedOptions o;
+  o.block_scale = 3;
+  auto r = solve_hertz_block(m, 5, 0.1, 2.5e-4, o);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("block scale 3 is not 1, 2 or 4"), std::string::npos) << r.error().message;
+  o.block_scale = 1;
+  o.coarse_level = 6;
+  r = solve_hertz_block(m, 5, 0.1, 2.5e-4, o);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("coarse level 6 is not in [2, 5]"), std::string::npos) << r.error().message;
 }
 
 }  // namespace
