@@ -22,6 +22,10 @@ struct HertzSolvedOptions {
   bool iterative = false;          ///< conjugate gradients instead of LDL^T (large lattices)
   double block_side_m = 0.08;      ///< the block's width (its depth is half of it); cells block_side_m / 2^(level-1)
   bool sliding_floor = false;      ///< the floor held in z only (else fixed)
+  int coarse_level = 0;            ///< > 0: graded (sim/graded_zone.h) from cells of this level far away to `level`
+                                   ///< near the contact (0: uniform at `level`)
+  double zone_over_contact = 1.0;  ///< the graded zone's radius (cells at `level` within it) over Hertz's sqrt(R d)
+  int block_scale = 1;             ///< the block is this many times (1, 2, 4) block_side_m wide and deep; cells unchanged
 };
 
 /// What the solved indentation gives. Plain data.
@@ -32,12 +36,14 @@ struct HertzSolved {
   double contact_radius_m = 0.0;   ///< farthest sample in contact from the sphere's axis (Hertz: sqrt(R d))
   double max_penetration_m = 0.0;  ///< the penalty's give: the deepest sample inside the sphere
   std::size_t nodes = 0, springs = 0;  ///< the quarter lattice solved
+  std::size_t hanging = 0;         ///< its hanging nodes (graded)
   int active = 0;                  ///< samples in contact (quarter)
   int iterations = 0;              ///< Newton steps
 };
 
 /// The Hertz block of `palpate bench model` (8 x 8 x 4 cm by default, floor fixed, sides and top free) of `material` at lattice
-/// `level` (>= 3; cells 8 cm / 2^(level-1)), a rigid sphere of radius radius_m pressed depth_m into the middle of its
+/// `level` (>= 3; cells 8 cm / 2^(level-1); graded from options.coarse_level, the zone's radius scaled with the contact
+/// radius sqrt(R d); the grid over the quarter at most 8 levels deep), a rigid sphere of radius radius_m pressed depth_m into the middle of its
 /// top (its lowest point depth_m below the rest top), solved on the quarter x, y >= 0 with its symmetry planes
 /// sliding (the lattice is mirror-symmetric, so this is the whole block's solution); force_N is four times the
 /// quarter's. Errors name the level and depth.

@@ -19,6 +19,13 @@ double edge_share(int q, int n) { return (q == 0 || q == n ? 0.5 : 1.0) / n; }
 
 }  // namespace
 
+Result<GridHierarchy> box_grid(const Vec3& size_m, double cube_m, int levels) {
+  // the box's faces sit a hair inside the cell planes, so no cell outside the box touches its surface
+  TriMesh mesh = make_box_mesh(size_m * (1.0 - 1e-6), 1);
+  for (Vec3& v : mesh.vertices_m) v += size_m / 2;
+  return GridHierarchy::build(mesh, Aabb{Vec3::Zero(), Vec3::Constant(cube_m)}, levels);
+}
+
 Result<Lattice> box_lattice(const MaterialSpec& material, double cube_m, int level, const std::array<int, 3>& cells) {
   const int n = 1 << (level - 1);
   for (int a = 0; a < 3; ++a)
@@ -26,11 +33,7 @@ Result<Lattice> box_lattice(const MaterialSpec& material, double cube_m, int lev
       return make_error("box lattice: ", std::to_string(cells[a]), " cells along axis ", std::to_string(a),
                         " out of range [1, ", std::to_string(n), "] at level ", std::to_string(level));
   const double l = cube_m / n;
-  const Vec3 size(cells[0] * l, cells[1] * l, cells[2] * l);
-  // the box's faces sit a hair inside the cell planes, so no cell outside the box touches its surface
-  TriMesh mesh = make_box_mesh(size * (1.0 - 1e-6), 1);
-  for (Vec3& v : mesh.vertices_m) v += size / 2;
-  auto grid = GridHierarchy::build(mesh, Aabb{Vec3::Zero(), Vec3::Constant(cube_m)}, level);
+  auto grid = box_grid(Vec3(cells[0] * l, cells[1] * l, cells[2] * l), cube_m, level);
   if (!grid) return grid.error();
   LatticeSpec spec;
   spec.level = level;

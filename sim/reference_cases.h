@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/grid_hierarchy.h"
 #include "core/result.h"
 #include "core/scene.h"
 #include "sim/lattice.h"
@@ -33,6 +34,11 @@ struct ReferenceCheck {
   std::size_t springs = 0;         ///< lattice springs
   SettleReport settle;             ///< frames to rest, substeps, ms per frame
 };
+
+/// A grid of `levels` levels over the cube [0, cube_m]^3 of a box of size_m in its corner, the box's faces a hair inside
+/// the cell planes (so its cells are exactly those the box fills when size_m is a whole number of cells). Errors as
+/// GridHierarchy::build.
+Result<GridHierarchy> box_grid(const Vec3& size_m, double cube_m, int levels);
 
 /// A lattice at `level` over a box of cells[0] x cells[1] x cells[2] cells in the corner of a grid cube of side
 /// cube_m (cells at that level: cube_m / 2^(level-1)); no node fixed. Errors name the level and cell counts.

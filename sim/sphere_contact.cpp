@@ -4,12 +4,15 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <utility>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 #include "sim/forces.h"
+#include "sim/free_coords.h"
+#include "sim/hanging.h"
 #include "sim/local_global.h"
 #include "sim/static_solve.h"
 
@@ -23,6 +26,17 @@ struct Touch {
   double pen_m = 0.0;      // radius minus distance (> 0)
   double dist_m = 0.0;     // distance from the centre
 };
+
+// Whether the rest point p_m lies in a cell of lat (slot_of_cell at lat.level, whose grid has its origin at origin_m).
+bool in_some_cell(const Lattice& lat, const Vec3& origin_m, const Vec3& p_m) {
+  const int n = lat.cells_per_axis;
+  int g[3];
+  for (int a = 0; a < 3; ++a) {
+    g[a] = static_cast<int>(std::floor((p_m[a] - origin_m[a]) / lat.cell_m));
+    if (g[a] < 0 || g[a] >= n) return false;
+  }
+  return lat.slot_of_cell[static_cast<std::size_t>(g[0] + n * (g[1] + n * g[2]))] >= 0;
+}
 
 }  // namespace
 
@@ -45,6 +59,14 @@ std::vector<SurfaceSample> lattice_surface_samples(const Lattice& lat, int per_e
       }
   std::vector<SurfaceSample> out;
   const int m = std::max(per_edge, 1);
+  // on a refined lattice a face of one cell may still be inside, against smaller or larger cells across it: a sample
+  // with a cell half a fine cell beyond it is left out. The grid's origin from node 0 (grid_node at lat.level)
+  const bool refined = !lat.cell_span.empty();
+  Vec3 origin_m = Vec3::Zero();
+  if (refined) {
+    const int nv = lat.cells_per_axis + 1, g0 = lat.grid_node[0];
+    origin_m = lat.rest_m[0] - lat.cell_m * Vec3(g0 % nv, (g0 / nv) % nv, g0 / (nv * nv));
+  }
   for (const auto& [key, list] : faces) {
     if (list.size() != 1) continue;  // shared by two cells: inside
     const Face& f = list.front();
@@ -68,6 +90,7 @@ std::vector<SurfaceSample> lattice_surface_samples(const Lattice& lat, int per_e
         s.count = 4;
         const double w[4] = {(1 - u) * (1 - v), u * (1 - v), (1 - u) * v, u * v};
         for (int q = 0; q < 4; ++q) s.node[q] = corner[q], s.weight[q] = w[q];
+        if (refined && in_some_cell(lat, origin_m, sample_position(s, lat.rest_m) + 0.5 * lat.cell_m * outward)) continue;
         s.area_m2 = edge * edge / (m * m);
         out.push_back(s);
       }
@@ -92,10 +115,11 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
     return make_error("sphere contact: penalty ", std::to_string(options.penalty_Pa_per_m), " Pa/m and radius ",
                       std::to_string(radius_m), " m must be > 0");
   const std::size_t n = lat->num_nodes();
-  std::vector<int> col;
-  const int free = number_free_dofs(*lat, held_dof, &col);
   const bool free_sphere = options.coupling_N_per_m > 0.0;
-  const int dofs = free + (free_sphere ? 3 : 0);
+  // the lattice's free coordinates (hanging nodes eliminated), then the centre's when free
+  const FreeCoords fc = free_coords(*lat, held_dof, free_sphere ? 3 : 0);
+  const std::vector<int>& col = fc.col;
+  const int dofs = fc.free, sphere_row = fc.lattice_rows;
   SphereContactResult rep;
   rep.centre_m = centre_m;
   if (dofs == 0) return rep;
@@ -123,6 +147,7 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
     return e;
   };
   std::vector<Vec3> x_before;
+  spread_hanging(*lat, &lat->x_m);
   for (int it = 0; it <= options.max_iterations; ++it) {
     // the samples inside the sphere now
     touch.clear();
@@ -150,8 +175,7 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
       on_sphere -= fs;
       deepest = std::max(deepest, t.pen_m);
     }
-    for (std::size_t d = 0; d < 3 * n; ++d)
-      if (col[d] >= 0) r[col[d]] = f[d / 3][static_cast<int>(d % 3)];
+    reduce_forces(*lat, fc, &f, &r);
     if (free_sphere) r.tail<3>() = on_sphere + options.coupling_N_per_m * (options.device_m - c);
     rep.force_N = on_sphere;
     rep.centre_m = c;
@@ -195,15 +219,16 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
           for (int j = 0; j < 3; ++j) {
             const int ri = col[3 * np + i];
             if (ri < 0) continue;
-            trip.emplace_back(ri, free + j, -s.weight[p] * k(i, j));
-            trip.emplace_back(free + j, ri, -s.weight[p] * k(j, i));
+            trip.emplace_back(ri, sphere_row + j, -s.weight[p] * k(i, j));
+            trip.emplace_back(sphere_row + j, ri, -s.weight[p] * k(j, i));
           }
       }
-      if (free_sphere) add_block(free, free, k);
+      if (free_sphere) add_block(sphere_row, sphere_row, k);
     }
-    if (free_sphere) add_block(free, free, options.coupling_N_per_m * Mat3::Identity());
-    Eigen::SparseMatrix<double> k(dofs, dofs);
-    k.setFromTriplets(trip.begin(), trip.end());
+    if (free_sphere) add_block(sphere_row, sphere_row, options.coupling_N_per_m * Mat3::Identity());
+    Eigen::SparseMatrix<double> assembled(fc.assembled(), fc.assembled());
+    assembled.setFromTriplets(trip.begin(), trip.end());
+    const Eigen::SparseMatrix<double> k = reduce_stiffness(fc, std::move(assembled));
     if (options.iterative) {
       cg.compute(k);
       dx = cg.solve(r);
@@ -228,8 +253,7 @@ Result<SphereContactResult> solve_sphere_contact(Lattice* lat, const std::vector
     const Vec3 c_before = c;
     double step = 1.0;
     for (int halving = 0; halving < 30; ++halving, step *= 0.5) {
-      for (std::size_t d = 0; d < 3 * n; ++d)
-        if (col[d] >= 0) lat->x_m[d / 3][static_cast<int>(d % 3)] = x_before[d / 3][static_cast<int>(d % 3)] + step * dx[col[d]];
+      move_free(fc, x_before, dx, step, lat);
       if (free_sphere) c = c_before + step * dx.tail<3>();
       if (energy_J(c) <= e0 + 1e-12 * std::abs(e0)) break;
     }

@@ -26,9 +26,10 @@ struct SurfaceSample {
   double area_m2 = 0.0;            ///< the surface it stands for
 };
 
-/// Samples of a uniform lattice's boundary faces (a face of one cell only, whose four corners are not all fixed):
-/// per_edge x per_edge points on each, at the centres of equal sub-squares, bilinear in the face's corners, each
-/// carrying l^2 / per_edge^2. facing (a unit axis, or zero for every face) keeps the faces whose outward normal it is.
+/// Samples of a lattice's boundary faces (a face of one cell only, whose four corners are not all fixed): per_edge x
+/// per_edge points on each, at the centres of equal sub-squares, bilinear in the face's corners, each carrying
+/// l^2 / per_edge^2 (l the cell's edge). On a refined lattice, points of such a face with a cell of another size across
+/// them are inside and left out. facing (a unit axis, or zero for every face) keeps the faces whose outward normal it is.
 std::vector<SurfaceSample> lattice_surface_samples(const Lattice& lat, int per_edge, const Vec3& facing = Vec3::Zero());
 
 /// The position of sample s on the lattice at positions x_m.

@@ -4,12 +4,15 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 #include "sim/forces.h"
+#include "sim/free_coords.h"
+#include "sim/hanging.h"
 #include "sim/neo_hookean_term.h"
 #include "sim/volume_term.h"
 
@@ -78,21 +81,11 @@ void add_stiffness_triplets(const Lattice& lat, const std::vector<int>& col, std
   }
 }
 
-int number_free_dofs(const Lattice& lat, const std::vector<uint8_t>& held_dof, std::vector<int>* col) {
-  col->assign(3 * lat.num_nodes(), -1);
-  int free = 0;
-  for (std::size_t d = 0; d < col->size(); ++d) {
-    const bool held = held_dof.empty() ? lat.fixed[d / 3] != 0 : held_dof[d] != 0;
-    if (!held) (*col)[d] = free++;
-  }
-  return free;
-}
-
 Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held_dof, const std::vector<Vec3>& f_ext_N,
                                   const StaticOptions& options) {
   const std::size_t n = lat->num_nodes();
-  std::vector<int> col;
-  const int free = number_free_dofs(*lat, held_dof, &col);
+  const FreeCoords fc = free_coords(*lat, held_dof);
+  const int free = fc.free;
   StaticReport rep;
   if (free == 0) return rep;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
@@ -102,23 +95,24 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
   cg.setMaxIterations(20000);
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::VectorXd r(free), dx(free);
+  spread_hanging(*lat, &lat->x_m);
   for (int it = 0; it <= options.max_iterations; ++it) {
     // residual: spring + gravity + external force on the free DOFs
-    const std::vector<Vec3> f = spring_forces_N(*lat, lat->x_m);
+    std::vector<Vec3> f = spring_forces_N(*lat, lat->x_m);
     for (std::size_t i = 0; i < n; ++i) {
-      Vec3 fi = f[i] + lat->mass_kg[i] * lat->gravity_m_per_s2;
-      if (!f_ext_N.empty()) fi += f_ext_N[i];
-      for (int a = 0; a < 3; ++a)
-        if (col[3 * i + a] >= 0) r[col[3 * i + a]] = fi[a];
+      f[i] += lat->mass_kg[i] * lat->gravity_m_per_s2;
+      if (!f_ext_N.empty()) f[i] += f_ext_N[i];
     }
+    reduce_forces(*lat, fc, &f, &r);
     rep.max_residual_N = r.cwiseAbs().maxCoeff();
     if (it > 0 && dx.cwiseAbs().maxCoeff() < options.step_tol_m) return rep;
     if (it == options.max_iterations) break;
-    // tangent stiffness K (f(x + dx) ~ f(x) - K dx), assembled over free DOFs
+    // tangent stiffness K (f(x + dx) ~ f(x) - K dx), assembled over the DOFs not held, reduced to the free ones
     trip.clear();
-    add_stiffness_triplets(*lat, col, &trip);
-    Eigen::SparseMatrix<double> k(free, free);
-    k.setFromTriplets(trip.begin(), trip.end());
+    add_stiffness_triplets(*lat, fc.col, &trip);
+    Eigen::SparseMatrix<double> assembled(fc.assembled(), fc.assembled());
+    assembled.setFromTriplets(trip.begin(), trip.end());
+    const Eigen::SparseMatrix<double> k = reduce_stiffness(fc, std::move(assembled));
     if (options.iterative) {
       cg.compute(k);
       dx = cg.solve(r);
@@ -126,8 +120,7 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
         return make_error("static solve: conjugate gradients did not converge (", std::to_string(free), " free DOFs, ",
                           std::to_string(cg.iterations()), " iterations, error ", std::to_string(cg.error()),
                           ") at Newton step ", std::to_string(it));
-      for (std::size_t d = 0; d < 3 * n; ++d)
-        if (col[d] >= 0) lat->x_m[d / 3][static_cast<int>(d % 3)] += dx[col[d]];
+      move_free(fc, lat->x_m, dx, 1.0, lat);
       rep.iterations = it + 1;
       continue;
     }
@@ -139,8 +132,7 @@ Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held
     if (!dx.allFinite() || (ldlt.vectorD().array() <= 0.0).any())
       return make_error("static solve: stiffness matrix (", std::to_string(free), " free DOFs) is not positive definite at Newton step ",
                         std::to_string(it), "; hold enough DOFs to remove rigid motion");
-    for (std::size_t d = 0; d < 3 * n; ++d)
-      if (col[d] >= 0) lat->x_m[d / 3][static_cast<int>(d % 3)] += dx[col[d]];
+    move_free(fc, lat->x_m, dx, 1.0, lat);
     rep.iterations = it + 1;
   }
   return make_error("static solve: no convergence after ", std::to_string(options.max_iterations),

@@ -26,19 +26,17 @@ struct StaticReport {
   double max_residual_N = 0.0;    ///< largest free-DOF force imbalance at the end
 };
 
-/// Numbers the free DOFs: (*col)[d] for each of the 3 n DOFs, -1 where held (held_dof, or when empty the node's
-/// fixed flag); returns how many are free.
-int number_free_dofs(const Lattice& lat, const std::vector<uint8_t>& held_dof, std::vector<int>* col);
-
 /// Moves the free DOFs of lat->x_m to equilibrium of the springs, gravity (mass_kg g) and f_ext_N (n, or empty).
 /// held_dof (3n, dof 3i + axis; empty = every DOF of lat->fixed nodes) marks DOFs kept at their current lat->x_m,
-/// which may be displaced from rest (prescribed displacement). Velocities are left alone. Errors when the system
+/// which may be displaced from rest (prescribed displacement). On a refined lattice the hanging nodes follow their
+/// masters (sim/free_coords.h; they are put on their faces first). Velocities are left alone. Errors when the system
 /// is singular (free rigid modes) or the iteration does not converge, naming the step and residual.
 Result<StaticReport> solve_static(Lattice* lat, const std::vector<uint8_t>& held_dof, const std::vector<Vec3>& f_ext_N,
                                   const StaticOptions& options = {});
 
 /// Adds the lattice's tangent stiffness K at lat.x_m (springs, volume and Neo-Hookean terms; f(x + dx) ~ f(x) - K dx)
-/// to trip as entries (col[dof a], col[dof b], K_ab); col (3n) numbers the unknown DOFs, -1 for the held ones.
+/// to trip as entries (col[dof a], col[dof b], K_ab); col (3n) numbers the unknown DOFs, -1 for the held ones
+/// (FreeCoords::col: hanging nodes' DOFs included, reduced afterwards).
 /// clamp_compression drops a compressed spring's transverse term (sim/forces.h), keeping the springs' part definite.
 void add_stiffness_triplets(const Lattice& lat, const std::vector<int>& col, std::vector<Eigen::Triplet<double>>* trip,
                             bool clamp_compression = false);

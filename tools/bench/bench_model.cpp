@@ -175,25 +175,33 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     return row;
   };
   // Hertz with the contact solved under the sphere (sim/hertz_reference.h): prescribed depth, solved force; one row
-  // per depth, CPU ms of the whole static solve in the CPU column and its Newton steps in the last
-  auto run_solved = [&](const MaterialSpec& mat, int level) -> Status {
+  // per depth, CPU ms of the whole static solve in the CPU column and its Newton steps in the last; graded from
+  // `coarse` (> 0) to `level` near the contact (printed coarse>level)
+  auto run_solved = [&](const MaterialSpec& mat, int level, int coarse = 0) -> Status {
     for (double depth : kSolvedDepths_m) {
-      std::fprintf(stderr, "bench model: hertz solved, level %d, depth %.2f mm, nu %.2f ...\n", level, 1e3 * depth,
+      std::fprintf(stderr, "bench model: hertz solved, level %d%s, depth %.2f mm, nu %.2f ...\n", level,
+                   coarse > 0 ? (" graded from " + std::to_string(coarse)).c_str() : "", 1e3 * depth,
                    represented_poisson(mat));
       ThreadCpuClock cpu;
       const double c0 = cpu.now_ms();
       HertzSolvedOptions ho;
-      ho.iterative = level >= 7;
+      ho.iterative = coarse == 0 && level >= 7;
+      ho.coarse_level = coarse;
+      ho.zone_over_contact = o.solved_zone;
+      ho.block_scale = o.solved_block_scale;
       auto r = solve_hertz_block(mat, level, kHertzRadius_m, depth, ho);
       if (!r) return make_error("bench model: ", r.error().message);
       Row row;
       row.reference = depth < 5e-4 ? "hertz-s.25mm" : "hertz-s 1mm";
-      row.level = level;
+      row.level = coarse > 0 ? coarse : level;
+      row.refine_level = coarse > 0 ? level : 0;
       row.nu = represented_poisson(mat);
       row.model_kind = mat.model;
       row.nodes = r.value().nodes, row.springs = r.value().springs, row.model = r.value().force_N;
       row.closed_form = r.value().closed_form_N, row.rel_error = r.value().rel_error, row.unit = "N";
       row.ms_per_frame = cpu.now_ms() - c0, row.frames = r.value().iterations;
+      std::fprintf(stderr, "bench model: ... %+.2f %% of Hertz, %zu nodes, %.2f s CPU\n", 100.0 * row.rel_error, row.nodes,
+                   1e-3 * row.ms_per_frame);
       rows.push_back(row);
     }
     return Ok{};
@@ -202,6 +210,11 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     for (int level : o.levels)
       if (level >= 3)
         if (auto st = run_solved(m, level); !st) return st.error();
+  if (wanted("hertz-solved"))
+    for (int coarse : o.solved_adaptive_levels)
+      for (int fine : o.solved_fine_levels)
+        if (coarse >= 3 && fine > coarse)
+          if (auto st = run_solved(m, fine, coarse); !st) return st.error();
   for (const char* ref : {"compression", "cantilever", "hertz"}) {
     if (!wanted(ref)) continue;
     for (int level : o.levels) {
@@ -356,7 +369,8 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
        "plate's force against the Richardson extrapolation of the three levels (not a closed form; order p observed);\n"
        "hertz-s: the contact solved under the sphere (R 10 cm pressed 0.25 or 1 mm into the hertz block; the lattice's\n"
        "surface kept outside it, the force the sum of the reactions), model = solved force against Hertz's at that depth;\n"
-       "its CPU column is the whole static solve's CPU ms (one thread), its last column the Newton steps\n";
+       "its CPU column is the whole static solve's CPU ms (one thread), its last column the Newton steps; level C>F:\n"
+       "graded from level C far away to F within --solved-zone contact radii of the axis (twice that into the body)\n";
   if (!o.press_scene.empty()) {
     auto press = run_solved_press(o.press_scene, o.press_young_modulus_Pa, o.press_levels);
     if (!press) return make_error("bench model: ", press.error().message);

@@ -45,6 +45,10 @@ struct BenchModelOptions {
                                                      ///< the contact puts it (device.contact "solved"), not by Hertz
   std::vector<double> adaptive_poisson_ratios;       ///< also those rows for material.model poisson_model at each nu
                                                      ///< (beside the springs ones); empty: springs only
+  std::vector<int> solved_adaptive_levels;           ///< coarse levels of graded "hertz-solved" rows (springs; none: empty)
+  std::vector<int> solved_fine_levels{7, 8};         ///< their fine levels, near the contact
+  double solved_zone = 1.0;                          ///< their fine zone's radius over the contact radius sqrt(R d)
+  int solved_block_scale = 1;                        ///< every hertz-solved block this many times 8 x 8 x 4 cm (1, 2, 4)
   std::string press_scene;                           ///< a scene whose tool press is solved per press_levels (tools/bench/
                                                      ///< bench_press.h); empty: none
   std::vector<int> press_levels{3, 4, 5};            ///< lattice levels of that press

@@ -191,6 +191,16 @@ void add_model(CLI::App* bench, BenchArgs& a) {
   c->add_option("--contact", a.model_contact, "How the 'hertz' and adaptive rows' sphere loads the lattice: "
                 "prescribed (Hertz's pressure) or solved (where the surface, deformed by the push, meets the sphere: "
                 "Hertz only the check; device.contact)")->check(CLI::IsMember({"prescribed", "solved"}))->capture_default_str();
+  c->add_option("--solved-adaptive", mo.solved_adaptive_levels, "Coarse levels of graded hertz-solved rows (springs): "
+                "the block graded from each to every --solved-fine level near the contact (none: empty)")
+      ->delimiter(',')->check(CLI::Range(3, 7));
+  c->add_option("--solved-fine", mo.solved_fine_levels, "Fine levels of those rows")->delimiter(',')
+      ->check(CLI::Range(4, 8))->capture_default_str();
+  c->add_option("--solved-zone", mo.solved_zone, "Their fine zone's radius in contact radii sqrt(R d) (twice that into "
+                "the body, coarser rings within twice the next one's)")->check(finite_range(0.1, 20.0))->capture_default_str();
+  c->add_option("--solved-block-scale", mo.solved_block_scale, "Every hertz-solved block this many times 8 x 8 x 4 cm, "
+                "same cells: 1, 2 or 4 (the held floor and sides further away)")->check(CLI::IsMember({1, 2, 4}))
+      ->capture_default_str();
   c->add_option("--press", mo.press_scene, "Also solve this scene's tool press (the tool a rigid sphere of its radius, "
                 "the contact found from the lattice's deformation) at --press-levels");
   c->add_option("--press-levels", mo.press_levels, "Lattice levels of that press")->delimiter(',')
