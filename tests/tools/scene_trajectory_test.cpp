@@ -149,6 +149,32 @@ TEST(SceneTrajectory, ACutOnABracketsNarrowArmRunsAlongItAndIsLongInTheScenesVie
   EXPECT_TRUE(has_note(g, "blade drawn along")) << g.notes.back();
 }
 
+TEST(SceneTrajectory, ACutThatWouldCrossAThinStubGoesInWhereItsPathIsLong) {
+  // a stub 8 x 8 x 30 mm standing on the middle of a bar 100 x 10 x 10 mm: from above, the stub's top (8 mm
+  // across) is met first, and a stroke on it stays on the surface 4 to 6 mm; on the bar's top, tens of mm
+  TriMesh m = make_box_mesh(Vec3(8.0, 8.0, 30.0), 3);
+  for (Vec3& v : m.vertices_m) v += Vec3(1.0, 0.5, 0.0);  // the centre line off the edges of its top's triangles
+  TriMesh bar = make_box_mesh(Vec3(100.0, 10.0, 10.0), 8);
+  for (Vec3& v : bar.vertices_m) v += Vec3(0.0, 0.0, -10.0);
+  for (auto t : bar.triangles) {
+    for (auto& i : t) i += static_cast<int32_t>(m.vertices_m.size());
+    m.triangles.push_back(t);
+  }
+  m.vertices_m.insert(m.vertices_m.end(), bar.vertices_m.begin(), bar.vertices_m.end());
+  SceneRequest rq;
+  rq.mesh_path = write_model("stub_and_bar.obj", test::obj_text(m));
+  rq.up_axis = 'z';
+  rq.mode = InteractionMode::kCut;
+  auto g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  EXPECT_TRUE(has_note(g.value(), "cut: in at")) << g.value().notes.back();
+  // on the bar's top: z = -5 mm (the model's box, z from -15 to 15 mm, is centred as it is)
+  EXPECT_NEAR(g.value().surface_point_m.z(), -0.005, 1e-6);
+  // a touch still comes down on the stub
+  rq.mode = InteractionMode::kTouch;
+  EXPECT_NEAR(generate_scene(rq).value().surface_point_m.z(), 0.015, 1e-6);
+}
+
 TEST(SceneTrajectory, ACutIsSeenFromTheFrontOfTheFaceItEntersAndDrawnSolid) {
   // a face met from above is seen from above, turned toward the default view (the groove has depth)
   const Vec3 top = cut_view_from(Vec3(0, 0, -1), Vec3::UnitZ());

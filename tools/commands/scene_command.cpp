@@ -27,6 +27,8 @@ constexpr double kSize_m = 0.1;          // largest side after normalisation, as
 constexpr double kClearance_m = 0.03;    // the tool starts and ends this far out of the surface
 constexpr double kCutMaxEdgeCells = 2.0;  // a cut scene's longest edge, in lattice cells, after its subdivisions
 constexpr std::size_t kCutSubdivideMaxTriangles = 20'000;  // no subdivision past this many triangles
+constexpr double kShortRun = 0.25;       // a cut's incision shorter than this fraction of the model is short ...
+constexpr double kLongerRun = 1.5;       // ... and another way in is taken when its stroke is this much longer
 constexpr double kSceneWireMinEdgePx = 4.0;  // render.wire_min_edge_px: no wireframe over a finer mesh (below)
 
 std::string mm3(const Vec3& p_m) {
@@ -189,8 +191,9 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   if (!model.orientation.notice().empty()) g.notes.push_back(model.orientation.notice());
   const Aabb box = Aabb::of(model.rest.vertices_m);
 
-  // the surface point and the direction the tool comes in along
+  // the surface point and the direction the tool comes in along (a cut: other points it may enter at, below)
   double clearance_m = kClearance_m;
+  std::vector<SurfaceHit> more;
   if (rq.at_raw) {
     const Vec3 at_m = model.normalization.scale * file_to_world_axes(*rq.at_raw, up) + model.normalization.offset_m;
     const auto hit = nearest_surface_point(model, at_m);
@@ -215,9 +218,10 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
         sides.push_back(s);
     bool offset = false;
     std::optional<SurfaceHit> hit;
+    more.clear();
     Vec3 from = sides.front();
     for (const Vec3& s : sides) {
-      hit = surface_from(model, box, s, kGrabRadius_m, &offset);
+      hit = surface_from(model, box, s, kGrabRadius_m, &offset, rq.mode == InteractionMode::kCut ? &more : nullptr);
       if (hit) {
         from = s;
         break;
@@ -239,9 +243,32 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
                       (hidden ? "; a face turned away lies in front of it (an open shell, or a part inside another)" : ""));
   }
 
+  double depth_m = 1e-3 * (rq.depth_mm > 0.0 ? rq.depth_mm : rq.mode == InteractionMode::kPull ? 15.0 : 10.0);
+  CutStroke stroke;
+  if (rq.mode == InteractionMode::kCut) {
+    stroke = choose_cut_stroke(model, box, g.surface_point_m, g.approach, depth_m, clearance_m);
+    // a short incision (a thin limb under the point) moves the way in to where a stroke stays on the surface at
+    // least half as long again, the longest of those (the nearest the centre on a tie)
+    const double first_run_m = stroke.run_m;
+    if (first_run_m < kShortRun * box.extent().maxCoeff())
+      for (const SurfaceHit& h : more) {
+        const CutStroke other = choose_cut_stroke(model, box, h.point_m, g.approach, depth_m, clearance_m);
+        if (other.run_m < kLongerRun * first_run_m || other.run_m <= stroke.run_m) continue;
+        stroke = other;
+        g.surface_point_m = h.point_m;
+        g.surface_normal = h.normal;
+      }
+    if (stroke.run_m > first_run_m) {
+      std::snprintf(buf, sizeof buf, "cut: in at %s instead, where the blade's path stays on the surface %.0f mm "
+                    "(%.0f mm at the first point)", mm3(g.surface_point_m).c_str(), 1e3 * stroke.run_m, 1e3 * first_run_m);
+      g.notes.push_back(buf);
+    }
+    std::snprintf(buf, sizeof buf, "blade drawn along %s: it crosses the surface over %.0f mm from the point",
+                  dir_name(stroke.across).c_str(), 1e3 * stroke.run_m);
+    g.notes.push_back(buf);
+  }
   const Vec3 P = g.surface_point_m;
   const Vec3 d = g.approach;
-  double depth_m = 1e-3 * (rq.depth_mm > 0.0 ? rq.depth_mm : rq.mode == InteractionMode::kPull ? 15.0 : 10.0);
   // a press or a pull goes at most half through the body under the point: the default 10 mm pressed a 5 mm plate
   // through (a cut goes in as deep as asked: a thin part is cut through)
   if (rq.mode != InteractionMode::kCut) {
@@ -255,13 +282,6 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
       g.notes.push_back(buf);
       if (rq.depth_mm == 0.0) depth_m = bound_m;
     }
-  }
-  const CutStroke stroke = rq.mode == InteractionMode::kCut ? choose_cut_stroke(model, box, P, d, depth_m, clearance_m)
-                                                            : CutStroke{};
-  if (rq.mode == InteractionMode::kCut) {
-    std::snprintf(buf, sizeof buf, "blade drawn along %s: it crosses the surface over %.0f mm from the point",
-                  dir_name(stroke.across).c_str(), 1e3 * stroke.run_m);
-    g.notes.push_back(buf);
   }
 
   nlohmann::ordered_json j;
