@@ -15,6 +15,7 @@
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
+#include "support/obj_text.h"
 #include "support/read_file.h"
 #include "tools/commands/scene_command.h"
 #include "tools/session/model.h"
@@ -31,13 +32,8 @@ using test::write_text;
 // A 4 x 2 x 1 box (raw units) centred at (10, 0, 0), as an OBJ; normalised to 100 x 50 x 25 mm at the origin.
 std::string box_obj(const std::string& dir) {
   fs::create_directories(dir);
-  const TriMesh m = make_box_mesh(Vec3(4.0, 2.0, 1.0), 2);
-  std::string text;
-  for (const Vec3& v : m.vertices_m) text += "v " + std::to_string(v.x() + 10.0) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
-  for (const auto& t : m.triangles)
-    text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
   const std::string path = (fs::path(dir) / "box.obj").string();
-  write_text(path, text);
+  write_text(path, test::obj_text(make_box_mesh(Vec3(4.0, 2.0, 1.0), 2), Vec3(10.0, 0.0, 0.0)));
   return path;
 }
 
@@ -255,13 +251,8 @@ TEST(SceneCommand, NumbersThatAreNotFiniteAreRefused) {
 TEST(SceneCommand, AFlatPlateIsTouchedOnItsFace) {
   const std::string dir = test::fresh_dir("plate_model");
   fs::create_directories(dir);
-  const TriMesh m = make_box_mesh(Vec3(100.0, 5.0, 60.0), 4);
-  std::string text;
-  for (const Vec3& v : m.vertices_m) text += "v " + std::to_string(v.x()) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
-  for (const auto& t : m.triangles)
-    text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
   const std::string path = dir + "/plate.obj";
-  write_text(path, text);
+  write_text(path, test::obj_text(make_box_mesh(Vec3(100.0, 5.0, 60.0), 4)));
   {
     SceneRequest rq;
     rq.mesh_path = path;

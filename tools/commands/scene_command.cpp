@@ -13,9 +13,9 @@
 #include "core/aabb.h"
 #include "core/atomic_file.h"
 #include "core/mesh_io.h"
-#include "render/camera.h"
 #include "tools/session/model.h"
 #include "tools/commands/scene_target.h"
+#include "tools/commands/scene_trajectory.h"
 #include "tools/commands/subcommand.h"
 #include "tools/session/surface_queries.h"
 
@@ -27,11 +27,9 @@ constexpr double kSize_m = 0.1;          // largest side after normalisation, as
 constexpr double kClearance_m = 0.03;    // the tool starts and ends this far out of the surface
 constexpr double kCutMaxEdgeCells = 2.0;  // a cut scene's longest edge, in lattice cells, after its subdivisions
 constexpr std::size_t kCutSubdivideMaxTriangles = 20'000;  // no subdivision past this many triangles
-constexpr double kNear_m = 0.003;        // it slows down this far out before pressing
-constexpr double kGrabGap_m = 0.002;     // pull: the button is pressed this far out (within grab_radius_m)
-constexpr double kGrabRadius_m = 0.008;  // interaction.grab_radius_m, as the shipped scenes
+constexpr double kShortRun = 0.25;       // a cut's incision shorter than this fraction of the model is short ...
+constexpr double kLongerRun = 1.5;       // ... and another way in is taken when its stroke is this much longer
 constexpr double kSceneWireMinEdgePx = 4.0;  // render.wire_min_edge_px: no wireframe over a finer mesh (below)
-constexpr double kCutViewTurn = 0.6;     // a cut scene's view: from the blade's side, this much of the default view
 
 std::string mm3(const Vec3& p_m) {
   char buf[96];
@@ -46,8 +44,6 @@ std::string dir_name(const Vec3& d) {
   std::snprintf(buf, sizeof buf, "(%.2f, %.2f, %.2f)", d.x(), d.y(), d.z());
   return buf;
 }
-
-double round_um(double x_m) { return std::round(x_m * 1e6) / 1e6; }
 
 // most characters of a scene's name (as the scene reader allows)
 constexpr std::size_t kMaxSceneName = 64;
@@ -95,70 +91,6 @@ std::string scene_text(const nlohmann::ordered_json& j) {
     first = false;
   }
   return s + "\n}\n";
-}
-
-nlohmann::ordered_json vec_json(const Vec3& v) { return {round_um(v.x()), round_um(v.y()), round_um(v.z())}; }
-
-nlohmann::ordered_json key(double t_s, const Vec3& p_m, bool button, const std::optional<Quat>& q = std::nullopt) {
-  nlohmann::ordered_json k;
-  k["t_s"] = t_s;
-  k["pos_m"] = vec_json(p_m);
-  if (button) k["button"] = true;
-  if (q) k["orientation_wxyz"] = {q->w(), q->x(), q->y(), q->z()};
-  return k;
-}
-
-// The interaction section and the keyframes: from clearance_m out along the approach d to the surface point P, then
-// a press of depth_m (touch), a grab pulled out by depth_m (pull), or a blade in by depth_m drawn across the box to
-// its far side (cut), and away again. Returns the scene's duration.
-double add_trajectory(InteractionMode mode, const Vec3& P, const Vec3& d, double clearance_m, double depth_m,
-                      const Aabb& box, nlohmann::ordered_json* j) {
-  const Vec3 start = P - clearance_m * d;
-  nlohmann::ordered_json traj = nlohmann::ordered_json::array();
-  double duration_s = 3.5;
-  if (mode == InteractionMode::kTouch) {
-    (*j)["interaction"] = {{"mode", "touch"}, {"grab_radius_m", kGrabRadius_m}};
-    const Vec3 pressed = P + depth_m * d;
-    traj = {key(0.0, start, false), key(0.4, start, false), key(1.2, P - kNear_m * d, false), key(2.0, pressed, false),
-            key(2.6, pressed, false), key(3.2, start, false)};
-  } else if (mode == InteractionMode::kPull) {
-    (*j)["interaction"] = {{"mode", "pull"}, {"grab_radius_m", kGrabRadius_m}};
-    const Vec3 grab = P - kGrabGap_m * d;
-    const Vec3 pulled = grab - depth_m * d;
-    traj = {key(0.0, start, false), key(0.8, grab, false), key(1.0, grab, true), key(2.0, pulled, true),
-            key(2.6, pulled, true), key(2.8, pulled, false), key(3.2, pulled - kNear_m * d, false)};
-  } else {
-    // the blade points back out of the surface; it goes in by depth, then across the model to its far side
-    const Quat q = Quat::FromTwoVectors(Vec3::UnitZ(), -d);
-    Vec3 across = Vec3::Zero();
-    double best = -1.0;
-    for (int a = 0; a < 3; ++a) {
-      Vec3 ax = Vec3::Zero();
-      ax[a] = 1.0;
-      const Vec3 s = ax - ax.dot(d) * d;
-      if (s.norm() < 0.5) continue;
-      if (box.extent()[a] * s.norm() > best) {
-        best = box.extent()[a] * s.norm();
-        across = s.normalized();
-      }
-    }
-    auto to_face = [&](const Vec3& s) {
-      double t = 1e9;
-      for (int a = 0; a < 3; ++a)
-        if (std::abs(s[a]) > 1e-9) t = std::min(t, ((s[a] > 0 ? box.max_m[a] : box.min_m[a]) - P[a]) / s[a]);
-      return t;
-    };
-    if (to_face(-across) > to_face(across)) across = -across;
-    const Vec3 in = P + depth_m * d;
-    const Vec3 out = in + (to_face(across) + 0.01) * across;
-    (*j)["interaction"] = {{"mode", "cut"}, {"blade_length_m", round_um(depth_m + clearance_m + 0.01)},
-                        {"cut_resistance_Ns_per_m", 4.0}};
-    traj = {key(0.0, start, false, q), key(0.2, start, true, q), key(1.0, in, true, q), key(2.2, out, true, q),
-            key(2.4, out, false, q),  key(2.8, out - (depth_m + clearance_m) * d, false, q)};
-    duration_s = 3.0;
-  }
-  (*j)["trajectory"] = traj;
-  return duration_s;
 }
 
 }  // namespace
@@ -259,13 +191,15 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   if (!model.orientation.notice().empty()) g.notes.push_back(model.orientation.notice());
   const Aabb box = Aabb::of(model.rest.vertices_m);
 
-  // the surface point and the direction the tool comes in along
+  // the surface point and the direction the tool comes in along (a cut: other points it may enter at, below)
   double clearance_m = kClearance_m;
+  std::vector<SurfaceHit> more;
   if (rq.at_raw) {
     const Vec3 at_m = model.normalization.scale * file_to_world_axes(*rq.at_raw, up) + model.normalization.offset_m;
     const auto hit = nearest_surface_point(model, at_m);
     if (!hit) return make_error("mesh '", rq.mesh_path, "': no surface near --at");
     g.surface_point_m = hit->point_m;
+    g.surface_normal = hit->normal;
     g.approach = -hit->normal;  // into the face from its front, as the servo's touch test expects
     // shorten the way in when other parts of the model stand in front of the face
     const auto block = first_ray_hit(model, hit->point_m + 1e-6 * hit->normal, hit->normal, kClearance_m, false);
@@ -284,9 +218,10 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
         sides.push_back(s);
     bool offset = false;
     std::optional<SurfaceHit> hit;
+    more.clear();
     Vec3 from = sides.front();
     for (const Vec3& s : sides) {
-      hit = surface_from(model, box, s, kGrabRadius_m, &offset);
+      hit = surface_from(model, box, s, kGrabRadius_m, &offset, rq.mode == InteractionMode::kCut ? &more : nullptr);
       if (hit) {
         from = s;
         break;
@@ -299,6 +234,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
     if (from != sides.front())
       g.notes.push_back("no face turned to +z can be touched from above: coming in from " + dir_name(from) + " instead");
     g.surface_point_m = hit->point_m;
+    g.surface_normal = hit->normal;
     g.approach = -from;
     const auto any = first_ray_hit(model, hit->point_m + 0.2 * from, -from, 0.2, false);
     const bool hidden = any && any->distance_m < 0.2 - 1e-6;
@@ -307,9 +243,46 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
                       (hidden ? "; a face turned away lies in front of it (an open shell, or a part inside another)" : ""));
   }
 
+  double depth_m = 1e-3 * (rq.depth_mm > 0.0 ? rq.depth_mm : rq.mode == InteractionMode::kPull ? 15.0 : 10.0);
+  CutStroke stroke;
+  if (rq.mode == InteractionMode::kCut) {
+    stroke = choose_cut_stroke(model, box, g.surface_point_m, g.approach, depth_m, clearance_m);
+    // a short incision (a thin limb under the point) moves the way in to where a stroke stays on the surface at
+    // least half as long again, the longest of those (the nearest the centre on a tie)
+    const double first_run_m = stroke.run_m;
+    if (first_run_m < kShortRun * box.extent().maxCoeff())
+      for (const SurfaceHit& h : more) {
+        const CutStroke other = choose_cut_stroke(model, box, h.point_m, g.approach, depth_m, clearance_m);
+        if (other.run_m < kLongerRun * first_run_m || other.run_m <= stroke.run_m) continue;
+        stroke = other;
+        g.surface_point_m = h.point_m;
+        g.surface_normal = h.normal;
+      }
+    if (stroke.run_m > first_run_m) {
+      std::snprintf(buf, sizeof buf, "cut: in at %s instead, where the blade's path stays on the surface %.0f mm "
+                    "(%.0f mm at the first point)", mm3(g.surface_point_m).c_str(), 1e3 * stroke.run_m, 1e3 * first_run_m);
+      g.notes.push_back(buf);
+    }
+    std::snprintf(buf, sizeof buf, "blade drawn along %s: it crosses the surface over %.0f mm from the point",
+                  dir_name(stroke.across).c_str(), 1e3 * stroke.run_m);
+    g.notes.push_back(buf);
+  }
   const Vec3 P = g.surface_point_m;
   const Vec3 d = g.approach;
-  const double depth_m = 1e-3 * (rq.depth_mm > 0.0 ? rq.depth_mm : rq.mode == InteractionMode::kPull ? 15.0 : 10.0);
+  // a press or a pull goes at most half through the body under the point: the default 10 mm pressed a 5 mm plate
+  // through (a cut goes in as deep as asked: a thin part is cut through)
+  if (rq.mode != InteractionMode::kCut) {
+    const double thick_m = thickness_under(model, P, d, box.extent().norm());
+    const double bound_m = kDepthOfThickness * thick_m;
+    if (std::isfinite(thick_m) && depth_m > bound_m) {
+      std::snprintf(buf, sizeof buf, "%s %.1f mm, %s of the body's %.1f mm under the point%s", rq.mode ==
+                    InteractionMode::kTouch ? "press" : "pull", 1e3 * (rq.depth_mm > 0.0 ? depth_m : bound_m),
+                    rq.depth_mm > 0.0 ? "more than half" : "half", 1e3 * thick_m,
+                    rq.depth_mm > 0.0 ? " (warning: --depth-mm as asked)" : " (shallower than the default)");
+      g.notes.push_back(buf);
+      if (rq.depth_mm == 0.0) depth_m = bound_m;
+    }
+  }
 
   nlohmann::ordered_json j;
   const std::string stem = fs::path(rq.mesh_path).stem().string();
@@ -347,15 +320,16 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
                  {"coupling_damping_Ns_per_m", 0.5}, {"tool_radius_m", 0.002}, {"workspace_half_m", 0.2}};
   j["hand"] = {{"mass_kg", 0.12}, {"stiffness_N_per_m", 150}, {"damping_Ns_per_m", 6}};
 
-  const double duration_s = add_trajectory(rq.mode, P, d, clearance_m, depth_m, box, &j);
+  const double duration_s = add_trajectory(rq.mode, P, d, clearance_m, depth_m, stroke, box, &j);
   // a wireframe only where its lines leave the surface visible: 1-px lines over triangles of edge a px cover about
   // 3.5 / a of it (all of it at a 2.6 px median edge, a 50k-triangle scan in this view), and they cost every frame
   j["render"] = {{"width", 640}, {"height", 480}, {"style", "both"}, {"backend", "auto"},
                  {"wire_min_edge_px", kSceneWireMinEdgePx}};
   if (rq.mode == InteractionMode::kCut) {
-    // a cut is seen from the side the blade comes in, a little turned the default way so the groove has depth: the
-    // fixed front-right-above view sees the top of a flat part edge-on and a slit on the far side not at all
-    const Vec3 v = (-d.normalized() + kCutViewTurn * kDefaultViewFrom.normalized()).normalized();
+    // a cut is drawn solid: its incision shows as a shaded line, and the wireframe of a subdivided part (the
+    // bracket's top: slivers 0.6 mm across, under the median edge the renderer tests) covered it with a moire
+    j["render"]["style"] = "solid";
+    const Vec3 v = cut_view_from(d, g.surface_normal);
     auto r3 = [](double x) { return std::round(1e3 * x) / 1e3; };
     j["render"]["view_from"] = {r3(v.x()), r3(v.y()), r3(v.z())};
   }

@@ -32,6 +32,7 @@ struct GeneratedScene {
   std::vector<std::string> notes;            ///< one line each: up axis, levels, the point chosen
   Vec3 surface_point_m = Vec3::Zero();       ///< the surface point the trajectory works at (world)
   Vec3 approach = -Vec3::UnitZ();            ///< unit direction of the approach (into the surface)
+  Vec3 surface_normal = Vec3::UnitZ();       ///< unit normal of the face at surface_point_m (its front side)
 };
 
 /// Builds the scene. Errors name the mesh or the option ("--from +z: no surface of 'a.obj' faces +z").

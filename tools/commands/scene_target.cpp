@@ -65,7 +65,7 @@ bool feelable(const Model& model, const SurfaceHit& hit, double grab_radius_m) {
 }
 
 std::optional<SurfaceHit> surface_from(const Model& model, const Aabb& box, const Vec3& from, double grab_radius_m,
-                                   bool* offset) {
+                                       bool* offset, std::vector<SurfaceHit>* more) {
   const double reach_m = box.extent().norm() + 0.05;
   const Vec3 u = from.unitOrthogonal();
   const Vec3 v = from.cross(u);
@@ -99,15 +99,22 @@ std::optional<SurfaceHit> surface_from(const Model& model, const Aabb& box, cons
   // the outermost ring stays inside the box: a ray along its border grazes the model
   const double step_u_m = u.cwiseAbs().dot(box.extent()) / 18.0;
   const double step_v_m = v.cwiseAbs().dot(box.extent()) / 18.0;
+  std::optional<SurfaceHit> first;
   for (int ring = 0; ring <= 8; ++ring)
     for (int i = -ring; i <= ring; ++i)
       for (int j = -ring; j <= ring; ++j) {
         if (std::max(std::abs(i), std::abs(j)) != ring) continue;
-        if (auto hit = try_through(box.center() + i * step_u_m * u + j * step_v_m * v)) {
+        auto hit = try_through(box.center() + i * step_u_m * u + j * step_v_m * v);
+        if (!hit) continue;
+        if (!first) {
+          first = hit;
           *offset = ring > 0;
-          return hit;
+        } else {
+          more->push_back(*hit);
         }
+        if (!more || more->size() >= kMoreSurfacePoints) return first;
       }
+  if (first) return first;
   std::vector<std::pair<double, Vec3>> centroids;
   for (const auto& t : mesh.triangles) {
     const Vec3 &a = mesh.vertices_m[t[0]], &b = mesh.vertices_m[t[1]], &c = mesh.vertices_m[t[2]];

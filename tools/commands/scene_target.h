@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/aabb.h"
 #include "core/types.h"
@@ -26,7 +27,11 @@ bool feelable(const Model& model, const SurfaceHit& hit, double grab_radius_m);
 /// (at least min(0.5 mm, a quarter of its inradius) from every edge, so never on an edge two triangles share): on the ray through
 /// the box centre, then on rings of parallel rays around it, then through the centroids of the faces turned to
 /// `from`, nearest the centre line first. *offset tells whether the ray missed the centre. Empty when none is found.
+/// With `more`, the rings are searched on after the first hit and up to kMoreSurfacePoints further hits appended.
 std::optional<SurfaceHit> surface_from(const Model& model, const Aabb& box, const Vec3& from, double grab_radius_m,
-                                       bool* offset);
+                                       bool* offset, std::vector<SurfaceHit>* more = nullptr);
+
+/// How many further surface points surface_from gathers when asked.
+inline constexpr std::size_t kMoreSurfacePoints = 24;
 
 }  // namespace palpate
