@@ -18,19 +18,26 @@ VertexTriangles VertexTriangles::build(std::size_t n_vertices, const std::vector
   return a;
 }
 
+Vec3 vertex_normal(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
+                   const int32_t* ids, std::size_t count) {
+  // the same face normal expression and summation order as compute_vertex_normals
+  Vec3 sum = Vec3::Zero();
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto& t = triangles[static_cast<std::size_t>(ids[k])];
+    sum += (vertices_m[t[1]] - vertices_m[t[0]]).cross(vertices_m[t[2]] - vertices_m[t[0]]);
+  }
+  const double len = sum.norm();
+  if (len > 0.0) sum /= len;
+  return sum;
+}
+
 void update_vertex_normals(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
                            const VertexTriangles& adjacency, const std::vector<int32_t>& vertex_ids,
                            std::vector<Vec3>* normals) {
   for (int32_t v : vertex_ids) {
-    // the same face normal expression and summation order as compute_vertex_normals
-    Vec3 sum = Vec3::Zero();
-    for (int32_t k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
-      const auto& t = triangles[static_cast<std::size_t>(adjacency.triangles[k])];
-      sum += (vertices_m[t[1]] - vertices_m[t[0]]).cross(vertices_m[t[2]] - vertices_m[t[0]]);
-    }
-    const double len = sum.norm();
-    if (len > 0.0) sum /= len;
-    (*normals)[v] = sum;
+    const int32_t begin = adjacency.offsets[v];
+    (*normals)[v] = vertex_normal(vertices_m, triangles, adjacency.triangles.data() + begin,
+                                  static_cast<std::size_t>(adjacency.offsets[v + 1] - begin));
   }
 }
 

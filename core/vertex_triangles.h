@@ -22,6 +22,11 @@ struct VertexTriangles {
   std::size_t num_vertices() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };
 
+/// The unit normal (zero when degenerate) of a vertex met by the `count` triangles `ids` (ascending), bit for bit as
+/// compute_vertex_normals sums it.
+Vec3 vertex_normal(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
+                   const int32_t* ids, std::size_t count);
+
 /// Recomputes the normals of the listed vertices bit for bit as compute_vertex_normals computes them (same
 /// face normals, summed in the same order); other normals are untouched. O(sum of the listed vertices' degrees).
 void update_vertex_normals(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,

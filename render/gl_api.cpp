@@ -22,6 +22,7 @@ Status GlApi::load(GetProc get_proc, const char* backend, const char* loader_nam
   L(&Viewport, "glViewport");
   L(&ClearColor, "glClearColor");
   L(&Clear, "glClear");
+  L(&Scissor, "glScissor");
   L(&Enable, "glEnable");
   L(&Disable, "glDisable");
   L(&DepthFunc, "glDepthFunc");

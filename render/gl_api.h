@@ -21,6 +21,7 @@ struct GlApi {
   decltype(&::glViewport) Viewport = nullptr;
   decltype(&::glClearColor) ClearColor = nullptr;
   decltype(&::glClear) Clear = nullptr;
+  decltype(&::glScissor) Scissor = nullptr;
   decltype(&::glEnable) Enable = nullptr;
   decltype(&::glDisable) Disable = nullptr;
   decltype(&::glDepthFunc) DepthFunc = nullptr;

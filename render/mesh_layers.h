@@ -22,6 +22,13 @@ class MeshLayers {
   void split(std::size_t n_vertices, const std::vector<std::array<int32_t, 3>>& triangles,
              const std::vector<uint32_t>& edges, const std::vector<int32_t>& moving);
 
+  /// The same split as split() would make after the mesh grew only inside the dynamic part (a cut): triangles at
+  /// dynamic slots rewritten, triangles appended, vertices appended, all of them moving. O(dynamic part), not the
+  /// mesh. False (nothing changed; split() again) when it cannot tell: edges given before, a moving vertex that
+  /// was not, a new vertex not moving, or a triangle with a moving corner at a vertex of the static part.
+  bool grow(std::size_t n_vertices, const std::vector<std::array<int32_t, 3>>& triangles,
+            const std::vector<int32_t>& moving);
+
   /// Static triangles as GL index triples into the mesh, in mesh order (3 n_static).
   const std::vector<uint32_t>& static_triangles() const { return static_tris_; }
   /// Static edges as GL_LINES pairs into the mesh (2 n_static_edges).
@@ -40,6 +47,11 @@ class MeshLayers {
   std::vector<int32_t> local_of_;  // per vertex: its local index, -1 when the dynamic part does not use it (n_v)
   std::vector<uint32_t> static_tris_, dynamic_tris_, static_edges_, dynamic_edges_;
   std::vector<int32_t> affected_, local_;
+  std::vector<int32_t> dynamic_ids_;  // the dynamic triangles' slots, ascending (n_dynamic)
+  std::size_t n_triangles_ = 0;       // triangles split
+  bool had_edges_ = false;            // the split had edges
+  // (re)numbers the dynamic triangles of dynamic_ids_ into local_ after the affected vertices
+  void number_dynamic(const std::vector<std::array<int32_t, 3>>& triangles);
 };
 
 }  // namespace palpate

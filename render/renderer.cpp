@@ -54,6 +54,10 @@ void to_floats(const std::vector<Vec3>& in, std::vector<float>* out) {
   }
 }
 
+// Pixels kept around each vertex of a layer's redrawn rectangle: more than llvmpipe's 1/256-pixel snapping and a
+// pixel centre's half pixel.
+constexpr float kPatchPadPx = 2.0f;
+
 // FNV-1a over the index data: detects a topology change (e.g. a cut) without keeping a copy.
 uint64_t hash_triangles(const std::vector<std::array<int32_t, 3>>& triangles) {
   uint64_t h = 1469598103934665603ull;
@@ -215,6 +219,10 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   if (!fresh && same_layer && view.static_part_kept && vertices.size() >= layer_vertices_) {
     if (!resplit(view)) return false;
   } else if (!fresh) {
+    // a layer of the same camera and mesh with no lines is redrawn only where the parts changed (layer_patch.h)
+    const bool patch = layer_patching_ && layer_valid_ && !lines_drawn() && vertices.size() >= layer_vertices_ &&
+                       positions_f_.size() >= 3 * layer_vertices_;
+    if (patch) patch_.keep(layers_.affected_vertices(), layers_.local_vertices(), positions_f_, normals_f_, layer_vertices_);
     layer_valid_ = false;
     for (int32_t v : *view.moving_vertices)
       if (v < 0 || static_cast<std::size_t>(v) >= vertices.size()) return false;
@@ -223,22 +231,39 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
     // the dynamic part's own vertex array, taken from the whole mesh's once per layer
     fill_local_vertices();
     const auto& local = layers_.local_vertices();
+    const PixelRect whole{0, 0, ctx_->width(), ctx_->height()};
+    const PixelRect rect = patch ? patch_.rect(cover_, local, positions_f_, normals_f_, vertices.size(), kPatchPadPx,
+                                               whole.x1, whole.y1)
+                                 : whole;
     // the static part, drawn as a full redraw would draw it: fill, then lines (less what reaches no centre)
     const bool cull = culling_;
-    if (cull) {
+    const bool part = rect.area() < whole.area();
+    if (cull || part) {
       mesh_xy_.resize(2 * vertices.size());
       place(positions_f_.data(), vertices.size(), &mesh_xy_, &mesh_fill_cells_, &mesh_line_cells_);
     }
+    const std::vector<uint32_t>* static_tris = &layers_.static_triangles();
+    if (part) {
+      patch_tris_.clear();
+      triangles_in_rect(mesh_xy_.data(), static_tris->data(), static_tris->size(), rect, &patch_tris_);
+      static_tris = &patch_tris_;
+    }
     std::size_t n_fill = 0;
-    const auto& static_tris = layers_.static_triangles();
     const uint32_t* fill =
-        covering_triangles(cull, mesh_fill_cells_.data(), static_tris.data(), static_tris.size(), &n_fill);
+        covering_triangles(cull, mesh_fill_cells_.data(), static_tris->data(), static_tris->size(), &n_fill);
     const std::vector<uint32_t>& static_lines =
         covering_lines(cull, mesh_line_cells_.data(), layers_.static_edges());
     gl.BindFramebuffer(GL_FRAMEBUFFER, layer_.id());
+    // outside the rectangle the layer holds what this draw would put there
+    if (part) {
+      gl.Enable(GL_SCISSOR_TEST);
+      gl.Scissor(rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
+    }
     setup_frame(gl, /*clear=*/true);
     draw_fill(gl, positions_f_.data(), normals_f_.data(), fill, n_fill);
     draw_lines(gl, positions_f_.data(), static_lines);
+    gl.Disable(GL_SCISSOR_TEST);
+    last_layer_px_ = rect.area();
     gl.BindFramebuffer(GL_FRAMEBUFFER, frame_.id());
     if (cull) {
       local_xy_.resize(2 * local.size());
@@ -337,17 +362,21 @@ void Renderer::fill_local_vertices() {
 bool Renderer::resplit(const FrameView& view) {
   const std::vector<Vec3>& vertices = *view.vertices_m;
   const auto& triangles = *view.triangles;
-  const auto n_v = static_cast<int64_t>(vertices.size());
-  for (int32_t v : *view.moving_vertices)
-    if (v < 0 || v >= n_v) return false;
-  for (const auto& t : triangles)
-    if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= n_v || t[1] >= n_v || t[2] >= n_v) return false;
   // the static vertices keep the positions the layer was drawn with; the new ones move, and are written from the
   // view below with every affected vertex
   positions_f_.resize(3 * vertices.size(), 0.0f);
   if (style_ != RenderStyle::kWireframe) normals_f_.resize(3 * vertices.size(), 0.0f);
-  if (lines_drawn()) update_edges(triangles);
-  layers_.split(vertices.size(), triangles, edge_indices_, *view.moving_vertices);
+  // a mesh grown inside the dynamic part (a cut) is split again there only, its indices checked there (the static
+  // triangles are drawn from the layer); else the whole mesh, its indices checked first
+  if (lines_drawn() || !layers_.grow(vertices.size(), triangles, *view.moving_vertices)) {
+    const auto n_v = static_cast<int64_t>(vertices.size());
+    for (int32_t v : *view.moving_vertices)
+      if (v < 0 || v >= n_v) return false;
+    for (const auto& t : triangles)
+      if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= n_v || t[1] >= n_v || t[2] >= n_v) return false;
+    if (lines_drawn()) update_edges(triangles);
+    layers_.split(vertices.size(), triangles, edge_indices_, *view.moving_vertices);
+  }
   fill_local_vertices();
   update_local_vertices(view);
   const auto& local = layers_.local_vertices();

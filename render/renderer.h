@@ -13,6 +13,7 @@
 #include "render/camera.h"
 #include "render/framebuffer.h"
 #include "render/gl_context.h"
+#include "render/layer_patch.h"
 #include "render/mesh_layers.h"
 #include "render/pixel_cover.h"
 
@@ -78,6 +79,11 @@ class Renderer {
   bool wire_drawn() const { return lines_drawn(); }
   /// false: the layered path draws every triangle and line, even those that reach no pixel centre.
   void set_culling(bool on) { culling_ = on; }
+  /// false: a new layer is always drawn whole; true (the default): when the camera is the same and no lines are
+  /// drawn, only the rectangle where the static and moving parts changed is redrawn (render/layer_patch.h).
+  void set_layer_patching(bool on) { layer_patching_ = on; }
+  /// Pixels the last layer build redrew (the whole frame's when drawn whole).
+  int64_t last_layer_px() const { return last_layer_px_; }
   /// Primitives the last layered draw had in its dynamic part, and those it drew.
   struct Drawn {
     std::size_t triangles = 0, triangles_drawn = 0, lines = 0, lines_drawn = 0;
@@ -189,6 +195,10 @@ class Renderer {
   Drawn last_drawn_;
   bool last_layered_ = false;
   int64_t layer_builds_ = 0;
+  bool layer_patching_ = true;           // a layer may be redrawn in part (set_layer_patching)
+  LayerPatch patch_;                     // the old layer's parts, to find the rectangle a redraw must cover
+  std::vector<uint32_t> patch_tris_;     // scratch: the static triangles reaching that rectangle
+  int64_t last_layer_px_ = 0;            // pixels the last layer build redrew
   int64_t draws_ = 0;
 };
 

@@ -25,6 +25,7 @@ CutModel::CutModel(const TriMesh& rest, const std::vector<VertexBinding>& bindin
   cell_count_.assign(cells, 0);
   next_in_cell_.reserve(rest_m_.size());
   for (std::size_t v = 0; v < rest_m_.size(); ++v) link_vertex(static_cast<int32_t>(v));
+  normals_.reset(rest_m_.size(), triangles_);
 }
 
 void CutModel::link_vertex(int32_t v) {
@@ -199,7 +200,8 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
     if ((p.array() < cube.min_m.array()).any() || (p.array() > cube.max_m.array()).any()) return false;
     return lat->slot_of_cell[grid_->linear_index(grid_->cell_of(p, level_), level_)] >= 0;
   };
-  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_, &tri_grid_, groove);
+  rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_, &tri_grid_, groove, &changes_);
+  normals_.retriangulate(rest_m_.size(), changes_, triangles_);
 
   // existing vertices whose cell a quad's box overlaps (a vertex's segments to its corners stay in its cell, so
   // no other can be cut off from a corner): corners now on the far side of the cut are dropped
@@ -214,7 +216,10 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
   std::sort(near_v.begin(), near_v.end());
   rep.vertices_tested = static_cast<int>(near_v.size());
   for (int32_t v : near_v)
-    if (block_corners(*lat, v, rest_m_[v], set)) ++rep.vertices_rebound;
+    if (block_corners(*lat, v, rest_m_[v], set)) {
+      ++rep.vertices_rebound;
+      redeform_.push_back(v);
+    }
   // new vertices: bound at their rest position, tested from a point just off the cut on their own side
   auto off_cut = [&](std::size_t v, int32_t from) { return Vec3(rest_m_[v] + 0.01 * (rest_m_[from] - rest_m_[v])); };
   for (std::size_t i = 0; i < created.size(); ++i) {
@@ -227,54 +232,102 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
     block_corners(*lat, v, off_cut(v, sv.from), set);
     link_vertex(static_cast<int32_t>(v));
     near_v.push_back(static_cast<int32_t>(v));
+    redeform_.push_back(static_cast<int32_t>(v));
   }
   // vertices cut off from all their corners follow the nearest node on their side
   for (int32_t v : near_v) {
     if (blocked_[v] != 0xff || fallback_[v] >= 0) continue;
     const Vec3 p = static_cast<std::size_t>(v) < old_count ? rest_m_[v] : off_cut(v, created[v - old_count].from);
     fallback_[v] = nearest_visible_node(*lat, v, p, set);
+    if (fallback_[v] < 0) continue;
+    fallback_users_.push_back(v);
+    redeform_.push_back(v);
   }
   return rep;
+}
+
+Vec3 CutModel::deformed(const Lattice& lat, std::size_t v, bool* orphan) const {
+  *orphan = false;
+  const int32_t slot = lat.slot_of_cell[bindings_[v].cell];
+  if (slot < 0) return rest_m_[v];
+  const auto& nodes = lat.cell_nodes[slot];
+  const auto w = trilinear_weights(bindings_[v].local);
+  const uint8_t mask = blocked_[v];
+  // renormalised trilinear weights over the corners on the vertex's side
+  Vec3 d = Vec3::Zero();
+  double sum = 0.0;
+  int open = 0;
+  for (int c = 0; c < 8; ++c) {
+    if (mask & (1u << c)) continue;
+    d += w[c] * (lat.x_m[nodes[c]] - lat.rest_m[nodes[c]]);
+    sum += w[c];
+    ++open;
+  }
+  if (sum > 1e-6) return rest_m_[v] + d / sum;
+  // on a face or edge away from its side's corners: equal weights over them, else the fallback node
+  *orphan = true;
+  d.setZero();
+  if (open > 0) {
+    for (int c = 0; c < 8; ++c)
+      if (!(mask & (1u << c))) d += lat.x_m[nodes[c]] - lat.rest_m[nodes[c]];
+    d /= open;
+  } else if (fallback_[v] >= 0) {
+    d = lat.x_m[fallback_[v]] - lat.rest_m[fallback_[v]];
+  }
+  return rest_m_[v] + d;
 }
 
 void CutModel::deform(const Lattice& lat, std::vector<Vec3>* vertices_m) const {
   orphans_ = 0;
   vertices_m->resize(rest_m_.size());
+  bool orphan = false;
   for (std::size_t v = 0; v < rest_m_.size(); ++v) {
-    const int32_t slot = lat.slot_of_cell[bindings_[v].cell];
-    if (slot < 0) {
-      (*vertices_m)[v] = rest_m_[v];
-      continue;
-    }
-    const auto& nodes = lat.cell_nodes[slot];
-    const auto w = trilinear_weights(bindings_[v].local);
-    const uint8_t mask = blocked_[v];
-    // renormalised trilinear weights over the corners on the vertex's side
-    Vec3 d = Vec3::Zero();
-    double sum = 0.0;
-    int open = 0;
-    for (int c = 0; c < 8; ++c) {
-      if (mask & (1u << c)) continue;
-      d += w[c] * (lat.x_m[nodes[c]] - lat.rest_m[nodes[c]]);
-      sum += w[c];
-      ++open;
-    }
-    if (sum > 1e-6) {
-      (*vertices_m)[v] = rest_m_[v] + d / sum;
-      continue;
-    }
-    // on a face or edge away from its side's corners: equal weights over them, else the fallback node
-    ++orphans_;
-    d.setZero();
-    if (open > 0) {
-      for (int c = 0; c < 8; ++c)
-        if (!(mask & (1u << c))) d += lat.x_m[nodes[c]] - lat.rest_m[nodes[c]];
-      d /= open;
-    } else if (fallback_[v] >= 0) {
-      d = lat.x_m[fallback_[v]] - lat.rest_m[fallback_[v]];
-    }
-    (*vertices_m)[v] = rest_m_[v] + d;
+    (*vertices_m)[v] = deformed(lat, v, &orphan);
+    orphans_ += orphan ? 1 : 0;
   }
+}
+
+std::size_t CutModel::deform_changed(const Lattice& lat, std::vector<Vec3>* vertices_m) {
+  if (x_deformed_m_.size() != lat.x_m.size()) {
+    // the first call: every vertex, and every normal
+    deform(lat, vertices_m);
+    normals_.invalidate();
+    x_deformed_m_ = lat.x_m;
+    redeform_.clear();
+    return rest_m_.size();
+  }
+  vertices_m->resize(rest_m_.size());
+  // the vertices of every cell with a node that moved since the last call (the others compute what they hold)
+  node_moved_.assign(lat.x_m.size(), 0);
+  bool any = false;
+  for (std::size_t i = 0; i < lat.x_m.size(); ++i)
+    if (lat.x_m[i] != x_deformed_m_[i]) {
+      node_moved_[i] = 1;
+      x_deformed_m_[i] = lat.x_m[i];
+      any = true;
+    }
+  if (any) {
+    for (std::size_t s = 0; s < lat.cells.size(); ++s)
+      for (int32_t node : lat.cell_nodes[s])
+        if (node_moved_[static_cast<std::size_t>(node)]) {
+          vertices_in_cell(lat.cells[s], &redeform_);
+          break;
+        }
+    for (int32_t v : fallback_users_)
+      if (blocked_[v] == 0xff && node_moved_[static_cast<std::size_t>(fallback_[v])]) redeform_.push_back(v);
+  }
+  std::sort(redeform_.begin(), redeform_.end());
+  redeform_.erase(std::unique(redeform_.begin(), redeform_.end()), redeform_.end());
+  bool orphan = false;
+  for (int32_t v : redeform_) {
+    const Vec3 p = deformed(lat, static_cast<std::size_t>(v), &orphan);
+    if (p == (*vertices_m)[v]) continue;
+    (*vertices_m)[v] = p;
+    normals_.moved(v);
+  }
+  const std::size_t done = redeform_.size();
+  redeform_.clear();
+  return done;
 }
 
 void CutModel::triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,

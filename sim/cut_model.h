@@ -17,6 +17,7 @@
 #include "sim/cut.h"
 #include "sim/cut_incision.h"
 #include "sim/lattice.h"
+#include "sim/mesh_normals.h"
 #include "sim/mesh_split.h"
 #include "sim/rest_map.h"
 #include "sim/triangle_grid.h"
@@ -92,6 +93,16 @@ class CutModel {
   std::size_t deferred_springs() const { return deferred_.size(); }
   /// Moves every vertex whose cell is in the lattice with its side's nodes; others stay at rest.
   void deform(const Lattice& lat, std::vector<Vec3>* vertices_m) const;
+  /// The same result as deform() into the *vertices_m this was last called with (the first call moves every vertex),
+  /// computing only the vertices that can have changed since: those of cells with a node that moved, those the cuts
+  /// since created or cut off from a corner, and those following a fallback node that moved. Those whose position
+  /// changed are handed to normals(). Returns how many vertices were computed.
+  std::size_t deform_changed(const Lattice& lat, std::vector<Vec3>* vertices_m);
+  /// Brings *normals up to date with *vertices_m after the cuts and deform_changed() calls since the last call (all
+  /// of them the first time): compute_vertex_normals()' result, bit for bit. Returns how many normals were recomputed.
+  std::size_t update_normals(const std::vector<Vec3>& vertices_m, std::vector<Vec3>* normals) {
+    return normals_.update(vertices_m, triangles_, normals);
+  }
 
   /// Current triangles.
   const std::vector<std::array<int32_t, 3>>& triangles() const { return triangles_; }
@@ -127,6 +138,8 @@ class CutModel {
   void link_vertex(int32_t v);
   // nearest node of the cells around vertex v that the quads do not separate from p (-1 if none)
   int32_t nearest_visible_node(const Lattice& lat, std::size_t v, const Vec3& p_m, const CutQuads& quads) const;
+  // vertex v moved with its side's nodes (or its rest position outside the lattice); *orphan: by the fallback rule
+  Vec3 deformed(const Lattice& lat, std::size_t v, bool* orphan) const;
 
   const GridHierarchy* grid_;
   int level_;
@@ -152,6 +165,12 @@ class CutModel {
   bool have_prev_ = false;                        // the previous sample was cutting
   Vec3 prev_tip_m_ = Vec3::Zero(), prev_end_m_ = Vec3::Zero();
   mutable int orphans_ = 0;
+  MeshNormals normals_;                           // triangles by vertex, stale normals
+  std::vector<TriangleChange> changes_;           // scratch: the slots the last split wrote
+  std::vector<Vec3> x_deformed_m_;                // node positions at the last deform_changed(), empty before (n)
+  std::vector<int32_t> redeform_;                 // vertices created or rebound since the last deform_changed()
+  std::vector<int32_t> fallback_users_;           // vertices given a fallback node
+  std::vector<uint8_t> node_moved_;               // scratch: per node, moved since the last deform_changed() (n)
 };
 
 }  // namespace palpate

@@ -21,9 +21,11 @@ struct EdgeCut {
 
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
                            std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
-                           std::vector<TipTriangle>* tips, TriangleGrid* grid, const IncisionShape& incision) {
+                           std::vector<TipTriangle>* tips, TriangleGrid* grid, const IncisionShape& incision,
+                           std::vector<TriangleChange>* changes) {
   MeshSplitReport rep;
   created->clear();
+  if (changes) changes->clear();
   if (quads.empty()) return rep;
   const std::size_t count_before = triangles->size();
   const CutQuads set(quads);
@@ -109,9 +111,11 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       int32_t sl;
       if (i == 0 || (i == 1 && w.slot[1] >= 0)) {
         sl = w.slot[i];
+        if (changes) changes->push_back({sl, (*triangles)[sl]});
         (*triangles)[sl] = pieces[i];
       } else {
         sl = static_cast<int32_t>(triangles->size());
+        if (changes) changes->push_back({sl, {-1, -1, -1}});
         triangles->push_back(pieces[i]);
         const auto& p = pieces[i];
         grid->add(sl, (*rest_m)[p[0]], (*rest_m)[p[1]], (*rest_m)[p[2]]);

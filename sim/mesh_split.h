@@ -11,6 +11,7 @@
 #include "core/types.h"
 #include "sim/cut.h"
 #include "sim/cut_incision.h"
+#include "sim/mesh_normals.h"
 #include "sim/triangle_grid.h"
 
 namespace palpate {
@@ -54,10 +55,12 @@ inline constexpr double kSplitEdgeEps = 1e-3;
 /// shape) and *current_m (interpolated at the crossing, moved as at rest) and listed in *created (cleared first) in
 /// the same order. Winding is kept. Only the triangles *grid finds near the quads are visited: a split triangle's
 /// first piece takes its place, the others are appended (and registered in *grid). *tips (in/out) lists the
-/// crack-tip triangles and where their halves are. Cost: the triangles in the cubes the quads overlap, not the mesh.
+/// crack-tip triangles and where their halves are. *changes (when non-null) gets every slot written, with the
+/// triangle it held before. Cost: the triangles in the cubes the quads overlap, not the mesh.
 MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3>* rest_m, std::vector<Vec3>* current_m,
                            std::vector<std::array<int32_t, 3>>* triangles, std::vector<SplitVertex>* created,
-                           std::vector<TipTriangle>* tips, TriangleGrid* grid, const IncisionShape& incision = {});
+                           std::vector<TipTriangle>* tips, TriangleGrid* grid, const IncisionShape& incision = {},
+                           std::vector<TriangleChange>* changes = nullptr);
 
 /// The first problem that makes this not a valid triangle mesh, or "" when there is none: an index out of range,
 /// a repeated index, a triangle of (near) zero area, two triangles on the same three vertices, or a directed edge

@@ -66,5 +66,49 @@ TEST(MeshLayers, NothingMovingLeavesEverythingStaticAndResplitsCleanly) {
   EXPECT_EQ(layers.static_triangles().size(), 3 * kStrip.size());
 }
 
+// A cut inside the dynamic part: triangle 0 (all of its corners affected) is split through two new moving vertices.
+TEST(MeshLayers, GrowingInsideTheDynamicPartGivesTheSplitOfTheGrownMesh) {
+  MeshLayers grown;
+  grown.split(8, kStrip, {}, {0});
+  auto cut = kStrip;
+  cut[0] = {0, 8, 1};
+  cut.push_back({8, 4, 9});
+  cut.push_back({9, 4, 1});
+  const std::vector<int32_t> moving = {0, 8, 9};
+  ASSERT_TRUE(grown.grow(10, cut, moving));
+  MeshLayers whole;
+  whole.split(10, cut, {}, moving);
+  EXPECT_EQ(grown.affected_vertices(), whole.affected_vertices());
+  EXPECT_EQ(grown.local_vertices(), whole.local_vertices());
+  EXPECT_EQ(grown.dynamic_triangles(), whole.dynamic_triangles());
+  EXPECT_EQ(grown.static_triangles(), whole.static_triangles());
+  EXPECT_EQ(to_mesh(grown, grown.dynamic_triangles()),
+            (std::vector<uint32_t>{0, 8, 1, 1, 4, 5, 1, 5, 2, 8, 4, 9, 9, 4, 1}));
+  expect_compact(grown);
+}
+
+TEST(MeshLayers, GrowingRefusesWhatWouldChangeTheStaticPart) {
+  auto refused = [](const std::vector<std::array<int32_t, 3>>& tris, std::size_t n_v, const std::vector<int32_t>& moving,
+                    const std::vector<uint32_t>& edges) {
+    MeshLayers layers;
+    layers.split(8, kStrip, edges, {0});
+    const auto before = layers.dynamic_triangles();
+    const bool grew = layers.grow(n_v, tris, moving);
+    if (!grew) {
+      EXPECT_EQ(layers.dynamic_triangles(), before);  // nothing changed
+    }
+    return !grew;
+  };
+  auto at_static = kStrip;
+  at_static.push_back({8, 5, 6});  // vertices 5 and 6 are static: their triangles would turn dynamic
+  EXPECT_TRUE(refused(at_static, 9, {0, 8}, {}));
+  auto grown = kStrip;
+  grown.push_back({8, 4, 1});
+  EXPECT_TRUE(refused(grown, 9, {0}, {}));         // a new vertex that does not move
+  EXPECT_TRUE(refused(grown, 9, {0, 7, 8}, {}));   // a static vertex that now moves
+  EXPECT_TRUE(refused(grown, 9, {0, 8}, {0, 1}));  // the lines would change too
+  EXPECT_FALSE(refused(grown, 9, {0, 8}, {}));
+}
+
 }  // namespace
 }  // namespace palpate

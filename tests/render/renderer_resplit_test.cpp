@@ -97,6 +97,63 @@ TEST_P(RendererResplitTest, ATopologyChangeInsideTheMovingPartKeepsTheLayerAndTh
   }
 }
 
+// The moving set shrinks to a part of itself (the +x, +y corner) while the rest of the mesh stays where the layer drew
+// it: the new layer is redrawn only in the rectangle the old moving part covered, and every frame, before and after,
+// has the pixels of a full redraw.
+TEST_P(RendererResplitTest, ANewMovingSetRedrawsOnlyTheRectangleThatChangedAndTheFullRedrawsPixels) {
+  TriMesh m = ::palpate::make_box_mesh(Vec3(0.1, 0.08, 0.06), 10);
+  const std::vector<Vec3> rest = m.vertices_m;
+  const Aabb box = Aabb::of(rest);
+  const Camera cam = Camera::framing(box.min_m, box.max_m, static_cast<double>(kW) / kH);
+  Renderer layered(ctx_.get(), RenderStyle::kSolid, cam), full(ctx_.get(), RenderStyle::kSolid, cam);
+  full.set_layered(false);
+  std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size()), first(a.size());
+  std::vector<int32_t> moving;
+  std::vector<Vec3> normals;
+  int64_t parts = 0;
+  for (int f = 0; f < 8; ++f) {
+    const int epoch = f < 4 ? 0 : 1;
+    moving.clear();
+    for (std::size_t v = 0; v < rest.size(); ++v)
+      if (rest[v].x() > 0.02 && (epoch == 0 || rest[v].y() > 0.0)) moving.push_back(static_cast<int32_t>(v));
+    // the moving part pressed in further each frame, but not on the frame its set changes
+    if (f != 4)
+      for (int32_t v : moving) {
+        const Vec3& r = rest[v];
+        m.vertices_m[v] = r + (f + 1) * Vec3(-0.003 * (r.x() - 0.02) * 20, 0.001, -0.002 * (1 + r.y() * 10));
+      }
+    compute_vertex_normals(m.vertices_m, m.triangles, &normals);
+    FrameView view{};
+    view.vertices_m = &m.vertices_m;
+    view.triangles = &m.triangles;
+    view.normals = &normals;
+    view.moving_vertices = &moving;
+    view.layer_epoch = static_cast<uint64_t>(epoch);
+    const int64_t builds = layered.layer_builds();
+    layered.draw(view, a.data());
+    EXPECT_TRUE(layered.last_draw_layered());
+    if (layered.layer_builds() != builds && layered.last_layer_px() < int64_t{kW} * kH) ++parts;
+    full.draw(view, b.data());
+    EXPECT_EQ(count_different(a, b), 0) << "frame " << f;
+    if (f == 0) first = a;
+  }
+  EXPECT_EQ(layered.layer_builds(), 2);
+  EXPECT_EQ(parts, 1);  // the second layer, in part
+  EXPECT_GT(layered.last_layer_px(), 0);
+  EXPECT_GT(count_different(first, a), 100);  // the frames differ: the comparison is not of still images
+  // drawn whole, the same frames come out alike
+  Renderer whole(ctx_.get(), RenderStyle::kSolid, cam);
+  whole.set_layer_patching(false);
+  FrameView view{};
+  view.vertices_m = &m.vertices_m;
+  view.triangles = &m.triangles;
+  view.normals = &normals;
+  view.moving_vertices = &moving;
+  whole.draw(view, b.data());
+  EXPECT_EQ(whole.last_layer_px(), int64_t{kW} * kH);
+  EXPECT_EQ(count_different(a, b), 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RendererResplitTest, ::testing::Values("osmesa", "egl"),
                          [](const auto& param_info) { return param_info.param; });
 

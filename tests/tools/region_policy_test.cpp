@@ -218,7 +218,8 @@ TEST(CutRegion, OneWholeObjectLatticeThatNeverMovesAndWhoseSpringsTheBladeCuts) 
   for (const Vec3& r : lat.rest_m) nodes_above += r.z() > z_plane ? 1 : 0;
   ASSERT_GT(nodes_above, 0u);
   const std::size_t tris0 = region.triangles().size(), verts0 = vertices.size();
-  normals.assign(verts0, Vec3::UnitZ());
+  region.update_normals(false, mesh);  // all of them, the first time
+  ASSERT_EQ(normals.size(), verts0);
   draw_blade(&region, z_plane);
   EXPECT_TRUE(region.begin_frame(mesh));
   region.end_frame(2.0);
@@ -230,20 +231,25 @@ TEST(CutRegion, OneWholeObjectLatticeThatNeverMovesAndWhoseSpringsTheBladeCuts) 
   EXPECT_EQ(stats.free_nodes, static_cast<int64_t>(nodes_above));
   for (const auto& s : lat.springs)
     EXPECT_EQ(lat.rest_m[s.a].z() > z_plane, lat.rest_m[s.b].z() > z_plane) << s.a << "-" << s.b;
-  // the mesh split along the cut: more triangles and vertices, normals due again
+  // the mesh split along the cut: more triangles and vertices; the normals around the split are recomputed, the
+  // others kept, and all of them are a full pass's
   EXPECT_GT(region.triangles().size(), tris0);
   EXPECT_EQ(static_cast<int64_t>(region.triangles().size() - tris0), stats.triangles_added);
   EXPECT_EQ(static_cast<int64_t>(vertices.size() - verts0), stats.vertices_added);
   EXPECT_GT(stats.vertices_added, 0);
-  EXPECT_TRUE(normals.empty());
   region.update_normals(false, mesh);
-  EXPECT_EQ(normals.size(), vertices.size());
+  std::vector<Vec3> full;
+  compute_vertex_normals(vertices, region.triangles(), &full);
+  EXPECT_TRUE(normals == full);
   EXPECT_EQ(stats.cutting_ms, std::vector<double>{2.0});
   // the next frame cuts nothing and is filed after the cut
   EXPECT_FALSE(region.begin_frame(mesh));
   region.end_frame(3.0);
   EXPECT_EQ(stats.after_cut_ms, std::vector<double>{3.0});
   EXPECT_EQ(stats.frames_cutting, 1);
+  ASSERT_EQ(stats.cut_normals.size(), 2u);  // filed with the frame they were recomputed in
+  EXPECT_GE(stats.cut_normals.back(), static_cast<double>(stats.vertices_added));
+  EXPECT_LT(stats.cut_normals.back(), static_cast<double>(vertices.size()));
 
   // the piece cut free is the lattice stepped: its nodes, none fixed; moved below the floor by a step, it is
   // written into the whole lattice and held on the floor, no further

@@ -170,10 +170,15 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                 {"work_max", fst.cut_work_max},
                 {"work_limit", kCutWorkPerFrame},
                 {"sim_ms_cutting", ms_json(fst.cutting_ms)},
-                {"sim_ms_after_cut", ms_json(fst.after_cut_ms)}};
+                {"sim_ms_after_cut", ms_json(fst.after_cut_ms)},
+                // per frame from the first cut on: what the cut and the pieces' motion made the mesh recompute (counts)
+                {"vertices_deformed", ms_json(fst.cut_vertices_deformed)},
+                {"normals_recomputed", ms_json(fst.cut_normals)}};
   }
   j["render"] = {{"ms", ms_json(fst.render_ms)}, {"cpu_ms", ms_json(fst.render_cpu_ms)},
                  {"layer_build_ms", ms_json(fst.layer_build_ms)}, {"layer_build_cpu_ms", ms_json(fst.layer_build_cpu_ms)},
+                 // pixels each layer build redrew (a part of the frame when only the moving part changed)
+                 {"layer_build_px", ms_json(fst.layer_build_px)},
                  {"backend", in.gl ? in.gl->backend_name() : "none"},
                  {"width", scene.render.width}, {"height", scene.render.height},
                  {"frames_layered", fst.frames_layered}, {"layer_builds", in.renderer ? in.renderer->layer_builds() : 0},

@@ -60,9 +60,7 @@ bool CutRegion::begin_frame(const DeformedMesh& mesh) {
     pieces_.update(*lattice_, contact_.free_nodes());
   }
   topology_changed_ = rep.split.edges_cut > 0 || rep.split.triangles_added != 0;
-  if (!rep.changed()) return false;
-  mesh.normals->clear();
-  return true;
+  return rep.changed();
 }
 
 bool CutRegion::place(const Vec3& p_m, const DeformedMesh& mesh) {
@@ -84,11 +82,15 @@ void CutRegion::after_step() {
   pieces_.pull(*lattice_);
 }
 
-void CutRegion::deform(std::vector<Vec3>* vertices_m) const { cut_.deform(*lattice_, vertices_m); }
+void CutRegion::deform(std::vector<Vec3>* vertices_m) {
+  // the vertices of what moved (the pieces cut free) and of what the cuts changed, not the whole mesh
+  frame_deformed_ += cut_.deform_changed(*lattice_, vertices_m);
+}
 
 void CutRegion::update_normals(bool moved, const DeformedMesh& mesh) {
-  // the whole object moves and the topology changes: all of them
-  if (moved || mesh.normals->empty()) compute_vertex_normals(*mesh.vertices_m, triangles(), mesh.normals);
+  (void)moved;
+  // the normals around the vertices moved and the triangles split since the last frame
+  frame_normals_ += cut_.update_normals(*mesh.vertices_m, mesh.normals);
 }
 
 void CutRegion::patch_candidates(const HapticSample& latest, const std::vector<Vec3>& vertices_m, const Vec3& lo_m,
@@ -119,6 +121,12 @@ void CutRegion::end_frame(double sim_ms) {
     redraw_->update(*lattice_, cut_, blade_cutting_, blade_tip_m_, blade_end_m_, topology_changed_, first_new_);
   if (cutting_) stats_->cutting_ms.push_back(sim_ms);
   else if (stats_->frames_cutting > 0) stats_->after_cut_ms.push_back(sim_ms);
+  if (stats_->frames_cutting > 0) {
+    stats_->cut_vertices_deformed.push_back(static_cast<double>(frame_deformed_));
+    stats_->cut_normals.push_back(static_cast<double>(frame_normals_));
+  }
+  frame_deformed_ = 0;
+  frame_normals_ = 0;
 }
 
 }  // namespace palpate

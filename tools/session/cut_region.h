@@ -44,8 +44,8 @@ class CutRegion final : public RegionPolicy {
   /// Records the blade of each sample: it cuts what it sweeps while the button is held and the reading was
   /// accepted.
   void add_sample(const HapticSample& s) override;
-  /// Applies the blade sweeps recorded since the last frame (springs cut, mesh split, *mesh.vertices_m grown,
-  /// normals cleared when anything changed). True when anything changed.
+  /// Applies the blade sweeps recorded since the last frame (springs cut, mesh split, *mesh.vertices_m grown). True
+  /// when anything changed.
   bool begin_frame(const DeformedMesh& mesh) override;
   /// The whole-object lattice is never placed anew.
   bool place(const Vec3& p_m, const DeformedMesh& mesh) override;
@@ -53,7 +53,9 @@ class CutRegion final : public RegionPolicy {
   bool follow(const Vec3& p_rest_m, const DeformedMesh& mesh) override;
   /// Writes the stepped pieces into the whole lattice and keeps them on the floor and out of the body.
   void after_step() override;
-  void deform(std::vector<Vec3>* vertices_m) const override;
+  /// Moves the vertices that can have changed since the last call (CutModel::deform_changed), not the whole mesh.
+  void deform(std::vector<Vec3>* vertices_m) override;
+  /// Recomputes the normals around what moved or was split since the last call (CutModel::update_normals).
   void update_normals(bool moved, const DeformedMesh& mesh) override;
   void patch_candidates(const HapticSample& latest, const std::vector<Vec3>& vertices_m, const Vec3& lo_m,
                         const Vec3& hi_m, double margin_m, std::vector<int32_t>* out) const override;
@@ -80,6 +82,8 @@ class CutRegion final : public RegionPolicy {
   Vec3 blade_tip_m_ = Vec3::Zero(), blade_end_m_ = Vec3::Zero();  // the last sample's blade edge
   bool topology_changed_ = false;    // this frame's split changed the triangles
   std::size_t first_new_ = 0;        // first vertex this frame's split created
+  std::size_t frame_deformed_ = 0;   // mesh vertices deform() recomputed this frame
+  std::size_t frame_normals_ = 0;    // vertex normals recomputed this frame
 };
 
 }  // namespace palpate

@@ -354,6 +354,7 @@ void FrameStage::render(int64_t index, bool block) {
   if (renderer_->layer_builds() != builds) {
     stats_.layer_build_ms.push_back(stats_.render_ms.back());
     stats_.layer_build_cpu_ms.push_back(stats_.render_cpu_ms.back());
+    stats_.layer_build_px.push_back(static_cast<double>(renderer_->last_layer_px()));
   }
 }
 

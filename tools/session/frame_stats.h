@@ -46,6 +46,7 @@ struct FrameStats {
   std::vector<double> render_cpu_ms;    ///< per rendered frame: render_ms in the render thread's CPU time
   std::vector<double> layer_build_ms;   ///< per rendered frame that redrew the cached layer: its render_ms
   std::vector<double> layer_build_cpu_ms;  ///< the same frames' render_cpu_ms
+  std::vector<double> layer_build_px;   ///< the same frames: pixels of the layer redrawn (Renderer::last_layer_px)
   int64_t frames_layered = 0;       ///< rendered frames that drew only what moves over the cached static layer
   std::vector<int64_t> written_frames; ///< scene frame index of each PNG, in file order (frame_00000 first)
   int64_t frames = 0;               ///< frames processed
@@ -81,6 +82,8 @@ struct FrameStats {
   int64_t free_nodes = 0;           ///< nodes in pieces cut free of every fixed node (after the last cut)
   std::vector<double> cutting_ms;   ///< sim_ms of frames that cut
   std::vector<double> after_cut_ms; ///< sim_ms of frames after the first cut that did not cut
+  std::vector<double> cut_vertices_deformed;  ///< per frame from the first cut on: mesh vertices deform() recomputed
+  std::vector<double> cut_normals;  ///< per frame from the first cut on: vertex normals recomputed
   std::vector<FrameProfile> profile;  ///< per frame: where its sim time went
 };
 

@@ -85,7 +85,7 @@ bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh, bool recen
   return true;
 }
 
-void LocalRegion::deform(std::vector<Vec3>* vertices_m) const {
+void LocalRegion::deform(std::vector<Vec3>* vertices_m) {
   deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, vertices_m);
 }
 

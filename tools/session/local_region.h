@@ -25,7 +25,7 @@ class LocalRegion final : public RegionPolicy {
   bool prepared_ahead() const override { return false; }
   bool place(const Vec3& p_m, const DeformedMesh& mesh) override;
   bool follow(const Vec3& p_rest_m, const DeformedMesh& mesh) override;
-  void deform(std::vector<Vec3>* vertices_m) const override;
+  void deform(std::vector<Vec3>* vertices_m) override;
   void update_normals(bool moved, const DeformedMesh& mesh) override;
   void patch_candidates(const HapticSample& latest, const std::vector<Vec3>& vertices_m, const Vec3& lo_m,
                         const Vec3& hi_m, double margin_m, std::vector<int32_t>* out) const override;

@@ -73,7 +73,7 @@ class RegionPolicy {
   /// After a step that moved the lattice: the region's own constraints.
   virtual void after_step() {}
   /// Moves the mesh vertices with the lattice.
-  virtual void deform(std::vector<Vec3>* vertices_m) const = 0;
+  virtual void deform(std::vector<Vec3>* vertices_m) = 0;
   /// Recomputes the normals that can have changed this frame (moved: the lattice was stepped).
   virtual void update_normals(bool moved, const DeformedMesh& mesh) = 0;
   /// Ids of the triangles the servo's patch is chosen from: those near the box [lo_m, hi_m] around the tool
