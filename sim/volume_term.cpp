@@ -56,7 +56,8 @@ void add_volume_forces(const Lattice& lat, const std::vector<Vec3>& x_m, std::ve
     const Mat3 cof = cofactor(f);
     const double j = f.col(0).dot(cof.col(0));
     // -dE/dx_a = -l^3 psi'(J) cof(F) g_a
-    const Mat3 p = (-l * l * l * volume_pressure_Pa(lat.volume_Pa, j)) * cof;
+    const double volume_m3 = l * l * l;
+    const Mat3 p = (-volume_m3 * volume_pressure_Pa(lat.volume_Pa, j)) * cof;
     for (int a = 0; a < 8; ++a) (*f_N)[static_cast<std::size_t>(nodes[a])] += p * corner_gradient(a, l);
   }
 }
@@ -80,7 +81,7 @@ void volume_gradients(const Lattice& lat, const std::vector<Vec3>& x_m, std::vec
     const Mat3 f = cell_deformation_gradient(x_m, lat.cell_nodes[k], l);
     const Mat3 cof = cofactor(f);
     const double s = f.col(0).dot(cof.col(0)) - 1.0;
-    (*w_J)[k] = lat.volume_Pa >= 0.0 || std::abs(s) <= kVolumeSoftening ? lat.volume_Pa * l * l * l : 0.0;
+    (*w_J)[k] = lat.volume_Pa >= 0.0 || std::abs(s) <= kVolumeSoftening ? lat.volume_Pa * (l * l * l) : 0.0;
     for (int a = 0; a < 8; ++a) (*c)[k][static_cast<std::size_t>(a)] = cof * corner_gradient(a, l);
   }
 }
