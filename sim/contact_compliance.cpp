@@ -34,7 +34,11 @@ struct OffBlock {
 // index, and the ordering and elimination tree are those of the node graph (9 times fewer entries than the dofs').
 // The scalar pivots are those of an LDL^T of K with each node's three dofs eliminated together.
 struct ContactCompliance::Impl {
-  std::vector<int32_t> free_of_node;  // free-node number of each node, -1 for fixed (n)
+  std::vector<int32_t> free_of_node;  // free-node number of each node, -1 for fixed or hanging (n)
+  // a hanging node's free masters and weights (x = P q): entries [hang_ptr[i], hang_ptr[i + 1]) of hang_free and
+  // hang_w for node i; empty for the others (free: itself, fixed: nothing)
+  std::vector<int32_t> hang_ptr, hang_free;
+  std::vector<double> hang_w;
   std::vector<int32_t> order;         // order[k] = the free node eliminated k-th (nf)
   std::vector<int32_t> pos;           // pos[f] = when free node f is eliminated (nf)
   // K's strict upper triangle in elimination order, by column: rows up_row[up_ptr[k] .. up_ptr[k+1]) < k
@@ -60,6 +64,16 @@ struct ContactCompliance::Impl {
   std::vector<NeoHookeanCell> neo;          // Neo-Hookean term: each cell's tangent state
   // K's blocks at the lattice's current positions, sorted by column (false: no free node)
   bool assemble(const Lattice& lat);
+  // calls fn(free node, weight) for what node i moves with: itself when free, its masters when it hangs
+  template <typename Fn>
+  void for_each_free(std::size_t i, Fn&& fn) const {
+    if (free_of_node[i] >= 0) return fn(free_of_node[i], 1.0);
+    if (hang_ptr.empty()) return;
+    for (int32_t e = hang_ptr[i]; e < hang_ptr[i + 1]; ++e)
+      fn(hang_free[static_cast<std::size_t>(e)], hang_w[static_cast<std::size_t>(e)]);
+  }
+  // adds block k at (row node r, column node c) of K, folded onto the free nodes they move with (P^T K P)
+  void add_block(int32_t r, int32_t c, const Mat3& k);
   // the fill-reducing elimination order and K's upper triangle in it
   void order_nodes();
   // the elimination tree, L's column counts and storage
@@ -73,12 +87,43 @@ struct ContactCompliance::Impl {
   bool well_conditioned() const;
 };
 
+void ContactCompliance::Impl::add_block(int32_t r, int32_t c, const Mat3& k) {
+  for_each_free(static_cast<std::size_t>(r), [&](int32_t fr, double wr) {
+    for_each_free(static_cast<std::size_t>(c), [&](int32_t fc, double wc) {
+      const double w = wr * wc;
+      if (fr == fc) diag[static_cast<std::size_t>(fr)] += w == 1.0 ? k : Mat3(w * k);
+      else off.push_back({fc, fr, w == 1.0 ? k : Mat3(w * k)});
+    });
+  });
+}
+
 bool ContactCompliance::Impl::assemble(const Lattice& lat) {
   const std::size_t n = lat.num_nodes();
   free_of_node.assign(n, -1);
+  std::vector<uint8_t> hangs(n, 0);
+  for (const HangingNode& h : lat.hanging) hangs[static_cast<std::size_t>(h.node)] = 1;
   int32_t nf = 0;
   for (std::size_t i = 0; i < n; ++i)
-    if (!lat.fixed[i]) free_of_node[i] = nf++;
+    if (!lat.fixed[i] && !hangs[i]) free_of_node[i] = nf++;
+  // each hanging node's free masters (masters hanging themselves come first in the list: theirs are known)
+  hang_ptr.clear();
+  hang_free.clear();
+  hang_w.clear();
+  if (!lat.hanging.empty()) {
+    std::vector<std::vector<std::pair<int32_t, double>>> exp(n);
+    for (const HangingNode& h : lat.hanging)
+      for (int k = 0; k < h.count; ++k) {
+        const auto m = static_cast<std::size_t>(h.master[static_cast<std::size_t>(k)]);
+        const double w = h.weight[static_cast<std::size_t>(k)];
+        if (free_of_node[m] >= 0) exp[static_cast<std::size_t>(h.node)].emplace_back(free_of_node[m], w);
+        for (const auto& [f, wm] : exp[m]) exp[static_cast<std::size_t>(h.node)].emplace_back(f, w * wm);
+      }
+    hang_ptr.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (const auto& [f, w] : exp[i]) hang_free.push_back(f), hang_w.push_back(w);
+      hang_ptr[i + 1] = static_cast<int32_t>(hang_free.size());
+    }
+  }
   if (nf == 0) return false;
   const auto unf = static_cast<std::size_t>(nf);
   // material stiffness k u u^T per spring (positive semi-definite), assembled over free nodes
@@ -90,12 +135,11 @@ bool ContactCompliance::Impl::assemble(const Lattice& lat) {
     if (!(len > 0.0)) continue;
     const Vec3 u = d / len;
     const Mat3 k = s.k_N_per_m * u * u.transpose();
-    const int32_t fa = free_of_node[static_cast<std::size_t>(s.a)], fb = free_of_node[static_cast<std::size_t>(s.b)];
-    if (fa >= 0) diag[static_cast<std::size_t>(fa)] += k;
-    if (fb >= 0) diag[static_cast<std::size_t>(fb)] += k;
-    if (fa >= 0 && fb >= 0 && fa != fb) {
-      off.push_back({fa, fb, -k});
-      off.push_back({fb, fa, -k});
+    add_block(s.a, s.a, k);
+    add_block(s.b, s.b, k);
+    if (s.a != s.b) {
+      add_block(s.b, s.a, -k);
+      add_block(s.a, s.b, -k);
     }
   }
   // the cells' volume terms (lambda_v > 0: the nearly incompressible solid's bulk stiffness; a negative term, nu < 1/4,
@@ -103,34 +147,17 @@ bool ContactCompliance::Impl::assemble(const Lattice& lat) {
   if (lat.volume_Pa > 0.0) {
     volume_gradients(lat, lat.x_m, &cell_c, &cell_w);
     for (std::size_t cell = 0; cell < cell_c.size(); ++cell)
-      for (int a = 0; a < 8; ++a) {
-        const int32_t fa = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][a])];
-        if (fa < 0) continue;
-        for (int b = 0; b < 8; ++b) {
-          const int32_t fb = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][b])];
-          if (fb < 0) continue;
-          // block (row fb, column fa)
-          const Mat3 k = cell_w[cell] * cell_c[cell][b] * cell_c[cell][a].transpose();
-          if (fa == fb) diag[static_cast<std::size_t>(fa)] += k;
-          else off.push_back({fa, fb, k});
-        }
-      }
+      for (int a = 0; a < 8; ++a)
+        for (int b = 0; b < 8; ++b)  // block (row b, column a)
+          add_block(lat.cell_nodes[cell][b], lat.cell_nodes[cell][a], cell_w[cell] * cell_c[cell][b] * cell_c[cell][a].transpose());
   }
   // the cells' Neo-Hookean terms: their tangent blocks at the current configuration
   if (lat.neo_mu_Pa != 0.0) {
     neo_hookean_cells(lat, lat.x_m, &neo);
     for (std::size_t cell = 0; cell < neo.size(); ++cell)
-      for (int a = 0; a < 8; ++a) {
-        const int32_t fa = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][a])];
-        if (fa < 0) continue;
-        for (int b = 0; b < 8; ++b) {
-          const int32_t fb = free_of_node[static_cast<std::size_t>(lat.cell_nodes[cell][b])];
-          if (fb < 0) continue;
-          const Mat3 k = neo_hookean_block(lat, neo[cell], b, a);  // block (row fb, column fa)
-          if (fa == fb) diag[static_cast<std::size_t>(fa)] += k;
-          else off.push_back({fa, fb, k});
-        }
-      }
+      for (int a = 0; a < 8; ++a)
+        for (int b = 0; b < 8; ++b)  // block (row b, column a)
+          add_block(lat.cell_nodes[cell][b], lat.cell_nodes[cell][a], neo_hookean_block(lat, neo[cell], b, a));
   }
   std::sort(off.begin(), off.end(), [](const OffBlock& a, const OffBlock& b) { return a.col != b.col ? a.col < b.col : a.row < b.row; });
   return true;
@@ -332,10 +359,10 @@ bool ContactCompliance::compute(const Lattice& lat, const PointWeights& w, bool 
   // C = W^T K^-1 W = Z^T D^-1 Z with Z = L^-1 W (W: the point force's share on each free node, one 3x3 block
   // w I per node): a forward solve only
   std::vector<Mat3>& z = m.y;  // zero between uses
-  for (int i = 0; i < w.count; ++i) {
-    const int32_t f = m.free_of_node[static_cast<std::size_t>(w.node[i])];
-    if (f >= 0) z[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])].diagonal().array() += w.weight[i];
-  }
+  for (int i = 0; i < w.count; ++i)
+    m.for_each_free(static_cast<std::size_t>(w.node[i]), [&](int32_t f, double wf) {
+      z[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])].diagonal().array() += wf == 1.0 ? w.weight[i] : wf * w.weight[i];
+    });
   Mat3 c = Mat3::Zero();
   const std::size_t nf = m.d_inv.size();
   for (std::size_t j = 0; j < nf; ++j) {
@@ -363,7 +390,7 @@ bool ContactCompliance::solve(const std::vector<Vec3>& f_N, std::vector<Vec3>* u
   const std::size_t nf = m.d_inv.size();
   m.x.assign(nf, Vec3::Zero());
   for (std::size_t i = 0; i < f_N.size(); ++i)
-    if (const int32_t f = m.free_of_node[i]; f >= 0) m.x[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])] = f_N[i];
+    m.for_each_free(i, [&](int32_t f, double wf) { m.x[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])] += wf * f_N[i]; });
   // K = L D L^T: forward (L y = f), the pivots (D w = y), backward (L^T x = w)
   for (std::size_t j = 0; j < nf; ++j)
     for (auto p = static_cast<std::size_t>(m.l_ptr[j]); p < static_cast<std::size_t>(m.l_ptr[j] + m.l_nz[j]); ++p)
@@ -374,7 +401,7 @@ bool ContactCompliance::solve(const std::vector<Vec3>& f_N, std::vector<Vec3>* u
       m.x[j].noalias() -= m.l_val[p].transpose() * m.x[static_cast<std::size_t>(m.l_row[p])];
   u_m->assign(f_N.size(), Vec3::Zero());
   for (std::size_t i = 0; i < f_N.size(); ++i)
-    if (const int32_t f = m.free_of_node[i]; f >= 0) (*u_m)[i] = m.x[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])];
+    m.for_each_free(i, [&](int32_t f, double wf) { (*u_m)[i] += wf * m.x[static_cast<std::size_t>(m.pos[static_cast<std::size_t>(f)])]; });
   return true;
 }
 
@@ -388,8 +415,9 @@ bool ContactCompliance::condense(const std::vector<PointWeights>& loads, const s
     const PointWeights& w = loads[static_cast<std::size_t>(col)];
     for (int i = 0; i < w.count; ++i) {
       if (w.node[i] < 0 || static_cast<std::size_t>(w.node[i]) >= m.free_of_node.size()) return false;
-      const int32_t f = m.free_of_node[static_cast<std::size_t>(w.node[i])];
-      if (f >= 0) m.z.block<3, 1>(3 * m.pos[static_cast<std::size_t>(f)], col) += w.weight[i] * dirs[static_cast<std::size_t>(col)];
+      m.for_each_free(static_cast<std::size_t>(w.node[i]), [&](int32_t f, double wf) {
+        m.z.block<3, 1>(3 * m.pos[static_cast<std::size_t>(f)], col) += wf * w.weight[i] * dirs[static_cast<std::size_t>(col)];
+      });
     }
   }
   // Z = L^-1 W (the loads reach only their nodes' ancestors in the elimination tree: zero blocks are skipped), then

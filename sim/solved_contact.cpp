@@ -158,7 +158,7 @@ bool SolvedContactLoad::weights(const Lattice& lat, const RestObject& rest, cons
                                 const std::vector<int32_t>& tris, const Vec3& centre_m, double radius_m,
                                 const Vec3& f_obj_N, ContactCompliance* compliance, PointWeights* w) {
   const double force = f_obj_N.norm();
-  if (!(force > 0.0) || !(radius_m > 0.0) || !compliance->ready(lat) || !lat.hanging.empty()) return false;
+  if (!(force > 0.0) || !(radius_m > 0.0) || !compliance->ready(lat)) return false;
   const Vec3 push = f_obj_N / force;
   const std::size_t n = lat.num_nodes();
   // the surface as it would stand without the last load

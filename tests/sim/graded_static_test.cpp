@@ -10,6 +10,8 @@
 #include <string>
 #include <utility>
 
+#include "sim/contact_compliance.h"
+#include "sim/forces.h"
 #include "sim/graded_zone.h"
 #include "sim/hanging.h"
 #include "sim/hertz_reference.h"
@@ -113,6 +115,50 @@ TEST(GradedStatic, SphereOnTheFineZoneGivesTheUniformFineLatticesForce) {
   const double f_uniform = press(box(b, 0.0)), f_graded = press(box(b, 12e-3));
   EXPECT_GT(f_uniform, 0.0);
   EXPECT_NEAR(f_graded, f_uniform, 0.02 * f_uniform);
+}
+
+// The contact compliance (the servo's and the solved contact's factor) on a graded lattice: its hanging nodes move
+// with their masters, so a point load's compliance and the displacement K^-1 f equal the static solve's.
+TEST(GradedStatic, TheContactComplianceFollowsTheHangingNodesAsTheStaticSolveDoes) {
+  const auto b = test::make_box_model(kSide_m, kFine);
+  Lattice lat = box(b, 8e-3);
+  ASSERT_FALSE(lat.hanging.empty());
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) lat.fixed[i] = lat.rest_m[i].z() < -0.5 * kSide_m + 1e-9;
+  lat.gravity_m_per_s2 = Vec3::Zero();
+  lat.touch();
+  // a load on a hanging node and one on a free node of the top
+  std::size_t hanging_top = lat.num_nodes(), free_top = lat.num_nodes();
+  std::vector<uint8_t> hangs(lat.num_nodes(), 0);
+  for (const HangingNode& h : lat.hanging) hangs[static_cast<std::size_t>(h.node)] = 1;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (lat.rest_m[i].z() > kTop.z() - 1e-9) (hangs[i] ? hanging_top : free_top) = i;
+  ASSERT_LT(hanging_top, lat.num_nodes());
+  ASSERT_LT(free_top, lat.num_nodes());
+  PointWeights w;
+  w.add(static_cast<int32_t>(hanging_top), 0.5);
+  w.add(static_cast<int32_t>(free_top), 0.5);
+  const Vec3 f(1e-4, -2e-4, -1e-3);  // small: the static solve is nonlinear, the factor the tangent at rest
+  std::vector<Vec3> load(lat.num_nodes(), Vec3::Zero());
+  load[hanging_top] += 0.5 * f;
+  load[free_top] += 0.5 * f;
+  ContactCompliance cc;
+  Mat3 c;
+  ASSERT_TRUE(cc.compute(lat, w, false, &c));
+  std::vector<Vec3> u;
+  ASSERT_TRUE(cc.solve(load, &u));
+  // the static solve, linear at this load
+  Lattice solved = lat;
+  ASSERT_TRUE(solve_static(&solved, {}, load));
+  Vec3 moved = Vec3::Zero();
+  double worst = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i) {
+    worst = std::max(worst, (u[i] - (solved.x_m[i] - lat.x_m[i])).norm());
+    largest = std::max(largest, u[i].norm());
+  }
+  for (int i = 0; i < w.count; ++i) moved += w.weight[i] * u[static_cast<std::size_t>(w.node[i])];
+  EXPECT_GT(largest, 1e-9);
+  EXPECT_LT(worst, 1e-3 * largest);
+  EXPECT_LT((c * f - moved).norm(), 1e-9 * moved.norm());
 }
 
 TEST(GradedStatic, SurfaceSamplesCoverTheSurfaceOnce) {

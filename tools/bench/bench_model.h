@@ -41,9 +41,8 @@ struct BenchModelOptions {
                                                      ///< (0.8 contact radii; twice as far into the body; coarser rings
                                                      ///< within twice the next one's radius: sim/graded_zone.h)
   bool adaptive_uniform_fine = true;                 ///< run the uniform fine level beside them (most of their time)
-  bool solved_contact = false;                       ///< the "hertz" rows' sphere loads the lattice where the contact
-                                                     ///< puts it (device.contact "solved"), not by Hertz (refined
-                                                     ///< lattices, the adaptive rows, keep Hertz's pressure)
+  bool solved_contact = false;                       ///< the "hertz" and adaptive rows' sphere loads the lattice where
+                                                     ///< the contact puts it (device.contact "solved"), not by Hertz
   std::vector<double> adaptive_poisson_ratios;       ///< also those rows for material.model poisson_model at each nu
                                                      ///< (beside the springs ones); empty: springs only
   std::vector<int> solved_adaptive_levels;           ///< coarse levels of graded "hertz-solved" rows (springs; none: empty)

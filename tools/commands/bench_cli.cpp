@@ -190,7 +190,7 @@ void add_model(CLI::App* bench, BenchArgs& a) {
                        "fine level beside the adaptive rows (most of their time: uniform level 6 runs about 190 ms a frame)");
   c->add_option("--contact", a.model_contact, "How the 'hertz' rows' sphere loads the lattice: prescribed "
                 "(Hertz's pressure) or solved (where the surface, deformed by the push, meets the sphere: Hertz only the "
-                "check; device.contact; a refined lattice's adaptive rows keep Hertz's pressure)")->check(CLI::IsMember({"prescribed", "solved"}))->capture_default_str();
+                "check; device.contact; the adaptive rows too)")->check(CLI::IsMember({"prescribed", "solved"}))->capture_default_str();
   c->add_option("--solved-adaptive", mo.solved_adaptive_levels, "Coarse levels of graded hertz-solved rows (springs): "
                 "the block graded from each to every --solved-fine level near the contact (none: empty)")
       ->delimiter(',')->check(CLI::Range(3, 7));

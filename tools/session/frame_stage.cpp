@@ -223,7 +223,14 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)],
                                latest_.contact_bary);
   ContactResponse r;
-  if (!contact_response(lat, w, p, frame_force_obj_N_, &compliance_, &r)) return;
+  if (!contact_response(lat, w, p, frame_force_obj_N_, &compliance_, &r)) {
+    // a refined lattice gives the servo no contact model; a solved contact still needs the stiffness factored
+    if (scene_.device.solved_contact && !lat.hanging.empty()) {
+      Mat3 c;
+      compliance_.compute(lat, w, false, &c);
+    }
+    return;
+  }
   m->has_contact_model = true;
   m->contact_p0_m = r.p0_m;
   m->contact_v0_m_per_s = r.v0_m_per_s;
