@@ -22,6 +22,25 @@ using test::count_different;
 constexpr int kW = 160;
 constexpr int kH = 120;
 
+// The moving vertices pressed `amount` steps in from rest: further toward +x and -y.
+void press(const std::vector<Vec3>& rest, const std::vector<int32_t>& moving, double amount, TriMesh* m) {
+  for (int32_t v : moving) {
+    const Vec3& r = rest[static_cast<std::size_t>(v)];
+    m->vertices_m[static_cast<std::size_t>(v)] = r + amount * Vec3(-0.003 * (r.x() - 0.02) * 20, 0.001, -0.002 * (1 + r.y() * 10));
+  }
+}
+
+// A view of m, its normals and moving vertices, at layer epoch `epoch`.
+FrameView moving_view(const TriMesh& m, const std::vector<Vec3>& normals, const std::vector<int32_t>& moving, uint64_t epoch) {
+  FrameView view{};
+  view.vertices_m = &m.vertices_m;
+  view.triangles = &m.triangles;
+  view.normals = &normals;
+  view.moving_vertices = &moving;
+  view.layer_epoch = epoch;
+  return view;
+}
+
 class RendererResplitTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
@@ -72,17 +91,9 @@ TEST_P(RendererResplitTest, ATopologyChangeInsideTheMovingPartKeepsTheLayerAndTh
           break;
         }
       }
-      for (int32_t v : moving) {
-        const Vec3& r = rest[v];
-        m.vertices_m[v] = r + f * Vec3(-0.003 * (r.x() - 0.02) * 20, 0.001, -0.002 * (1 + r.y() * 10));
-      }
+      press(rest, moving, f, &m);
       compute_vertex_normals(m.vertices_m, m.triangles, &normals);
-      FrameView view{};
-      view.vertices_m = &m.vertices_m;
-      view.triangles = &m.triangles;
-      view.normals = &normals;
-      view.moving_vertices = &moving;
-      view.layer_epoch = 7;
+      FrameView view = moving_view(m, normals, moving, 7);
       view.topology_epoch = topology;
       view.static_part_kept = true;
       layered.draw(view, a.data());
@@ -117,18 +128,9 @@ TEST_P(RendererResplitTest, ANewMovingSetRedrawsOnlyTheRectangleThatChangedAndTh
     for (std::size_t v = 0; v < rest.size(); ++v)
       if (rest[v].x() > 0.02 && (epoch == 0 || rest[v].y() > 0.0)) moving.push_back(static_cast<int32_t>(v));
     // the moving part pressed in further each frame, but not on the frame its set changes
-    if (f != 4)
-      for (int32_t v : moving) {
-        const Vec3& r = rest[v];
-        m.vertices_m[v] = r + (f + 1) * Vec3(-0.003 * (r.x() - 0.02) * 20, 0.001, -0.002 * (1 + r.y() * 10));
-      }
+    if (f != 4) press(rest, moving, f + 1, &m);
     compute_vertex_normals(m.vertices_m, m.triangles, &normals);
-    FrameView view{};
-    view.vertices_m = &m.vertices_m;
-    view.triangles = &m.triangles;
-    view.normals = &normals;
-    view.moving_vertices = &moving;
-    view.layer_epoch = static_cast<uint64_t>(epoch);
+    const FrameView view = moving_view(m, normals, moving, static_cast<uint64_t>(epoch));
     const int64_t builds = layered.layer_builds();
     layered.draw(view, a.data());
     EXPECT_TRUE(layered.last_draw_layered());

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "pressed_rest.h"
+#include "sim_test_util.h"
 
 #include <cmath>
 #include <random>
@@ -111,22 +112,6 @@ Lattice mixed_lattice(const test::BoxModel& box, MaterialModel model, double mov
   return lat;
 }
 
-// Largest |f + dE/dx| over the nodes' coordinates (two-sided differences) over the largest |f|.
-template <class Energy>
-double gradient_mismatch(const Lattice& lat, const std::vector<Vec3>& f, Energy energy_J) {
-  const double h = 1e-7 * lat.cell_m;
-  double worst = 0.0, scale = 0.0;
-  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      std::vector<Vec3> xp = lat.x_m, xm = lat.x_m;
-      xp[i][a] += h;
-      xm[i][a] -= h;
-      worst = std::max(worst, std::abs(f[i][a] + (energy_J(xp) - energy_J(xm)) / (2 * h)));
-      scale = std::max(scale, std::abs(f[i][a]));
-    }
-  return worst / scale;
-}
-
 TEST(RefinedCellTerms, ForcesAreMinusTheEnergyGradientAndTangentsTheirDerivativeOnMixedCells) {
   const auto box = make_box_model(kSide_m, 3);
   const std::size_t probe = 0;
@@ -135,7 +120,7 @@ TEST(RefinedCellTerms, ForcesAreMinusTheEnergyGradientAndTangentsTheirDerivative
     ASSERT_GT(lat.cell_edge_m(probe), lat.cell_m);  // the coarse cells and the fine ones differ
     std::vector<Vec3> f(lat.num_nodes(), Vec3::Zero());
     add_volume_forces(lat, lat.x_m, &f);
-    EXPECT_LT(gradient_mismatch(lat, f, [&](const std::vector<Vec3>& x) { return volume_energy_J(lat, x); }), 1e-6);
+    EXPECT_LT(test::gradient_check(lat, f, [&](const std::vector<Vec3>& x) { return volume_energy_J(lat, x); }, 1e-7).mismatch, 1e-6);
   }
   {
     // the volume term's Gauss-Newton tangent w c c^T near rest (where the left-out (J - 1) d^2 J part is small) is
@@ -169,7 +154,7 @@ TEST(RefinedCellTerms, ForcesAreMinusTheEnergyGradientAndTangentsTheirDerivative
     const std::size_t n = lat.num_nodes();
     std::vector<Vec3> f(n, Vec3::Zero());
     add_neo_hookean_forces(lat, lat.x_m, &f);
-    EXPECT_LT(gradient_mismatch(lat, f, [&](const std::vector<Vec3>& x) { return neo_hookean_energy_J(lat, x); }), 1e-6);
+    EXPECT_LT(test::gradient_check(lat, f, [&](const std::vector<Vec3>& x) { return neo_hookean_energy_J(lat, x); }, 1e-7).mismatch, 1e-6);
     // the exact tangent: its product and its blocks against the forces' directional derivative
     std::vector<NeoHookeanCell> cells;
     neo_hookean_cells(lat, lat.x_m, &cells);

@@ -1,6 +1,7 @@
 #pragma once
 // Small lattices built by hand (chains, oscillators) and helpers shared by the stability tests.
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -11,6 +12,27 @@
 #include "support/fixtures.h"
 
 namespace palpate::test {
+
+/// Forces against the energy they come from, by two-sided differences of step step_cells * cell over every node's
+/// coordinates: the largest |f + dE/dx| over the largest |f| (mismatch), and that largest |f|.
+struct GradientCheck {
+  double mismatch = 0.0;
+  double largest_force_N = 0.0;
+};
+template <class Energy>
+GradientCheck gradient_check(const Lattice& lat, const std::vector<Vec3>& f, Energy energy_J, double step_cells) {
+  const double h = step_cells * lat.cell_m;
+  double worst = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      std::vector<Vec3> xp = lat.x_m, xm = lat.x_m;
+      xp[i][a] += h;
+      xm[i][a] -= h;
+      worst = std::max(worst, std::abs(f[i][a] + (energy_J(xp) - energy_J(xm)) / (2 * h)));
+      scale = std::max(scale, std::abs(f[i][a]));
+    }
+  return {worst / scale, scale};
+}
 
 /// Every integrator, in a fixed order.
 inline const std::vector<IntegratorKind>& all_integrators() {
