@@ -41,6 +41,30 @@ LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m
   return c;
 }
 
+double self_weight_strain(const MaterialSpec& material, double height_m, double g_m_per_s2) {
+  return material.density_kg_per_m3 * std::abs(g_m_per_s2) * height_m / material.young_modulus_Pa;
+}
+
+std::string self_weight_warning(const MaterialSpec& material, double height_m, double g_m_per_s2,
+                                const std::string& height_said) {
+  const double strain = self_weight_strain(material, height_m, g_m_per_s2);
+  const bool large = material.model == MaterialModel::kNeoHookean;
+  const double limit = large ? 0.3 : 0.1;
+  if (!(strain > limit)) return "";
+  std::ostringstream s;
+  s.precision(3);
+  s << "material: under its own weight (lattice.gravity_m_per_s2, " << std::abs(g_m_per_s2) << " m/s^2) the foot of "
+    << height_said << " takes a strain rho g H / E = " << strain * 100.0 << " % (rho " << material.density_kg_per_m3
+    << " kg/m^3, H " << height_m << " m, E " << material.young_modulus_Pa << " Pa); ";
+  if (strain >= 1.0)
+    s << "at 100 % or more it cannot carry itself and the lattice folds under it";
+  else
+    s << "material.model '" << name_of(material.model) << "' is calibrated to " << limit * 100.0 << " % strain"
+      << (large ? " (its checked range)" : " (small strain)") << ", so the sag is not the material's";
+  s << ": raise young_modulus_Pa, lower density_kg_per_m3 or set lattice.gravity_m_per_s2 to [0, 0, 0]";
+  return s.str();
+}
+
 double cell_solid_fraction(const GridHierarchy& grid, int32_t index, int level) {
   if (!grid.solid_cell(index, level)) return 0.0;
   const int leaf_level = grid.levels();

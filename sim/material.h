@@ -84,6 +84,16 @@ struct LatticeCalibration {
 /// The calibration for `material` at cell edge cell_m (> 0).
 LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m);
 
+/// Strain a column of `height_m` of `material` takes at its foot under its own weight in gravity |g| g_m_per_s2:
+/// rho g H / E (the stress rho g H over E; the column's mean strain is half of it).
+double self_weight_strain(const MaterialSpec& material, double height_m, double g_m_per_s2);
+
+/// The start-up warning when that strain is more than the material model is calibrated for ("" otherwise): 10 % for
+/// the small-strain models (springs, volumetric), 30 % for neo_hookean (its checked range); beyond 100 % the column
+/// cannot carry itself and the lattice folds. `height_said` names the height (e.g. "the 0.06 m tall box").
+std::string self_weight_warning(const MaterialSpec& material, double height_m, double g_m_per_s2,
+                                const std::string& height_said);
+
 /// Fraction in [0, 1] of the cell `index` at `level` inside the mesh: the mean solid fraction of its leaf cells.
 double cell_solid_fraction(const GridHierarchy& grid, int32_t index, int level);
 

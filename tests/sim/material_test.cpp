@@ -429,5 +429,52 @@ TEST(MaterialNeoHookean, HeldDofsStayWhereTheyAre) {
   }
 }
 
+// The self-weight warning's strain is the lattice's: a 4 cm column on a sliding floor settles under gravity with its
+// top down rho g H^2 / (2 E), half the foot's strain rho g H / E times H. The warning is said past the model's
+// calibrated strain (10 % small-strain, 30 % Neo-Hookean) and says so when the column cannot carry itself.
+TEST(MaterialSelfWeight, TheWarnedStrainIsTheColumnsAndItIsSaidPastTheCalibratedRange) {
+  const double g = 9.81, h = 0.04;
+  MaterialSpec m = silicone();
+  m.young_modulus_Pa = m.density_kg_per_m3 * g * h / 0.02;  // foot strain 2 %
+  ReferenceCase c;
+  c.lattice = box_lattice(m, h, 3, {1, 1, 4}).value();
+  Lattice& lat = c.lattice;
+  lat.gravity_m_per_s2 = Vec3(0, 0, -g);
+  std::vector<uint8_t> held(3 * lat.num_nodes(), 0);
+  std::size_t corner = 0;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (lat.rest_m[i].z() < 1e-9) {
+      held[3 * i + 2] = 1;
+      if (lat.rest_m[i].squaredNorm() < 1e-18) corner = i;
+    }
+  held[3 * corner] = held[3 * corner + 1] = 1;  // no drift in x, y; the floor lets the foot widen
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)  // and no turn about z
+    if (lat.rest_m[i].z() < 1e-9 && lat.rest_m[i].x() > 1e-9 && lat.rest_m[i].y() < 1e-9) held[3 * i + 1] = 1;
+  ASSERT_TRUE(solve_static(&lat, held, {}));
+  double top = 0.0;
+  int tops = 0;
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (lat.rest_m[i].z() > h - 1e-9) top += lat.x_m[i].z() - lat.rest_m[i].z(), ++tops;
+  top /= tops;
+  const double strain = self_weight_strain(m, h, g);
+  EXPECT_NEAR(strain, 0.02, 1e-12);
+  EXPECT_NEAR(-top, strain * h / 2.0, 0.03 * strain * h / 2.0) << "top sag " << -top << " m";
+
+  const auto warned = [&](MaterialModel model, double foot_strain) {
+    MaterialSpec s = m;
+    s.model = model;
+    s.young_modulus_Pa = s.density_kg_per_m3 * g * h / foot_strain;
+    return self_weight_warning(s, h, g, "the column");
+  };
+  EXPECT_EQ(warned(MaterialModel::kSprings, 0.02), "");
+  EXPECT_EQ(warned(MaterialModel::kVolumetric, 0.09), "");
+  const std::string small = warned(MaterialModel::kVolumetric, 0.2);
+  EXPECT_NE(small.find("rho g H / E = 20 %"), std::string::npos) << small;
+  EXPECT_NE(small.find("calibrated to 10 % strain"), std::string::npos) << small;
+  EXPECT_EQ(warned(MaterialModel::kNeoHookean, 0.2), "");
+  EXPECT_NE(warned(MaterialModel::kNeoHookean, 0.4).find("calibrated to 30 % strain"), std::string::npos);
+  EXPECT_NE(warned(MaterialModel::kNeoHookean, 1.5).find("cannot carry itself"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace palpate

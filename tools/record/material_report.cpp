@@ -41,9 +41,25 @@ nlohmann::json material_summary(const Scene& scene, const GridHierarchy& grid) {
           {"warning", cal.warning}};
 }
 
-std::string material_warning(const Scene& scene) {
-  if (!scene.lattice.material.enabled) return "";
-  return calibrate_lattice(scene.lattice.material, 1.0).warning;
+std::vector<std::string> material_warnings(const Scene& scene) {
+  const MaterialSpec& m = scene.lattice.material;
+  if (!m.enabled) return {};
+  std::vector<std::string> out;
+  if (std::string w = calibrate_lattice(m, 1.0).warning; !w.empty()) out.push_back(std::move(w));
+  // the body's height along gravity: a box's exactly, a model's at most its largest side (scaled to mesh.size_m)
+  const Vec3& g = scene.lattice.gravity_m_per_s2;
+  if (g.norm() > 0.0) {
+    const bool box = scene.mesh.file.empty();
+    const double h = box ? scene.mesh.box_size_m.cwiseAbs().dot(g.cwiseAbs()) / g.norm() : scene.mesh.size_m;
+    std::ostringstream said;
+    said.precision(3);
+    if (box)
+      said << "the " << h << " m tall box";
+    else
+      said << "the model (up to " << h << " m tall: its largest side)";
+    if (std::string w = self_weight_warning(m, h, g.norm(), said.str()); !w.empty()) out.push_back(std::move(w));
+  }
+  return out;
 }
 
 

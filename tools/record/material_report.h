@@ -4,6 +4,7 @@
 /// scene's contact carries according to the Hertz calibration of `palpate bench model` (sim/contact_model_error.h).
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -16,7 +17,8 @@ namespace palpate {
 /// The "material" block for summary.json; null when the scene uses the raw spring/mass keys.
 nlohmann::json material_summary(const Scene& scene, const GridHierarchy& grid);
 
-/// The start-up warning for the scene's material ("" when nu = 0.25 or there is no material).
-std::string material_warning(const Scene& scene);
+/// The start-up warnings for the scene's material (none when it is represented as asked): a Poisson ratio the
+/// springs cannot take, and a body too soft to carry its own weight in the scene's gravity.
+std::vector<std::string> material_warnings(const Scene& scene);
 
 }  // namespace palpate

@@ -104,7 +104,7 @@ Result<RecordPlan> plan_record(const Scene& scene_in, const RecordOptions& opt) 
   // said once before starting: the integrator's stability at the frame step, the material, flags that do not apply
   if (const std::string w = integrator_warning(scene.lattice, scene.rates.frame_period_s()); !w.empty())
     p.warnings.push_back(w);
-  if (const std::string w = material_warning(scene); !w.empty()) p.warnings.push_back(w);
+  for (std::string& w : material_warnings(scene)) p.warnings.push_back(std::move(w));
   if (opt.realtime_flags && p.lockstep)
     p.warnings.push_back("--spin-us and --priority apply to realtime recordings; this one is lockstep");
   return p;
