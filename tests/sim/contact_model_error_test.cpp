@@ -52,5 +52,21 @@ TEST(ContactModelError, PoissonRatioBetweenRowsIsInterpolated) {
   EXPECT_NE(at_04, at_045);
 }
 
+// With device.contact "solved" the figure comes from the solved calibration, and a point tool's tip, loaded as a
+// sphere of its radius, has one too.
+TEST(ContactModelError, TheSolvedContactReadsItsOwnCalibrationAndTakesAPointsTipAsASphere) {
+  const MaterialSpec tissue = material(MaterialModel::kVolumetric, 0.45);
+  const ContactModelError prescribed = contact_model_error(tissue, true, 0.005, 0.0025);
+  const ContactModelError solved = contact_model_error(tissue, true, 0.005, 0.0025, true);
+  ASSERT_TRUE(solved.defined);
+  EXPECT_NE(solved.hertz_force_error, prescribed.hertz_force_error);
+  EXPECT_NE(solved.basis.find("solved under the sphere"), std::string::npos) << solved.basis;
+  EXPECT_NE(prescribed.basis.find("prescribed"), std::string::npos) << prescribed.basis;
+  const ContactModelError point = contact_model_error(tissue, false, 0.005, 0.0025, true);
+  ASSERT_TRUE(point.defined);
+  EXPECT_EQ(point.hertz_force_error, solved.hertz_force_error);
+  EXPECT_NE(point.basis.find("point tool's tip"), std::string::npos) << point.basis;
+}
+
 }  // namespace
 }  // namespace palpate

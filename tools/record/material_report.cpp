@@ -17,12 +17,14 @@ nlohmann::json material_summary(const Scene& scene, const GridHierarchy& grid) {
   const double volume_m3 = solid_volume_m3(grid);
   // the model error the contact carries: the bench's Hertz calibration read at the scene's tool and cell size
   const ContactModelError err =
-      contact_model_error(m, scene.device.sphere_tool, scene.device.tool_radius_m, cell_m);
+      contact_model_error(m, scene.device.sphere_tool, scene.device.tool_radius_m, cell_m, scene.device.solved_contact);
   const nlohmann::json contact = {
       {"hertz_force_error", err.defined ? nlohmann::json(err.hertz_force_error) : nlohmann::json()},
       {"contact_radius_cells", err.defined ? nlohmann::json(err.contact_radius_cells) : nlohmann::json()},
       {"within_calibration", err.within_calibration},
-      {"source", "palpate bench model (Hertz calibration), not measured in this run"},
+      {"source", scene.device.solved_contact ? "palpate bench model --contact solved (Hertz calibration), not measured in this run"
+                                             : "palpate bench model (Hertz calibration), not measured in this run"},
+      {"contact", scene.device.solved_contact ? "solved" : "prescribed"},
       {"basis", err.basis}};
   return {{"young_modulus_Pa", m.young_modulus_Pa},
           {"poisson_ratio_asked", m.poisson_ratio},
