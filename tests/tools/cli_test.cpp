@@ -125,6 +125,9 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   const CliRun r = palpate("record scenes/cube_press.json -q --no-render --duration 0.3 --out " + out);
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+  // the end of the run says it too, in a line
+  EXPECT_NE(r.out.find("material springs, E 200000 Pa, nu 0.25 (lattice 0.25), 1070 kg/m^3, 7.5 mm cells; contact "
+                       "prescribed: a point load, no Hertz figure"), std::string::npos) << r.out;
   const auto j = nlohmann::json::parse(read_file(out + "/summary.json"));
   ASSERT_TRUE(j.contains("material")) << j.dump();
   EXPECT_EQ(j["material"]["poisson_ratio_represented"].get<double>(), 0.25);
@@ -151,6 +154,10 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   EXPECT_DOUBLE_EQ(c["hertz_force_error"].get<double>(),
                    contact_model_error(MaterialSpec{}, true, 0.002, 0.0075).hertz_force_error);
   EXPECT_NE(c["source"].get<std::string>().find("palpate bench model"), std::string::npos);
+  char line[120];
+  std::snprintf(line, sizeof line, "contact prescribed: force %+.0f %% against Hertz at 0.27 cells",
+                100.0 * c["hertz_force_error"].get<double>());
+  EXPECT_NE(w.out.find(line), std::string::npos) << line << " in " << w.out;
 }
 
 TEST(Cli, AssimpInvalidModelsGiveErrorsNotCrashes) {

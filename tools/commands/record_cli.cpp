@@ -17,6 +17,7 @@
 #include "tools/live/live_feed.h"
 #include "tools/live/live_server.h"
 #include "tools/record/record_plan.h"
+#include "tools/record/material_report.h"
 #include "tools/record/recorder.h"
 
 namespace palpate {
@@ -98,6 +99,10 @@ void print_outputs(const RecordPlan& plan, const RecordResult& r) {
   std::printf("log      %s\n", plan.haptic_csv_path.c_str());
   std::printf("summary  %s\n", r.summary_path.c_str());
   if (!r.state_hash.empty()) std::printf("state_hash %s\n", r.state_hash.c_str());
+  // what the material became and how far its contact is from the continuum, by the bench's calibration
+  const nlohmann::json summary = nlohmann::json::parse(r.summary_json, nullptr, false);
+  if (summary.is_object() && summary.contains("material"))
+    if (const std::string m = material_line(summary["material"]); !m.empty()) std::printf("material %s\n", m.c_str());
   std::fflush(stdout);
 }
 

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstdio>
 #include <sstream>
 
 #include "sim/contact_model_error.h"
@@ -41,6 +42,27 @@ nlohmann::json material_summary(const Scene& scene, const GridHierarchy& grid) {
           {"model", name_of(m.model)},
           {"contact_model_error", contact},
           {"warning", cal.warning}};
+}
+
+std::string material_line(const nlohmann::json& m) {
+  if (!m.is_object()) return "";
+  char text[400];
+  std::snprintf(text, sizeof text, "%s, E %g Pa, nu %g (lattice %g), %g kg/m^3, %.3g mm cells",
+                m.value("model", "?").c_str(), m.value("young_modulus_Pa", 0.0), m.value("poisson_ratio_asked", 0.0),
+                m.value("poisson_ratio_represented", 0.0), m.value("density_kg_per_m3", 0.0),
+                1e3 * m.value("cell_m", 0.0));
+  std::string line = text;
+  const nlohmann::json& c = m.value("contact_model_error", nlohmann::json::object());
+  const std::string contact = c.value("contact", "prescribed");
+  if (c.contains("hertz_force_error") && c["hertz_force_error"].is_number()) {
+    std::snprintf(text, sizeof text, "; contact %s: force %+.0f %% against Hertz at %.2g cells (bench model's "
+                  "calibration%s, not this run)", contact.c_str(), 100.0 * c["hertz_force_error"].get<double>(),
+                  c.value("contact_radius_cells", 0.0), c.value("within_calibration", false) ? "" : ", nearest row");
+    line += text;
+  } else {
+    line += "; contact " + contact + ": a point load, no Hertz figure";
+  }
+  return line;
 }
 
 std::vector<std::string> material_warnings(const Scene& scene) {

@@ -17,6 +17,10 @@ namespace palpate {
 /// The "material" block for summary.json; null when the scene uses the raw spring/mass keys.
 nlohmann::json material_summary(const Scene& scene, const GridHierarchy& grid);
 
+/// One line for the end of a recording from summary.json's "material" block: the model, E, nu asked and
+/// represented, density, cell edge, and the force error the scene's contact carries by the calibration ("" for null).
+std::string material_line(const nlohmann::json& material);
+
 /// The start-up warnings for the scene's material (none when it is represented as asked): a Poisson ratio the
 /// springs cannot take, and a body too soft to carry its own weight in the scene's gravity.
 std::vector<std::string> material_warnings(const Scene& scene);
