@@ -160,6 +160,27 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   EXPECT_NE(w.out.find(line), std::string::npos) << line << " in " << w.out;
 }
 
+// A body too soft to carry its own weight is said before the run, its height the model's extent along gravity: a
+// 6 x 6 x 0.6 cm plate of E 1260 Pa lying flat takes 5 % at its foot (nothing said), stood on its edge by gravity
+// along x 50 % (said, with that height).
+TEST(Cli, ABodyTooSoftForItsOwnWeightIsSaidWithItsHeightAlongGravity) {
+  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
+  scene["mesh"]["box_m"] = {0.06, 0.06, 0.006};
+  scene["material"]["young_modulus_Pa"] = 1260.0;
+  const std::string flat = tmp("soft_flat.json");
+  write_text(flat, scene.dump());
+  const CliRun lying = palpate("record " + flat + " -q --no-render --duration 0.05 --out " + tmp("soft_flat_out"));
+  ASSERT_EQ(lying.code, 0) << lying.out;
+  EXPECT_EQ(lying.out.find("own weight"), std::string::npos) << lying.out;
+  scene["lattice"]["gravity_m_per_s2"] = {-9.81, 0.0, 0.0};
+  const std::string edge = tmp("soft_edge.json");
+  write_text(edge, scene.dump());
+  const CliRun standing = palpate("record " + edge + " -q --no-render --duration 0.05 --out " + tmp("soft_edge_out"));
+  ASSERT_EQ(standing.code, 0) << standing.out;
+  EXPECT_NE(standing.out.find("warning: material: under its own weight"), std::string::npos) << standing.out;
+  EXPECT_NE(standing.out.find("the 0.06 m tall box takes a strain rho g H / E = 50"), std::string::npos) << standing.out;
+}
+
 TEST(Cli, AssimpInvalidModelsGiveErrorsNotCrashes) {
   const fs::path dir = "/usr/share/assimp/models/invalid";
   if (!fs::exists(dir)) GTEST_SKIP() << "assimp-testmodels not installed";

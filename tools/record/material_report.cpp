@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -70,20 +71,24 @@ std::vector<std::string> material_warnings(const Scene& scene) {
   if (!m.enabled) return {};
   std::vector<std::string> out;
   if (std::string w = calibrate_lattice(m, 1.0).warning; !w.empty()) out.push_back(std::move(w));
-  // the body's height along gravity: a box's exactly, a model's at most its largest side (scaled to mesh.size_m)
-  const Vec3& g = scene.lattice.gravity_m_per_s2;
-  if (g.norm() > 0.0) {
-    const bool box = scene.mesh.file.empty();
-    const double h = box ? scene.mesh.box_size_m.cwiseAbs().dot(g.cwiseAbs()) / g.norm() : scene.mesh.size_m;
-    std::ostringstream said;
-    said.precision(3);
-    if (box)
-      said << "the " << h << " m tall box";
-    else
-      said << "the model (up to " << h << " m tall: its largest side)";
-    if (std::string w = self_weight_warning(m, h, g.norm(), said.str()); !w.empty()) out.push_back(std::move(w));
-  }
   return out;
+}
+
+std::string self_weight_notice(const Scene& scene, const std::vector<Vec3>& rest_vertices_m) {
+  const MaterialSpec& m = scene.lattice.material;
+  const Vec3& g = scene.lattice.gravity_m_per_s2;
+  if (!m.enabled || !(g.norm() > 0.0) || rest_vertices_m.empty()) return "";
+  // the body's height along gravity: the rest mesh's extent along g
+  const Vec3 down = g.normalized();
+  double lo = rest_vertices_m.front().dot(down), hi = lo;
+  for (const Vec3& v : rest_vertices_m) {
+    lo = std::min(lo, v.dot(down));
+    hi = std::max(hi, v.dot(down));
+  }
+  std::ostringstream said;
+  said.precision(3);
+  said << "the " << hi - lo << " m tall " << (scene.mesh.file.empty() ? "box" : "model");
+  return self_weight_warning(m, hi - lo, g.norm(), said.str());
 }
 
 

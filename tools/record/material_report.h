@@ -22,7 +22,11 @@ nlohmann::json material_summary(const Scene& scene, const GridHierarchy& grid);
 std::string material_line(const nlohmann::json& material);
 
 /// The start-up warnings for the scene's material (none when it is represented as asked): a Poisson ratio the
-/// springs cannot take, and a body too soft to carry its own weight in the scene's gravity.
+/// springs cannot take.
 std::vector<std::string> material_warnings(const Scene& scene);
+
+/// Once the model is loaded: the warning for a body too soft to carry its own weight in the scene's gravity, its
+/// height the rest mesh's extent along g (sim/material.h self_weight_warning); "" when it can.
+std::string self_weight_notice(const Scene& scene, const std::vector<Vec3>& rest_vertices_m);
 
 }  // namespace palpate

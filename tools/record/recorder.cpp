@@ -28,6 +28,7 @@
 #include "tools/session/device_factory.h"
 #include "tools/live/live_feed.h"
 #include "tools/session/model.h"
+#include "tools/record/material_report.h"
 #include "tools/record/record_plan.h"
 #include "tools/session/relative_keys.h"
 #include "tools/session/session.h"
@@ -150,6 +151,8 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   rec->model.emplace(std::move(model_r).value());
   const Model& model = *rec->model;
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
+  if (const std::string w = self_weight_notice(scene, model.rest.vertices_m); !w.empty())
+    std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
   auto device_r = make_device(scene, opt.device, opt.browser);
