@@ -87,8 +87,8 @@ bool solve_contact_lcp(const Eigen::MatrixXd& c, const Eigen::VectorXd& g, const
 }
 
 void contact_points(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
-                    const std::vector<int32_t>& tris, const Vec3& centre_m, const Vec3& push, double reach_m,
-                    double spacing_m, int max_points, std::vector<ContactPoint>* out) {
+                    const std::vector<int32_t>& tris, const Vec3& centre_m, const Vec3& push, double radius_m,
+                    double reach_m, double spacing_m, int max_points, std::vector<ContactPoint>* out) {
   out->clear();
   if (!(reach_m > 0.0) || !(spacing_m > 0.0) || max_points <= 0) return;
   // the plane across the push, and one slot per spacing-sized square of it within the reach: each keeps the point
@@ -111,6 +111,8 @@ void contact_points(const std::vector<Vec3>& vertices_m, const std::vector<std::
     // the point nearest the slot's middle (so the choice does not flicker as the surface moves along the push),
     // unless another layer lies nearer the sphere by more than a spacing
     const double along = d.dot(push);
+    // behind the sphere's far side: the sphere moving along the push never meets it
+    if (along < -std::sqrt(std::max(radius_m * radius_m - lateral * lateral, 0.0))) return;
     const double off = std::hypot(u - (iu - half) * spacing_m, v - (iv - half) * spacing_m);
     const bool nearer_layer = along < s.along - spacing_m;
     const bool same_layer = std::abs(along - s.along) <= spacing_m;
@@ -166,7 +168,7 @@ bool SolvedContactLoad::weights(const Lattice& lat, const RestObject& rest, cons
   if (!compliance->solve(last_load_N_, &unload_m_)) return false;
   if (reach_m_ <= 0.0) reach_m_ = std::min(radius_m, 2.0 * lat.cell_m);
   for (int solve = 0; solve < kMaxSolves; ++solve) {
-    contact_points(vertices_m, rest.mesh->triangles, tris, centre_m, push, reach_m_, reach_m_ / kPointsPerReach,
+    contact_points(vertices_m, rest.mesh->triangles, tris, centre_m, push, radius_m, reach_m_, reach_m_ / kPointsPerReach,
                    kMaxPoints, &points_);
     point_w_.clear();
     dirs_.clear();

@@ -46,10 +46,11 @@ struct ContactPoint {
 
 /// The points of triangles `tris` (deformed positions vertices_m) facing against `push` (unit) within reach_m of the
 /// line through centre_m along it, on a barycentric grid of about spacing_m; at most max_points, the nearest to the
-/// line first.
+/// line first. Points behind the sphere of radius_m at centre_m (beyond its far side, against the push: a part of the
+/// model overhanging the tool) are not what it meets, and are left out.
 void contact_points(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
-                    const std::vector<int32_t>& tris, const Vec3& centre_m, const Vec3& push, double reach_m,
-                    double spacing_m, int max_points, std::vector<ContactPoint>* out);
+                    const std::vector<int32_t>& tris, const Vec3& centre_m, const Vec3& push, double radius_m,
+                    double reach_m, double spacing_m, int max_points, std::vector<ContactPoint>* out);
 
 /// What the last solve came to. Plain data.
 struct SolvedContactReport {

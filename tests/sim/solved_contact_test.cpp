@@ -138,5 +138,30 @@ TEST(SolvedContact, ASurfaceAlreadyCarryingTheLoadGetsTheSameLoad) {
   EXPECT_LT(moved, 0.05);  // of the total weight 1 (2 would be a wholly different load)
 }
 
+// A part of the model overhanging the sphere (an ear above the tool pressing the back under it) faces the push too,
+// but lies behind the sphere: only the surface in front of it is sampled. (Taken as nearest the sphere, the ear was
+// loaded and pulled down 4 cm onto the tool.)
+TEST(SolvedContact, AnOverhangBehindTheSphereIsNotWhatItMeets) {
+  const double r = 0.006;
+  // two squares 2 cm wide facing up: the surface pressed at z = 0 and the overhang at z = 2 cm, above the sphere
+  std::vector<Vec3> v;
+  std::vector<std::array<int32_t, 3>> tris;
+  for (double z : {0.0, 0.02}) {
+    const auto base = static_cast<int32_t>(v.size());
+    for (const auto& [x, y] : {std::pair{-0.01, -0.01}, {0.01, -0.01}, {0.01, 0.01}, {-0.01, 0.01}}) v.emplace_back(x, y, z);
+    tris.push_back({base, base + 1, base + 2});
+    tris.push_back({base, base + 2, base + 3});
+  }
+  const std::vector<int32_t> all{0, 1, 2, 3};
+  std::vector<ContactPoint> points;
+  contact_points(v, tris, all, Vec3(0, 0, r), Vec3(0, 0, -1), r, 0.004, 0.001, 48, &points);
+  ASSERT_GE(points.size(), 30u);
+  for (const ContactPoint& p : points) EXPECT_LT(p.tri, 2) << "a point of the overhang";
+  // the surface just inside the sphere (pressed 1 mm) is still met
+  contact_points(v, tris, all, Vec3(0, 0, r - 1e-3), Vec3(0, 0, -1), r, 0.004, 0.001, 48, &points);
+  ASSERT_GE(points.size(), 30u);
+  for (const ContactPoint& p : points) EXPECT_LT(p.tri, 2);
+}
+
 }  // namespace
 }  // namespace palpate

@@ -79,6 +79,32 @@ TEST(SceneCommand, PullAndCutScenesMakeContactOnTheBunny) {
   EXPECT_EQ(cut["nan_events"].get<int>(), 0);
 }
 
+// A material the user names (E, nu, density) and a sphere with the contact solved: the scene carries them, the
+// touch runs on the volume term at the asked nu, the contact is solved, and the press stays where it is pressed
+// (the bunny's ear over the tool is not drawn onto it). Out-of-range numbers are refused naming the option.
+TEST(SceneCommand, ATissueTheUserNamesIsTouchedWithTheContactSolved) {
+  const std::string bunny = test::source_path("scenes/bunny.obj");
+  const auto j = scene_then_record(bunny, "tissue", "--young-modulus 2e4 --poisson 0.45 --density 1050 --tool sphere "
+                                   "--tool-radius-mm 6 --contact solved", 2.2);
+  EXPECT_EQ(j["material"]["model"], "volumetric");
+  EXPECT_EQ(j["material"]["poisson_ratio_represented"].get<double>(), 0.45);
+  EXPECT_EQ(j["material"]["contact_model_error"]["contact"], "solved");
+  EXPECT_GT(j["contact_load"]["solved_frames"].get<int>(), 50) << j["contact_load"].dump();
+  EXPECT_GT(j["max_force_N"].get<double>(), 0.3);
+  // a 10 mm press of a 6 mm sphere: the lattice moves millimetres, not centimetres
+  EXPECT_LT(j["max_displacement_m"].get<double>(), 0.008);
+  const std::string dir = test::fresh_dir("scene_tissue_bad");
+  for (const std::string& bad : {std::string("--young-modulus 0.5"), std::string("--young-modulus 1e4 --poisson 0.5"),
+                                 std::string("--poisson 0.3"), std::string("--mode pull --contact solved")}) {
+    const CliRun r = palpate("scene " + bunny + " " + bad + " --out " + dir + "/s.json");
+    EXPECT_NE(r.code, 0) << bad;
+    EXPECT_FALSE(fs::exists(dir + "/s.json")) << bad;
+  }
+  const CliRun pull = palpate("scene " + bunny + " --mode pull --contact solved --out " + dir + "/s.json");
+  EXPECT_NE(pull.out.find("--contact solved: the contact is solved under a pressing tool; --mode is 'pull'"),
+            std::string::npos) << pull.out;
+}
+
 TEST(SceneCommand, FromPicksTheFirstSurfaceOnThatSideAndDepthSetsThePress) {
   const std::string obj = box_obj(test::fresh_dir("scene_from"));
   SceneRequest rq;

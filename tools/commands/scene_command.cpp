@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/mesh_io.h"
 #include "tools/session/model.h"
+#include "tools/commands/scene_material.h"
 #include "tools/commands/scene_target.h"
 #include "tools/commands/scene_trajectory.h"
 #include "tools/commands/subcommand.h"
@@ -134,6 +135,13 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   if (rq.at_raw && !rq.at_raw->allFinite()) return make_error("--at: not three finite numbers");
   if (rq.from && !(rq.from->allFinite() && std::abs(rq.from->norm() - 1.0) < 1e-9))
     return make_error("--from: not a unit direction");
+  if (auto st = check_scene_material(rq.young_modulus_Pa, rq.poisson_ratio, rq.density_kg_per_m3); !st)
+    return st.error();
+  if (!std::isfinite(rq.tool_radius_mm) || rq.tool_radius_mm < 0.5 || rq.tool_radius_mm > 20.0)
+    return make_error("--tool-radius-mm ", std::to_string(rq.tool_radius_mm), ": not a number in [0.5, 20]");
+  if (rq.solved_contact && rq.mode != InteractionMode::kTouch)
+    return make_error("--contact solved: the contact is solved under a pressing tool; --mode is '",
+                      mode_name(rq.mode), "' (touch only)");
   auto raw_r = load_mesh(rq.mesh_path);
   if (!raw_r) return raw_r.error();
   const TriMesh& raw = raw_r.value();
@@ -299,7 +307,17 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   nlohmann::ordered_json lat;
   lat["level"] = level;
   lat["radius_cells"] = 3;
-  if (rq.mode == InteractionMode::kCut) {
+  if (rq.young_modulus_Pa > 0.0) {
+    // a material the user names: its model by what the mode needs (scene_material.h)
+    const SceneMaterial m = scene_material(rq.mode, rq.young_modulus_Pa, rq.poisson_ratio, rq.density_kg_per_m3);
+    lat["gravity_m_per_s2"] = rq.mode == InteractionMode::kCut ? nlohmann::ordered_json{0, 0, -9.81}
+                                                               : nlohmann::ordered_json{0, 0, 0};
+    lat["fix_floor"] = true;
+    lat["integrator"] = m.integrator;
+    j["lattice"] = lat;
+    j["material"] = m.json;
+    g.notes.push_back(m.note);
+  } else if (rq.mode == InteractionMode::kCut) {
     lat["node_mass_kg"] = 0.0002;
     lat["stiffness_N_per_m"] = {{"structural", 100}, {"shear", 50}, {"bend", 25}};
     lat["damping_Ns_per_m"] = 0.05;
@@ -314,13 +332,20 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
     lat["fix_floor"] = true;
     lat["integrator"] = "symplectic_euler";
   }
-  lat["max_substeps"] = 256;
-  j["lattice"] = lat;
+  if (rq.young_modulus_Pa <= 0.0) {
+    lat["max_substeps"] = 256;
+    j["lattice"] = lat;
+  }
   j["device"] = {{"driver", "scripted"},         {"max_force_N", 3.3},      {"coupling_N_per_m", 300},
-                 {"coupling_damping_Ns_per_m", 0.5}, {"tool_radius_m", 0.002}, {"workspace_half_m", 0.2}};
+                 {"coupling_damping_Ns_per_m", 0.5}, {"tool_radius_m", 1e-3 * rq.tool_radius_mm}};
+  if (rq.sphere_tool) j["device"]["tool_shape"] = "sphere";
+  if (rq.solved_contact) j["device"]["contact"] = "solved";
+  j["device"]["workspace_half_m"] = 0.2;
   j["hand"] = {{"mass_kg", 0.12}, {"stiffness_N_per_m", 150}, {"damping_Ns_per_m", 6}};
 
-  const double duration_s = add_trajectory(rq.mode, P, d, clearance_m, depth_m, stroke, box, &j);
+  // a sphere's keys are its centre's: a radius back from the surface, so `depth` is how far the sphere goes in
+  const Vec3 tip_m = rq.sphere_tool && rq.mode != InteractionMode::kCut ? Vec3(P - 1e-3 * rq.tool_radius_mm * d) : P;
+  const double duration_s = add_trajectory(rq.mode, tip_m, d, clearance_m, depth_m, stroke, box, &j);
   // a wireframe only where its lines leave the surface visible: 1-px lines over triangles of edge a px cover about
   // 3.5 / a of it (all of it at a 2.6 px median edge, a 50k-triangle scan in this view), and they cost every frame
   j["render"] = {{"width", 640}, {"height", 480}, {"style", "both"}, {"backend", "auto"},

@@ -24,6 +24,12 @@ struct SceneRequest {
   int level = 0;                             ///< lattice level; 0 = sized to the model
   char up_axis = 0;                          ///< the file's up axis x|y|z; 0 = guessed from its extent
   std::string scene_dir = ".";               ///< folder the scene will be written to (the mesh path is made relative to it)
+  double young_modulus_Pa = 0.0;             ///< --young-modulus: a material in physical units (0: the raw springs)
+  double poisson_ratio = 0.45;               ///< --poisson, with a material
+  double density_kg_per_m3 = 1050.0;         ///< --density, with a material
+  bool sphere_tool = false;                  ///< --tool sphere (else a point)
+  double tool_radius_mm = 2.0;               ///< --tool-radius-mm
+  bool solved_contact = false;               ///< --contact solved (touch only)
 };
 
 /// A scene as generated, and what was decided on the way.

@@ -36,7 +36,7 @@ struct InfoArgs {
 // `palpate scene`'s options, as parsed.
 struct SceneArgs {
   SceneRequest request;
-  std::string out, mode = "touch", at, from, up;
+  std::string out, mode = "touch", at, from, up, tool = "point", contact = "prescribed";
 };
 
 const std::map<std::string, InteractionMode>& scene_modes() {
@@ -61,6 +61,8 @@ int run_scene_command(SceneArgs& a) {
   SceneRequest& srq = a.request;
   srq.mode = scene_modes().at(a.mode);
   if (!a.up.empty()) srq.up_axis = a.up[0];
+  srq.sphere_tool = a.tool == "sphere";
+  srq.solved_contact = a.contact == "solved";
   if (!a.at.empty()) {
     auto p = parse_point("--at", a.at);
     if (!p) return usage_error(p.error());
@@ -110,6 +112,21 @@ Subcommand add_scene_command(CLI::App& app) {
   c->add_option("--level", a->request.level, "Lattice level (default: sized to the model)")->check(CLI::Range(1, 8));
   c->add_option("--up", a->up, "The file's up axis (default: guessed from the model's extent)")
       ->check(CLI::IsMember({"x", "y", "z"}));
+  auto* young = c->add_option("--young-modulus", a->request.young_modulus_Pa, "A material in physical units: E in Pa "
+                              "(soft tissue 1e3-1e5, silicone 1e5-1e6); touch gets material.model volumetric, pull "
+                              "neo_hookean, cut springs (default: the raw springs of the shipped bunny scenes)")
+                    ->check(CLI::Range(1.0, 1e9));
+  c->add_option("--poisson", a->request.poisson_ratio, "Its Poisson ratio, 0-0.49")
+      ->check(CLI::Range(0.0, 0.49))->needs(young)->capture_default_str();
+  c->add_option("--density", a->request.density_kg_per_m3, "Its density in kg/m^3")
+      ->check(CLI::Range(1.0, 1e5))->needs(young)->capture_default_str();
+  c->add_option("--tool", a->tool, "The tool's tip: point or sphere")
+      ->check(CLI::IsMember({"point", "sphere"}))->capture_default_str();
+  c->add_option("--tool-radius-mm", a->request.tool_radius_mm, "The tool's radius in mm (a sphere's contact radius)")
+      ->check(CLI::Range(0.5, 20.0))->capture_default_str();
+  c->add_option("--contact", a->contact, "prescribed (a point load, or a sphere's Hertz pressure) or solved (found "
+                "where the surface, deformed by the push, meets the tool's tip; touch only)")
+      ->check(CLI::IsMember({"prescribed", "solved"}))->capture_default_str();
   return {c, [a] { return run_scene_command(*a); }};
 }
 
