@@ -71,25 +71,32 @@ const LocalModel& Servo::surface_at(const LocalModel& src, double t_s) noexcept 
   return surface_;
 }
 
-bool Servo::held_point(const LocalModel& m, Vec3* point) const noexcept {
+bool Servo::material_point(const LocalModel& m, int32_t tri, const Vec3& bary, Vec3* point) noexcept {
   for (int i = 0; i < m.num_triangles; ++i)
-    if (m.tri_ids[i] == tri_) {
+    if (m.tri_ids[i] == tri) {
       const auto& t = m.tri_m[i];
-      *point = bary_[0] * t[0] + bary_[1] * t[1] + bary_[2] * t[2];
+      *point = bary[0] * t[0] + bary[1] * t[1] + bary[2] * t[2];
       return true;
     }
   return false;
 }
 
-bool Servo::touch_begins(const LocalModel& m, const Vec3& tool, double r) noexcept {
-  // the tool's path since the last tick enters a face from its front (a fast tool), or a sphere's centre comes
-  // within its radius of a face while in front of its plane
+void Servo::track_nearest(const LocalModel& m, const Vec3& tool) noexcept {
+  int slot = -1;
+  Vec3 b = Vec3::Zero();
+  near_tri_ = closest_on_patch(m, tool, &slot, &near_m_, &b) ? m.tri_ids[slot] : -1;
+  near_bary_ = b;
+}
+
+bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept {
+  // the tool's path from `from` enters a face from its front (a fast tool), or a sphere's centre comes within its
+  // radius of a face while in front of its plane
   for (int i = 0; i < m.num_triangles; ++i) {
     const auto& t = m.tri_m[i];
     const Vec3 face = (t[1] - t[0]).cross(t[2] - t[0]);
     double u = 0.0;
     Vec3 b = Vec3::Zero();
-    bool begins = segment_enters_triangle(prev_tool_m_, tool, t[0], t[1], t[2], &u, &b);
+    bool begins = segment_enters_triangle(from, tool, t[0], t[1], t[2], &u, &b);
     if (!begins && params_.tool_radius_m > 0.0) {
       const Vec3 q = closest_point_on_triangle(tool, t[0], t[1], t[2], &b);
       begins = (tool - q).squaredNorm() < r * r && (tool - q).dot(face) > 0.0;
@@ -117,18 +124,29 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   const bool sphere = params_.tool_radius_m > 0.0;
   const double r = sphere ? params_.tool_radius_m : kPointClearance_m;
   if (contact_ == ContactState::kFree) {
-    if (!touch_begins(m, tool, r)) {
+    // the tool's path since the last tick; failing that, with the surface moved, the same path carried with the
+    // surface point nearest the tool: a surface that moves through a slower tool (a dent springing back after a
+    // release) touches it too, instead of leaving it inside, untouched, for good
+    Vec3 from = prev_tool_m_;
+    bool begins = touch_begins(m, from, tool, r);
+    Vec3 p = Vec3::Zero();
+    if (!begins && surface_moved_ && near_tri_ >= 0 && material_point(m, near_tri_, near_bary_, &p)) {
+      from += p - near_m_;
+      begins = touch_begins(m, from, tool, r);
+    }
+    if (!begins) {
+      track_nearest(m, tool);
       proxy_m_ = contact_point_m_ = tool;
       return;
     }
     // the god-object starts where the tool was, outside
     contact_ = ContactState::kTouch;
-    god_m_ = prev_tool_m_;
+    god_m_ = from;
   } else if (surface_moved_) {
     // the surface moved under the held proxy (a new frame, or the blend toward it): it goes with the material
     // point under it
     Vec3 p = Vec3::Zero();
-    if (held_point(m, &p)) god_m_ += p - contact_frame_m_;
+    if (material_point(m, tri_, bary_, &p)) god_m_ += p - contact_frame_m_;
   }
   // from where it was (out of any overlap the surface's move made), toward the device as far as the surface lets it
   Vec3 held = god_m_;
@@ -145,6 +163,7 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     contact_ = ContactState::kFree;
     tri_ = -1;
     friction_ = FrictionState{};
+    track_nearest(m, tool);
     proxy_m_ = contact_point_m_ = tool;
     return;
   }
@@ -202,7 +221,7 @@ void Servo::update_pull(const LocalModel& m, const Vec3& tool, bool button) noex
   }
   // held in material coordinates: P_s follows the deformed surface
   Vec3 p = Vec3::Zero();
-  if (held_point(m, &p)) proxy_m_ = p;
+  if (material_point(m, tri_, bary_, &p)) proxy_m_ = p;
 }
 
 void Servo::update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, bool button) noexcept {

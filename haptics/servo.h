@@ -89,8 +89,10 @@ class Servo {
   void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
   // whether the tool lies outside the surface by at least r (where a touch may end)
   bool tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept;
-  // whether the tool's move since the last tick starts a touch (sets the side it came from)
-  bool touch_begins(const LocalModel& m, const Vec3& tool, double r) noexcept;
+  // whether the tool's move from `from` starts a touch (sets the side it came from)
+  bool touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept;
+  // a free tool: the surface point nearest it, remembered so the next tick can carry its path with the surface
+  void track_nearest(const LocalModel& m, const Vec3& tool) noexcept;
   // the step this tick that the device's motion does not explain is an event (entry, release, grab, region, cut)
   bool jump_event(const LocalModel& m, ContactState before) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
@@ -103,8 +105,8 @@ class Servo {
   // (side: when non-null, only triangles facing the same way, so the far side of a thin part is never taken)
   bool closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
                         const Vec3* side = nullptr) const noexcept;
-  // position of the held material point in the latest patch (false when its triangle is not in it)
-  bool held_point(const LocalModel& m, Vec3* point) const noexcept;
+  // position of the material point (tri, bary) in the latest patch (false when its triangle is not in it)
+  static bool material_point(const LocalModel& m, int32_t tri, const Vec3& bary, Vec3* point) noexcept;
 
   ServoParams params_;
   const Rates& rates_;
@@ -121,6 +123,9 @@ class Servo {
   ContactState contact_ = ContactState::kFree;
   int32_t tri_ = -1;           // triangle holding P_s
   Vec3 bary_ = Vec3::Zero();   // P_s in that triangle
+  int32_t near_tri_ = -1;          // free touch tool: the triangle holding the surface point nearest it last tick
+  Vec3 near_bary_ = Vec3::Zero();  // that point in it
+  Vec3 near_m_ = Vec3::Zero();     // and where it was
   Vec3 proxy_m_ = Vec3::Zero();
   Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
   Vec3 contact_normal_ = Vec3::UnitZ();  // touch: surface normal at the proxy (which side we are on)

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 
 #include "haptics/servo.h"
 #include "support/haptic_fixtures.h"
@@ -15,21 +14,6 @@ namespace {
 
 constexpr double kK = 300.0;
 
-// the floor of haptic_fixtures at height z_m, published as frame `frame` at t_s; blend: its corners were at
-// from_z_m the frame before (blend_s one frame), else no blend
-void publish_floor_at(TripleBuffer<LocalModel>* tb, double z_m, double from_z_m, int64_t frame, double t_s, bool blend) {
-  LocalModel& m = tb->write_buffer();
-  m.num_triangles = 0;
-  const double h = 0.05;
-  test::add_quad(&m, Vec3(-h, -h, z_m), Vec3(h, -h, z_m), Vec3(h, h, z_m), Vec3(-h, h, z_m));
-  for (int i = 0; i < m.num_triangles; ++i)
-    for (int c = 0; c < 3; ++c) m.tri_from_m[i][c] = m.tri_m[i][c] + Vec3(0, 0, from_z_m - z_m);
-  m.frame = frame;
-  m.t_s = t_s;
-  m.blend_s = blend ? test::kTestRates.frame_period_s() : 0.0;
-  tb->publish();
-}
-
 struct Steps {
   double largest_N = 0.0;   // largest force step per tick after the surface moved
   double settled_N = 0.0;   // the force 20 ticks after the frame
@@ -37,27 +21,20 @@ struct Steps {
 
 // a still device 2 mm under the floor z = 0; at tick 100 a frame moves the floor down 1 mm
 Steps run(double radius, bool blend) {
-  test::FixedDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  publish_floor_at(tb.get(), 0.0, 0.0, 0, 0.0, blend);
   ServoParams p = test::static_surface_params(kK);
   p.tool_radius_m = radius;
-  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  test::FloorRig rig(p, blend);
   Steps s;
-  HapticSample sink;
   Vec3 prev = Vec3::Zero();
   for (int i = 0; i < 130; ++i) {
-    dev.pos_m = Vec3(0.001, 0.002, radius + 0.002 - std::min(1.0, i / 50.0) * 0.004);
-    if (i == 100) publish_floor_at(tb.get(), -0.001, 0.0, 1, i * 1e-3, blend);
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    EXPECT_EQ(servo.last_sample().contact, i < 50 ? servo.last_sample().contact : ContactState::kTouch) << i;
-    if (i >= 100) s.largest_N = std::max(s.largest_N, (dev.force_N - prev).norm());
-    if (i == 120) s.settled_N = dev.force_N.z();
-    prev = dev.force_N;
+    rig.dev.pos_m = Vec3(0.001, 0.002, radius + 0.002 - std::min(1.0, i / 50.0) * 0.004);
+    if (i == 100) test::publish_floor_at(rig.tb.get(), -0.001, 0.0, 1, i * 1e-3, blend);
+    rig.tick(i);
+    const ContactState contact = rig.servo->last_sample().contact;
+    EXPECT_EQ(contact, i < 50 ? contact : ContactState::kTouch) << i;
+    if (i >= 100) s.largest_N = std::max(s.largest_N, (rig.dev.force_N - prev).norm());
+    if (i == 120) s.settled_N = rig.dev.force_N.z();
+    prev = rig.dev.force_N;
   }
   return s;
 }

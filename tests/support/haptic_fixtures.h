@@ -1,6 +1,9 @@
 #pragma once
 // Shared haptics test fixtures: a device held wherever the test puts it, and flat surface patches.
 
+#include <memory>
+
+#include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
 #include "haptics/device.h"
 #include "haptics/local_model.h"
@@ -49,6 +52,22 @@ inline void publish_floor(TripleBuffer<LocalModel>* tb, double half_m = 0.05) {
 /// The 1 kHz / 60 Hz rates every servo of the tests refers to (a servo keeps a reference to its rates).
 inline const Rates kTestRates{};
 
+/// The floor of publish_floor at height z_m, published as frame `frame` at t_s; blend: its corners were at from_z_m
+/// the frame before and the servo moves them over one frame of kTestRates (blend_s), else no blend.
+inline void publish_floor_at(TripleBuffer<LocalModel>* tb, double z_m, double from_z_m, int64_t frame, double t_s,
+                             bool blend) {
+  LocalModel& m = tb->write_buffer();
+  m.num_triangles = 0;
+  const double h = 0.05;
+  add_quad(&m, Vec3(-h, -h, z_m), Vec3(h, -h, z_m), Vec3(h, h, z_m), Vec3(-h, h, z_m));
+  for (int i = 0; i < m.num_triangles; ++i)
+    for (int c = 0; c < 3; ++c) m.tri_from_m[i][c] = m.tri_m[i][c] + Vec3(0, 0, from_z_m - z_m);
+  m.frame = frame;
+  m.t_s = t_s;
+  m.blend_s = blend ? kTestRates.frame_period_s() : 0.0;
+  tb->publish();
+}
+
 /// Servo settings that render the published surface alone: coupling k_N_per_m, no damping, no ramp, no
 /// passivity guard, no object response between frames.
 inline ServoParams static_surface_params(double k_N_per_m) {
@@ -60,5 +79,25 @@ inline ServoParams static_surface_params(double k_N_per_m) {
   p.force_model = ForceModel::kStaticSurface;
   return p;
 }
+
+/// A servo of params p over the floor of publish_floor_at (z = 0 as frame 0; blend as given), its device held
+/// wherever the test puts it (max force 100 N). tick(i) runs tick i at i servo periods and drains the samples.
+struct FloorRig {
+  FloorRig(const ServoParams& p, bool blend) {
+    dev.specs_.max_force_N = 100;
+    publish_floor_at(tb.get(), 0.0, 0.0, 0, 0.0, blend);
+    servo = std::make_unique<Servo>(p, kTestRates, &dev, &q, tb.get());
+  }
+  void tick(int i) {
+    servo->tick(i, i * kTestRates.servo_period_s());
+    HapticSample s;
+    while (q.try_pop(&s)) {
+    }
+  }
+  FixedDevice dev;
+  SpscQueue<HapticSample> q{4096};
+  std::unique_ptr<TripleBuffer<LocalModel>> tb = std::make_unique<TripleBuffer<LocalModel>>();
+  std::unique_ptr<Servo> servo;
+};
 
 }  // namespace palpate::test
