@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "core/tri_mesh.h"
@@ -121,6 +122,8 @@ bool Renderer::ensure_framebuffers(const GlApi& gl) {
     if (f && l) {
       frame_ = std::move(f).value();
       layer_ = std::move(l).value();
+      // without it every layered frame draws its dynamic part
+      if (auto m = Framebuffer::create(gl, ctx_->width(), ctx_->height())) mesh_image_ = std::move(m).value();
     }
   }
   return frame_.id() != 0;
@@ -216,6 +219,10 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   const bool same_layer = layer_valid_ && view.layer_epoch == layer_epoch_;
   const bool fresh = same_layer && vertices.size() == layer_vertices_ && triangles.size() == layer_triangles_ &&
                      view.topology_epoch == layer_topology_;
+  if (!fresh) {
+    dynamic_changed_ = true;
+    mesh_image_valid_ = false;
+  }
   if (!fresh && same_layer && view.static_part_kept && vertices.size() >= layer_vertices_) {
     if (!resplit(view)) return false;
   } else if (!fresh) {
@@ -276,12 +283,18 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
     layer_triangles_ = triangles.size();
     layer_topology_ = view.topology_epoch;
     ++layer_builds_;
-  } else {
-    update_local_vertices(view);
+  } else if (update_local_vertices(view)) {
+    dynamic_changed_ = true;
+    mesh_image_valid_ = false;
     // only the affected vertices (the first local ones) move
     if (culling_ && layer_culled_)
       place(local_positions_f_.data(), layers_.affected_vertices().size(), &local_xy_, &local_fill_cells_,
             &local_line_cells_);
+  } else if (mesh_image_valid_) {
+    // nothing the dynamic part draws has changed since its image was kept: the image is what it would draw
+    frame_.copy_from(mesh_image_);
+    setup_frame(gl, /*clear=*/false);
+    return true;
   }
   // a layer built without culling has no cells for its local vertices
   const bool cull = culling_ && layer_culled_;
@@ -298,6 +311,14 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   // edge-on) go to the moving one here and to the later triangle in a full redraw
   draw_fill(gl, local_positions_f_.data(), local_normals_f_.data(), fill, n_fill);
   draw_lines(gl, local_positions_f_.data(), lines);
+  ++dynamic_draws_;
+  // kept once the dynamic part holds still for a frame: a part that changes every frame costs no extra copy
+  if (!dynamic_changed_ && mesh_image_.id() != 0) {
+    mesh_image_.copy_from(frame_);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, frame_.id());
+    mesh_image_valid_ = true;
+  }
+  dynamic_changed_ = false;
   return true;
 }
 
@@ -391,18 +412,24 @@ bool Renderer::resplit(const FrameView& view) {
   return true;
 }
 
-void Renderer::update_local_vertices(const FrameView& view) {
+bool Renderer::update_local_vertices(const FrameView& view) {
   // only the affected vertices (the first local ones) can differ from what the local arrays hold
   const std::vector<Vec3>& vertices = *view.vertices_m;
   const auto& affected = layers_.affected_vertices();
+  bool changed = false;
+  auto put = [&changed](float* to, double value) {
+    const auto f = static_cast<float>(value);
+    changed = changed || std::memcmp(to, &f, sizeof f) != 0;
+    *to = f;
+  };
   for (std::size_t i = 0; i < affected.size(); ++i)
-    for (int c = 0; c < 3; ++c) local_positions_f_[3 * i + c] = static_cast<float>(vertices[affected[i]][c]);
-  if (style_ == RenderStyle::kWireframe) return;
+    for (int c = 0; c < 3; ++c) put(&local_positions_f_[3 * i + c], vertices[affected[i]][c]);
+  if (style_ == RenderStyle::kWireframe) return changed;
   const std::vector<Vec3>* normals = view.normals;
   if (normals != nullptr && normals->size() == vertices.size()) {
     for (std::size_t i = 0; i < affected.size(); ++i)
-      for (int c = 0; c < 3; ++c) local_normals_f_[3 * i + c] = static_cast<float>((*normals)[affected[i]][c]);
-    return;
+      for (int c = 0; c < 3; ++c) put(&local_normals_f_[3 * i + c], (*normals)[affected[i]][c]);
+    return changed;
   }
   // no normals given: every triangle at an affected vertex is dynamic, and the dynamic triangles are in mesh
   // order, so summing their face normals gives compute_vertex_normals' result bit for bit
@@ -419,8 +446,9 @@ void Renderer::update_local_vertices(const FrameView& view) {
     Vec3& n = local_normals_[i];
     const double len = n.norm();
     if (len > 0.0) n /= len;
-    for (int c = 0; c < 3; ++c) local_normals_f_[3 * i + c] = static_cast<float>(n[c]);
+    for (int c = 0; c < 3; ++c) put(&local_normals_f_[3 * i + c], n[c]);
   }
+  return changed;
 }
 
 void Renderer::draw_fill(const GlApi& gl, const float* positions, const float* normals, const void* indices,

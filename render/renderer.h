@@ -67,7 +67,10 @@ class Renderer {
   /// Draws the frame and reads it into rgba (w*h*4, top-down); a mesh with an out-of-range index is skipped.
   void draw(const FrameView& view, uint8_t* rgba);
   /// false: always redraw the whole mesh, ignoring FrameView::moving_vertices (a reference for the cached path).
-  void set_layered(bool on) { layered_ = on; }
+  void set_layered(bool on) {
+    layered_ = on;
+    mesh_image_valid_ = false;
+  }
   /// `both` style: the wireframe is drawn only when the mesh's median edge is at least this long on screen, in
   /// pixels (0: always). Shorter, its lines cover every pixel of the surface and show no edge: a 940k-triangle
   /// bunny at 640 x 480 (edges 0.2-0.6 px) comes out as a dark silhouette. Decided once, on the first frame
@@ -78,7 +81,10 @@ class Renderer {
   double median_edge_px() const { return median_edge_px_; }
   bool wire_drawn() const { return lines_drawn(); }
   /// false: the layered path draws every triangle and line, even those that reach no pixel centre.
-  void set_culling(bool on) { culling_ = on; }
+  void set_culling(bool on) {
+    culling_ = on;
+    mesh_image_valid_ = false;
+  }
   /// false: a new layer is always drawn whole; true (the default): when the camera is the same and no lines are
   /// drawn, only the rectangle where the static and moving parts changed is redrawn (render/layer_patch.h).
   void set_layer_patching(bool on) { layer_patching_ = on; }
@@ -97,6 +103,9 @@ class Renderer {
   int64_t layer_builds() const { return layer_builds_; }
   /// Times the triangles changed within a layer and only its dynamic part was split again.
   int64_t resplits() const { return resplits_; }
+  /// Layered frames that drew the dynamic part; the others copied the image of the last one that did (nothing
+  /// in the dynamic part had changed since: same layer, triangles, positions and normals).
+  int64_t dynamic_draws() const { return dynamic_draws_; }
   /// Pixel coordinates (x right, y down, origin top-left) of a world point; NaN when behind the camera.
   Eigen::Vector2d project(const Vec3& p_m) const;
   /// Size in pixels of the frames draw() reads (the context's).
@@ -126,8 +135,8 @@ class Renderer {
   // the dynamic part's local vertex arrays from the whole mesh's (positions_f_, normals_f_)
   void fill_local_vertices();
   // copies the affected vertices' positions and normals (computed from the dynamic triangles when the view has
-  // none) into the local arrays: O(dynamic part), whatever the mesh's size
-  void update_local_vertices(const FrameView& view);
+  // none) into the local arrays: O(dynamic part), whatever the mesh's size; true when any value changed
+  bool update_local_vertices(const FrameView& view);
   void draw_tool(const GlApi& gl, const FrameView& view) const;
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
   void draw_blade(const GlApi& gl, const FrameView& view) const;
@@ -171,6 +180,10 @@ class Renderer {
   bool fbo_tried_ = false;               // framebuffers were attempted (they stay empty on failure)
   Framebuffer frame_;                    // where frames are drawn and read (both paths, so they match)
   Framebuffer layer_;                    // static part: colour + depth
+  Framebuffer mesh_image_;               // the layer with the dynamic part drawn over it, before the tool
+  bool mesh_image_valid_ = false;        // mesh_image_ holds what the dynamic part would draw now
+  bool dynamic_changed_ = true;          // the last layered frame changed the dynamic part (or built the layer)
+  int64_t dynamic_draws_ = 0;            // layered frames that drew the dynamic part
   MeshLayers layers_;                    // static / dynamic split for the layer's epoch
   std::vector<float> local_positions_f_; // the dynamic part's vertex positions for GL (3 n_local)
   std::vector<float> local_normals_f_;   // the dynamic part's vertex normals for GL (3 n_local)

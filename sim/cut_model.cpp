@@ -26,6 +26,9 @@ CutModel::CutModel(const TriMesh& rest, const std::vector<VertexBinding>& bindin
   next_in_cell_.reserve(rest_m_.size());
   for (std::size_t v = 0; v < rest_m_.size(); ++v) link_vertex(static_cast<int32_t>(v));
   normals_.reset(rest_m_.size(), triangles_);
+  // the mesh starts at rest: the patch search's grid is built here, before the first frame
+  box_grid_.build(rest_m_, triangles_);
+  box_all_stale_ = false;
 }
 
 void CutModel::link_vertex(int32_t v) {
@@ -202,6 +205,7 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
   };
   rep.split = split_mesh(quads, &rest_m_, vertices_m, &triangles_, &created, &tips_, &tri_grid_, groove, &changes_);
   normals_.retriangulate(rest_m_.size(), changes_, triangles_);
+  for (const TriangleChange& c : changes_) box_stale_.push_back(c.slot);
 
   // existing vertices whose cell a quad's box overlaps (a vertex's segments to its corners stay in its cell, so
   // no other can be cut off from a corner): corners now on the far side of the cut are dropped
@@ -279,10 +283,14 @@ Vec3 CutModel::deformed(const Lattice& lat, std::size_t v, bool* orphan) const {
 
 void CutModel::deform(const Lattice& lat, std::vector<Vec3>* vertices_m) const {
   orphans_ = 0;
+  // the patch search's grid holds the boxes of the positions before: the triangles of those that change move
+  box_all_stale_ = box_all_stale_ || vertices_m->size() != rest_m_.size();
   vertices_m->resize(rest_m_.size());
   bool orphan = false;
   for (std::size_t v = 0; v < rest_m_.size(); ++v) {
-    (*vertices_m)[v] = deformed(lat, v, &orphan);
+    const Vec3 p = deformed(lat, v, &orphan);
+    if (!box_all_stale_ && p != (*vertices_m)[v]) box_moved(static_cast<int32_t>(v));
+    (*vertices_m)[v] = p;
     orphans_ += orphan ? 1 : 0;
   }
 }
@@ -324,24 +332,34 @@ std::size_t CutModel::deform_changed(const Lattice& lat, std::vector<Vec3>* vert
     if (p == (*vertices_m)[v]) continue;
     (*vertices_m)[v] = p;
     normals_.moved(v);
+    box_moved(v);
   }
   const std::size_t done = redeform_.size();
   redeform_.clear();
   return done;
 }
 
+void CutModel::box_moved(int32_t v) const {
+  const auto& tris = normals_.triangles_of(v);
+  box_stale_.insert(box_stale_.end(), tris.begin(), tris.end());
+}
+
 void CutModel::triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
                                 std::vector<int32_t>* out) const {
-  out->clear();
-  // a triangle whose box overlaps: one larger than the box (a CAD part's face) reaches into it with no vertex inside
-  for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    const auto& tri = triangles_[t];
-    const Vec3& a = vertices_m[tri[0]];
-    const Vec3& b = vertices_m[tri[1]];
-    const Vec3& c = vertices_m[tri[2]];
-    const Vec3 t_lo = a.cwiseMin(b).cwiseMin(c), t_hi = a.cwiseMax(b).cwiseMax(c);
-    if ((t_lo.array() <= hi_m.array()).all() && (t_hi.array() >= lo_m.array()).all()) out->push_back(static_cast<int32_t>(t));
+  // the grid follows what changed since the last call; built again when most of it did (or the mesh shrank)
+  if (box_all_stale_ || box_grid_.size() > triangles_.size() || 4 * box_stale_.size() > triangles_.size()) {
+    box_grid_.build(vertices_m, triangles_);
+  } else {
+    // the slots appended, in order, then those rewritten or moved
+    for (auto t = static_cast<int32_t>(box_grid_.size()); t < static_cast<int32_t>(triangles_.size()); ++t)
+      box_grid_.update(t, vertices_m, triangles_);
+    std::sort(box_stale_.begin(), box_stale_.end());
+    box_stale_.erase(std::unique(box_stale_.begin(), box_stale_.end()), box_stale_.end());
+    for (int32_t t : box_stale_) box_grid_.update(t, vertices_m, triangles_);
   }
+  box_stale_.clear();
+  box_all_stale_ = false;
+  box_grid_.query(vertices_m, triangles_, lo_m, hi_m, out);
 }
 
 }  // namespace palpate

@@ -20,6 +20,7 @@
 #include "sim/mesh_normals.h"
 #include "sim/mesh_split.h"
 #include "sim/rest_map.h"
+#include "sim/triangle_box_grid.h"
 #include "sim/triangle_grid.h"
 
 namespace palpate {
@@ -110,9 +111,14 @@ class CutModel {
   const std::vector<Vec3>& rest_vertices_m() const { return rest_m_; }
   /// Corners each vertex is cut off from (bit = corner dx + 2dy + 4dz).
   const std::vector<uint8_t>& blocked() const { return blocked_; }
-  /// Writes the ids of triangles whose current box overlaps [lo_m, hi_m] into *out (cleared first).
+  /// Writes the ids of triangles whose current box overlaps [lo_m, hi_m] into *out (cleared first), ascending.
+  /// vertices_m must be the rest positions or what apply() and deform_changed() / deform() last wrote: the triangles
+  /// they changed are moved in a grid of current boxes (TriangleBoxGrid, built at rest with the model), and only
+  /// those near the box are tested.
   void triangles_in_box(const std::vector<Vec3>& vertices_m, const Vec3& lo_m, const Vec3& hi_m,
                         std::vector<int32_t>* out) const;
+  /// Triangles whose box the last triangles_in_box() tested.
+  std::size_t last_box_tested() const { return box_grid_.last_tested(); }
   /// Appends the lattice cells (linear index at the bound level) whose box overlaps [lo_m, hi_m] to *cells.
   void cells_in_box(const Vec3& lo_m, const Vec3& hi_m, std::vector<int32_t>* cells) const;
   /// Appends the vertices bound to `cell` (linear index at the bound level) to *out, in no set order.
@@ -171,6 +177,12 @@ class CutModel {
   std::vector<int32_t> redeform_;                 // vertices created or rebound since the last deform_changed()
   std::vector<int32_t> fallback_users_;           // vertices given a fallback node
   std::vector<uint8_t> node_moved_;               // scratch: per node, moved since the last deform_changed() (n)
+  // the patch search's grid of current triangle boxes (a cache: triangles_in_box() brings it up to date)
+  mutable TriangleBoxGrid box_grid_;
+  mutable std::vector<int32_t> box_stale_;        // triangles whose box changed since the grid saw them
+  mutable bool box_all_stale_ = true;             // every triangle's (deform() moved any vertex)
+  // marks the triangles of vertex v as moved in the patch search's grid
+  void box_moved(int32_t v) const;
 };
 
 }  // namespace palpate

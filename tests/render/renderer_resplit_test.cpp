@@ -156,6 +156,45 @@ TEST_P(RendererResplitTest, ANewMovingSetRedrawsOnlyTheRectangleThatChangedAndTh
   EXPECT_EQ(count_different(a, b), 0);
 }
 
+// A moving part that holds still while the tool and blade move over it (a cut between splits): the dynamic part is
+// drawn on the frame it changes and the one after, whose image the still frames copy; every frame has the pixels of
+// a full redraw, the frame it moves again too.
+TEST_P(RendererResplitTest, AStillMovingPartIsDrawnOnlyWhenItChangesAndTheFullRedrawsPixels) {
+  TriMesh m = ::palpate::make_box_mesh(Vec3(0.1, 0.08, 0.06), 8);
+  const std::vector<Vec3> rest = m.vertices_m;
+  const Aabb box = Aabb::of(rest);
+  const Camera cam = Camera::framing(box.min_m, box.max_m, static_cast<double>(kW) / kH);
+  for (RenderStyle style : {RenderStyle::kBoth, RenderStyle::kSolid}) {
+    Renderer layered(ctx_.get(), style, cam), full(ctx_.get(), style, cam);
+    full.set_layered(false);
+    std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size()), first(a.size());
+    std::vector<int32_t> moving;
+    for (std::size_t v = 0; v < rest.size(); ++v)
+      if (rest[v].x() > 0.02) moving.push_back(static_cast<int32_t>(v));
+    std::vector<Vec3> normals;
+    for (int f = 0; f < 10; ++f) {
+      // pressed in on frames 0 and 6 only
+      if (f == 0 || f == 6) press(rest, moving, f + 1, &m);
+      compute_vertex_normals(m.vertices_m, m.triangles, &normals);
+      FrameView view = moving_view(m, normals, moving, 3);
+      view.show_blade = true;
+      view.blade_tip_m = Vec3(0.04, -0.02 + 0.004 * f, 0.07);
+      view.blade_end_m = view.blade_tip_m + Vec3(0.0, 0.0, 0.03);
+      view.tool_pos_m = view.blade_tip_m;
+      view.tool_radius_m = 0.004;
+      layered.draw(view, a.data());
+      EXPECT_TRUE(layered.last_draw_layered());
+      full.draw(view, b.data());
+      EXPECT_EQ(count_different(a, b), 0) << "style " << static_cast<int>(style) << " frame " << f;
+      if (f == 0) first = a;
+    }
+    EXPECT_EQ(layered.layer_builds(), 1);
+    // frames 0, 1, 6 and 7 drew it: of the ten, the six still frames after those copied its image
+    EXPECT_EQ(layered.dynamic_draws(), 4);
+    EXPECT_GT(count_different(first, a), 100);  // the mesh moved and the tool with the blade: not still images
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RendererResplitTest, ::testing::Values("osmesa", "egl"),
                          [](const auto& param_info) { return param_info.param; });
 

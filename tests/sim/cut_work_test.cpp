@@ -123,5 +123,63 @@ TEST(CutWork, AFramesVerticesAndNormalsStayWithinTheCellsTheBladeReached) {
   expect_same_as_whole_mesh(b);
 }
 
+// What testing every triangle's current box against [lo_m, hi_m] gives, ascending.
+std::vector<int32_t> every_triangle_in_box(const BigBlock& b, const Vec3& lo_m, const Vec3& hi_m) {
+  std::vector<int32_t> out;
+  const auto& tris = b.cut.triangles();
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    if (triangle_box_overlaps(b.vertices[tris[t][0]], b.vertices[tris[t][1]], b.vertices[tris[t][2]], lo_m, hi_m))
+      out.push_back(static_cast<int32_t>(t));
+  return out;
+}
+
+// The servo's patch search (CutModel::triangles_in_box) tests only triangles near its box, through the cuts that split
+// and add triangles and a piece that moves, and finds what testing every triangle finds, in the same order.
+TEST(CutWork, ThePatchSearchTestsTheTrianglesNearItsBoxAndFindsWhatTestingEveryTriangleFinds) {
+  BigBlock b;
+  const std::size_t n_t = b.cut.triangles().size();
+  b.cut.deform_changed(b.lat, &b.vertices);
+  b.cut.update_normals(b.vertices, &b.normals);
+  std::vector<int32_t> found;
+  auto search = [&](const Vec3& lo_m, const Vec3& hi_m, const char* what, int frame) {
+    b.cut.triangles_in_box(b.vertices, lo_m, hi_m, &found);
+    EXPECT_EQ(found, every_triangle_in_box(b, lo_m, hi_m)) << what << " frame " << frame;
+    // those tested lie within 4 mm (a grid cell here is under 2 mm) of the box or of the box brought inside the
+    // block (a box beyond the grid's edge is taken to its border cells)
+    const Vec3 edge = Vec3::Constant(kSide_m / 2), grow = Vec3::Constant(0.004);
+    auto near = every_triangle_in_box(b, lo_m.cwiseMax(-edge).cwiseMin(edge) - grow, hi_m.cwiseMax(-edge).cwiseMin(edge) + grow);
+    const auto around = every_triangle_in_box(b, lo_m - grow, hi_m + grow);
+    near.insert(near.end(), around.begin(), around.end());
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    EXPECT_LE(b.cut.last_box_tested(), near.size()) << what << " frame " << frame;
+    EXPECT_LT(b.cut.last_box_tested(), n_t / 10) << what << " frame " << frame;
+  };
+  const Vec3 axis = Vec3::UnitZ();
+  bool split = false;
+  for (int frame = 0; frame < 12; ++frame) {
+    Vec3 tip;
+    for (int i = 0; i < 10; ++i) {
+      tip = {0.004, -0.06 + 0.001 * (10 * frame + i), 0.02};
+      b.cut.add_sample(tip, axis, true);
+    }
+    const CutReport rep = b.cut.apply(&b.lat, &b.vertices);
+    split = split || rep.split.triangles_added > 0;
+    b.cut.deform_changed(b.lat, &b.vertices);
+    b.cut.update_normals(b.vertices, &b.normals);
+    // the blade from its tip 2 mm into the block to its end above it, 3 mm around
+    search(tip - Vec3(0.003, 0.003, 0.005), tip + Vec3(0.003, 0.003, 0.203), "stroke", frame);
+  }
+  EXPECT_TRUE(split);
+  EXPECT_GT(b.cut.triangles().size(), n_t);
+  // a piece moves 5 mm down and out: its triangles are found where they are now, not where they were
+  for (std::size_t i = 0; i < b.lat.num_nodes(); ++i)
+    if (b.lat.rest_m[i].x() < -0.021) b.lat.x_m[i] += Vec3(-0.005, 0.0, -0.005);
+  b.cut.deform_changed(b.lat, &b.vertices);
+  search(Vec3(-0.05, -0.01, -0.05), Vec3(-0.043, 0.01, -0.04), "moved piece", 12);
+  EXPECT_GT(found.size(), 10u);
+  search(Vec3(-0.041, -0.01, -0.045), Vec3(-0.039, 0.01, -0.035), "where it was", 12);
+}
+
 }  // namespace
 }  // namespace palpate

@@ -182,7 +182,9 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                  {"backend", in.gl ? in.gl->backend_name() : "none"},
                  {"width", scene.render.width}, {"height", scene.render.height},
                  {"frames_layered", fst.frames_layered}, {"layer_builds", in.renderer ? in.renderer->layer_builds() : 0},
-                 {"layer_resplits", in.renderer ? in.renderer->resplits() : 0}};
+                 {"layer_resplits", in.renderer ? in.renderer->resplits() : 0},
+                 // layered frames that drew the moving part (the others copied its image: nothing in it changed)
+                 {"dynamic_draws", in.renderer ? in.renderer->dynamic_draws() : 0}};
   if (in.renderer && scene.render.style == RenderStyle::kBoth) {
     // the wireframe is left out of `both` on a mesh finer than the image (render.wire_min_edge_px)
     const double median = in.renderer->median_edge_px();
