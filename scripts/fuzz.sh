@@ -27,21 +27,36 @@ export ASAN_OPTIONS="detect_leaks=1"
 # leaks inside the system's assimp on its error paths are not ours (see the file)
 export LSAN_OPTIONS="suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1"
-for t in "${targets[@]}"; do
-  echo "== fuzz $t: ${seconds} s"
+# one target: its fuzzer's exit status goes to build-fuzz/fuzz-<target>.status
+fuzz_target() {
+  local t=$1 status=0
   mkdir -p "build-fuzz/corpus/$t"
   rm -f "build-fuzz/findings/$t-"*
-  status=0
   if [ "$seconds" = 0 ]; then
     # each seed file once: libFuzzer runs the files it is given and exits
     build-fuzz/bin/palpate_fuzz_"$t" -rss_limit_mb=2048 -timeout=15 -artifact_prefix="build-fuzz/findings/$t-" \
       "tests/fuzz/corpus/$t"/* >"build-fuzz/fuzz-$t.log" 2>&1 || status=$?
-    grep -c '^Executed ' "build-fuzz/fuzz-$t.log" | sed "s/^/seeds run: /" || true
   else
     build-fuzz/bin/palpate_fuzz_"$t" "build-fuzz/corpus/$t" "tests/fuzz/corpus/$t" \
       -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=15 -max_len=65536 -print_final_stats=1 \
       -artifact_prefix="build-fuzz/findings/$t-" >"build-fuzz/fuzz-$t.log" 2>&1 || status=$?
   fi
+  echo "$status" >"build-fuzz/fuzz-$t.status"
+}
+
+# the targets run JOBS at a time (each fuzzer is one process on one core, so each still gets SECONDS of a core);
+# their reports follow in the order given
+jobs=${JOBS:-$(nproc)}
+for ((i = 0; i < ${#targets[@]}; i += jobs)); do
+  for t in "${targets[@]:i:jobs}"; do
+    fuzz_target "$t" &
+  done
+  wait
+done
+for t in "${targets[@]}"; do
+  echo "== fuzz $t: ${seconds} s"
+  status=$(cat "build-fuzz/fuzz-$t.status")
+  [ "$seconds" != 0 ] || grep -c '^Executed ' "build-fuzz/fuzz-$t.log" | sed "s/^/seeds run: /" || true
   grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb|INFO: seed corpus|Done)' "build-fuzz/fuzz-$t.log" || true
   if [ "$status" -ne 0 ]; then
     tail -n 60 "build-fuzz/fuzz-$t.log" >&2
