@@ -337,6 +337,11 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   r.vec3("view_from", &s->render.view_from, -1e3, 1e3);
   if (err->empty() && r.has("view_from") && !(s->render.view_from.norm() > 1e-6))
     r.fail("render.view_from", "must be a direction (not zero): from the model toward the camera");
+  r.vec3("look_at_m", &s->render.look_at_m, -1e3, 1e3);
+  r.number("frame_radius_m", &s->render.frame_radius_m, 1e-4, 1e3);
+  if (err->empty() && r.has("look_at_m") != r.has("frame_radius_m"))
+    r.fail(r.has("look_at_m") ? "render.look_at_m" : "render.frame_radius_m",
+           "needs render.look_at_m and render.frame_radius_m together (the sphere the camera frames)");
   r.finish();
   const int64_t pixels = int64_t{s->render.width} * s->render.height;
   if (err->empty() && pixels > kMaxImagePixels)
@@ -389,6 +394,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
     r.name("mode", &s.mode);
     r.number("grab_radius_m", &s.grab_radius_m, 0.0, 10.0);
     r.number("blade_length_m", &s.blade_length_m, 1e-4, 10.0);
+    r.number("blade_width_m", &s.blade_width_m, 0.0, 0.01);
     r.number("cut_resistance_Ns_per_m", &s.cut_resistance_Ns_per_m, 0.0, 1e4);
     r.number("static_friction", &s.static_friction, 0.0, 10.0);
     r.number("dynamic_friction", &s.dynamic_friction, 0.0, 10.0);

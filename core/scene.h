@@ -123,6 +123,8 @@ struct RenderSpec {
   double wire_min_edge_px = kWireMinEdgePxDefault;  ///< `both`: no wireframe when the median edge is shorter (0: always)
   double lod_min_edge_px = kLodMinEdgePxDefault;    ///< drawn clustered when the median edge is shorter (0: never)
   Vec3 view_from = Vec3::Zero();                    ///< direction from the model toward the camera (zero: front-right-above)
+  Vec3 look_at_m = Vec3::Zero();                    ///< with frame_radius_m: the point the camera frames (world, metres)
+  double frame_radius_m = 0.0;                      ///< the camera frames a sphere this large around look_at_m (0: the whole model)
 };
 
 /// A whole scene.
@@ -137,6 +139,7 @@ struct Scene {
   InteractionMode mode = InteractionMode::kTouch;
   double grab_radius_m = 0.01;      ///< pull: grab when the surface is this close on button press
   double blade_length_m = 0.03;     ///< cut: blade edge from the tool tip along the tool's local +z axis
+  double blade_width_m = 0.0;       ///< cut: the cut's two sides are set this far apart (0: they meet in the groove)
   double cut_resistance_Ns_per_m = 4.0;  ///< cut: material's viscous resistance to the blade moving through it
   double static_friction = 0.0;     ///< touch: mu_s, the proxy sticks until the pull across exceeds mu_s F_n
   double dynamic_friction = 0.0;    ///< touch: mu_d <= mu_s, the force against sliding is mu_d F_n

@@ -16,11 +16,12 @@ Camera Camera::framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspe
   return framing(box_min_m, box_max_m, aspect, kDefaultViewFrom);
 }
 
-Camera Camera::framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspect, const Vec3& from) {
+namespace {
+
+// A camera looking from `from` at the sphere (center, radius_m), the sphere in the narrower field of view.
+Camera framing_sphere(Vec3 center, double radius_m, double aspect, const Vec3& from) {
   if (!(aspect > 0.0) || !std::isfinite(aspect)) aspect = 1.0;
   Camera cam;
-  Vec3 center = 0.5 * (box_min_m + box_max_m);
-  double radius_m = 0.5 * (box_max_m - box_min_m).norm();
   if (!center.allFinite()) center.setZero();
   if (!std::isfinite(radius_m) || radius_m < kMinRadiusM) radius_m = kMinRadiusM;
 
@@ -37,6 +38,29 @@ Camera Camera::framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspe
   cam.up = direction.cross(Vec3::UnitZ()).norm() > 0.05 ? Vec3::UnitZ() : Vec3::UnitY();
   cam.near_m = std::max(distance_m - 2.0 * radius_m, 0.02 * distance_m);
   cam.far_m = distance_m + 3.0 * radius_m;
+  return cam;
+}
+
+}  // namespace
+
+Camera Camera::framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspect, const Vec3& from) {
+  return framing_sphere(0.5 * (box_min_m + box_max_m), 0.5 * (box_max_m - box_min_m).norm(), aspect, from);
+}
+
+Camera Camera::framing_part(const Vec3& box_min_m, const Vec3& box_max_m, double aspect, const Vec3& from,
+                            const Vec3& look_at_m, double frame_radius_m) {
+  if (!(frame_radius_m > 0.0) || !look_at_m.allFinite()) return framing(box_min_m, box_max_m, aspect, from);
+  Camera cam = framing_sphere(look_at_m, frame_radius_m, aspect, from);
+  // the rest of the model around the part stays drawn: the clip planes reach the box's farthest corner
+  double reach_m = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 corner((c & 1) ? box_max_m.x() : box_min_m.x(), (c & 2) ? box_max_m.y() : box_min_m.y(),
+                      (c & 4) ? box_max_m.z() : box_min_m.z());
+    if (corner.allFinite()) reach_m = std::max(reach_m, (corner - cam.target_m).norm());
+  }
+  const double distance_m = (cam.eye_m - cam.target_m).norm();
+  cam.near_m = std::min(cam.near_m, std::max(distance_m - reach_m, 0.02 * distance_m));
+  cam.far_m = std::max(cam.far_m, distance_m + 1.05 * reach_m);
   return cam;
 }
 

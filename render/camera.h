@@ -25,6 +25,11 @@ struct Camera {
   /// The same, looking from `from` (a direction from the box's centre toward the eye; zero or non-finite means the
   /// default front-right-above); straight down or up takes +y as the image's up.
   static Camera framing(const Vec3& box_min_m, const Vec3& box_max_m, double aspect, const Vec3& from);
+  /// A scene's camera: looking from `from` (as above) at the sphere of frame_radius_m around look_at_m, the sphere
+  /// in view, when frame_radius_m > 0 (a part of the model: near and far then take in the whole box, so the rest of
+  /// the model is drawn around it); otherwise framing(box_min_m, box_max_m, aspect, from).
+  static Camera framing_part(const Vec3& box_min_m, const Vec3& box_max_m, double aspect, const Vec3& from,
+                             const Vec3& look_at_m, double frame_radius_m);
 
   /// World-to-eye transform (OpenGL convention: eye looks down -z), 4x4, column-major like glLoadMatrixd.
   Eigen::Matrix4d view_matrix() const;

@@ -4,15 +4,30 @@
 #include <cmath>
 
 namespace palpate {
+namespace {
+
+// the swept surface's unit normal from the quad's diagonals; zero when the blade hardly moved
+Vec3 swept_normal(const BladeQuad& quad) {
+  const Vec3 n = (quad.end1_m - quad.tip0_m).cross(quad.end0_m - quad.tip1_m);
+  const double span2 = std::max((quad.end1_m - quad.tip0_m).squaredNorm(), (quad.end0_m - quad.tip1_m).squaredNorm());
+  return n.squaredNorm() > 1e-18 * span2 * span2 ? Vec3(n.normalized()) : Vec3(Vec3::Zero());
+}
+
+// at + off, off halved while keep refuses the point (three times at most), else at itself
+Vec3 kept(const Vec3& at, Vec3 off, const IncisionShape& shape) {
+  for (int i = 0; i < 3 && shape.keep && !shape.keep(at + off); ++i) off *= 0.5;
+  if (shape.keep && !shape.keep(at + off)) return at;
+  return at + off;
+}
+
+}  // namespace
 
 Vec3 incision_point(const BladeQuad& quad, const Vec3& crossing_m, const Vec3& surface_normal, double edge_m,
                     const IncisionShape& shape) {
   if (!(shape.depth_m > 0.0)) return crossing_m;
-  // the swept surface's normal from the quad's diagonals (a quad whose blade hardly moved has none)
-  Vec3 across = (quad.end1_m - quad.tip0_m).cross(quad.end0_m - quad.tip1_m);
-  const double span2 = std::max((quad.end1_m - quad.tip0_m).squaredNorm(), (quad.end0_m - quad.tip1_m).squaredNorm());
-  if (!(across.squaredNorm() > 1e-18 * span2 * span2) || !surface_normal.allFinite()) return crossing_m;
-  across.normalize();
+  // the swept surface's normal (a quad whose blade hardly moved has none)
+  const Vec3 across = swept_normal(quad);
+  if (across.isZero() || !surface_normal.allFinite()) return crossing_m;
 
   // into the material along the swept surface and across the sweep: the surface's inward normal without its parts
   // across the blade and along the blade's motion (a face the blade's edge runs into head on, at a stroke's ends,
@@ -32,11 +47,14 @@ Vec3 incision_point(const BladeQuad& quad, const Vec3& crossing_m, const Vec3& s
     const double ahead_m = (quad.tip0_m + s * tip - crossing_m).dot(in);
     if (ahead_m > 0.0) depth = std::min(depth, ahead_m);
   }
-  Vec3 off = depth * in;
   // back toward the crossing while the point is refused (a thin part sunk through into a cell outside the lattice)
-  for (int i = 0; i < 3 && shape.keep && !shape.keep(crossing_m + off); ++i) off *= 0.5;
-  if (shape.keep && !shape.keep(crossing_m + off)) return crossing_m;
-  return crossing_m + off;
+  return kept(crossing_m, depth * in, shape);
+}
+
+Vec3 incision_side_point(const BladeQuad& quad, const Vec3& at, const Vec3& toward_m, const IncisionShape& shape) {
+  const Vec3 n = swept_normal(quad);
+  if (!(shape.gap_m > 0.0) || n.isZero()) return at;
+  return kept(at, (n.dot(toward_m) >= 0.0 ? 0.5 : -0.5) * shape.gap_m * n, shape);
 }
 
 }  // namespace palpate

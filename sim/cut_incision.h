@@ -20,6 +20,7 @@ inline constexpr double kIncisionDepthCells = 0.25;
 /// crossing).
 struct IncisionShape {
   double depth_m = 0.0;  ///< how far the copies sink along the swept surface at most, metres
+  double gap_m = 0.0;    ///< the blade's width: the two copies are set this far apart across the swept surface, metres
   /// Where a copy may go (empty: anywhere): a point it refuses is taken back halfway to the crossing, three times
   /// at most, then to the crossing (cut_model.h: inside a cell of the lattice, so the copy moves with it).
   std::function<bool(const Vec3&)> keep;
@@ -32,5 +33,11 @@ struct IncisionShape {
 /// itself for a degenerate quad or a zero depth. The point moves at most depth_m from the crossing.
 Vec3 incision_point(const BladeQuad& quad, const Vec3& crossing_m, const Vec3& surface_normal, double edge_m,
                     const IncisionShape& shape);
+
+/// Where the copy of a crossing on one side goes from `at` (incision_point's): half shape.gap_m across the swept
+/// surface toward that side (toward_m, a vector from the crossing to the side's end of the crossed edge), so the two
+/// sides of a cut stand apart by the blade's width (a sheet with no thickness, which no groove shows, opens a slit);
+/// taken back toward `at` while shape.keep refuses it. `at` itself for a zero gap or a degenerate quad.
+Vec3 incision_side_point(const BladeQuad& quad, const Vec3& at, const Vec3& toward_m, const IncisionShape& shape);
 
 }  // namespace palpate

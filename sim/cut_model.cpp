@@ -198,6 +198,7 @@ CutReport CutModel::cut_rest(const std::vector<BladeQuad>& quads, Lattice* lat, 
   // the incision's copies stay inside the lattice's cells, so they move with it
   IncisionShape groove;
   groove.depth_m = incision_cells_ * lat->cell_m;
+  groove.gap_m = incision_gap_m_;
   const Aabb cube = grid_->cube();
   groove.keep = [&](const Vec3& p) {
     if ((p.array() < cube.min_m.array()).any() || (p.array() > cube.max_m.array()).any()) return false;

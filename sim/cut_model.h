@@ -90,6 +90,9 @@ class CutModel {
   /// The incision's groove depth in lattice cells (cut_incision.h; default kIncisionDepthCells, 0: the copies a
   /// split makes stay at the crossing and a slit that does not open is not seen). Negative counts as 0.
   void set_incision_depth_cells(double cells) { incision_cells_ = std::max(cells, 0.0); }
+  /// The blade's width, metres: the two copies of a crossing are set this far apart across the swept surface
+  /// (cut_incision.h; default 0: they meet in the groove). Negative counts as 0.
+  void set_incision_gap_m(double gap_m) { incision_gap_m_ = std::max(gap_m, 0.0); }
   /// Springs crossed by the blade and still in the lattice.
   std::size_t deferred_springs() const { return deferred_.size(); }
   /// Moves every vertex whose cell is in the lattice with its side's nodes; others stay at rest.
@@ -165,6 +168,7 @@ class CutModel {
   TriangleGrid tri_grid_;                         // triangles by rest cube
   int max_springs_ = 0;                           // springs removed per apply() at most (0: all)
   double incision_cells_ = kIncisionDepthCells;   // groove depth, lattice cells
+  double incision_gap_m_ = 0.0;                   // the copies' distance apart across the swept surface, metres
   std::vector<uint64_t> deferred_;                // crossed springs still in the lattice, oldest first
   RestEdge last_edge_;                            // the last blade edge mapped to rest
   std::vector<TipTriangle> tips_;                 // crack tips: their halves end triangles_

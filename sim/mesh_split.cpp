@@ -87,12 +87,14 @@ MeshSplitReport split_mesh(const std::vector<BladeQuad>& quads, std::vector<Vec3
       const Vec3 rest = x[a] + t * (x[b] - x[a]);
       const Vec3 cur = (*current_m)[a] + t * ((*current_m)[b] - (*current_m)[a]);
       const Vec3 normal = (x[w.tri[1]] - x[w.tri[0]]).cross(x[w.tri[2]] - x[w.tri[0]]).normalized();
-      // both copies below the crossing, on the swept surface: the incision's groove
+      // both copies below the crossing, on the swept surface: the incision's groove; each set apart to its own
+      // side by half the blade's width
       const Vec3 at = incision_point(set.quads[quad], rest, normal, (x[b] - x[a]).norm(), incision);
       for (int side = 0; side < 2; ++side) {
+        const Vec3 p = incision_side_point(set.quads[quad], at, x[side == 0 ? a : b] - rest, incision);
         c.copy[side] = static_cast<int32_t>(rest_m->size());
-        rest_m->push_back(at);
-        current_m->push_back(cur + (at - rest));
+        rest_m->push_back(p);
+        current_m->push_back(cur + (p - rest));
         created->push_back(side == 0 ? SplitVertex{a, b, t} : SplitVertex{b, a, 1.0 - t});
       }
       cuts.emplace(key, c);

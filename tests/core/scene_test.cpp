@@ -191,6 +191,9 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"lod_min_edge_px": 101}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.lod_min_edge_px: 101 out of range");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,0,0]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.view_from: must be a direction (not zero)");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.view_from");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"look_at_m": [0,0,0]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.look_at_m: needs render.look_at_m and render.frame_radius_m together");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"frame_radius_m": 0}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.frame_radius_m: 0 out of range");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "interaction": {"blade_width_m": 0.05}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "interaction.blade_width_m: 0.05 out of range");
   auto view = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,0,2]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
   ASSERT_TRUE(view) << view.error().message;
   EXPECT_EQ(view.value().render.view_from, Vec3(0, 0, 2));

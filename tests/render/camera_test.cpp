@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "render/gl_context.h"
 #include "render/gl_context_factory.h"
 #include "render/renderer.h"
@@ -44,6 +46,30 @@ TEST(Camera, FramingFromAGivenSideKeepsTheBoxInViewAndStraightDownHasAnUp) {
   }
   // zero: the default view
   EXPECT_TRUE(Camera::framing(lo, hi, 1.0, Vec3::Zero()).eye_m.isApprox(Camera::framing(lo, hi, 1.0).eye_m));
+}
+
+// A part of the model framed (a cut's incision): the sphere around the point fills the narrower field of view, and
+// every corner of the whole box still lies between the clip planes (the rest of the model is drawn around it).
+TEST(Camera, FramingAPartFillsTheViewWithItAndKeepsTheWholeBoxBetweenTheClipPlanes) {
+  const Vec3 lo(-0.05, -0.04, 0.0), hi(0.05, 0.04, 0.06), at(0.04, -0.03, 0.05), from(0.3, -1.0, 0.8);
+  const double r = 0.01, aspect = 4.0 / 3.0;
+  const Camera cam = Camera::framing_part(lo, hi, aspect, from, at, r);
+  EXPECT_TRUE(cam.target_m.isApprox(at));
+  EXPECT_GT((cam.eye_m - at).normalized().dot(from.normalized()), 1.0 - 1e-12);
+  // the sphere's edge beside the target, up in the image, lands at cos(half fov) / 1.05 of the half height (its
+  // silhouette at the edge of the view less the framing's 5 % margin)
+  const Eigen::Matrix4d pv = cam.projection_matrix(aspect) * cam.view_matrix();
+  const Vec3 up = (cam.eye_m - at).cross(cam.up).cross(cam.eye_m - at).normalized();
+  const Eigen::Vector4d edge = pv * (at + r * up).homogeneous();
+  EXPECT_NEAR(edge.y() / edge.w(), std::cos(0.5 * cam.fov_y_deg * M_PI / 180.0) / 1.05, 1e-9);
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 p(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(), c & 4 ? hi.z() : lo.z());
+    const double depth_m = (p - cam.eye_m).dot((at - cam.eye_m).normalized());
+    EXPECT_GT(depth_m, cam.near_m) << p.transpose();
+    EXPECT_LT(depth_m, cam.far_m) << p.transpose();
+  }
+  // no radius: the whole box, as framing()
+  EXPECT_TRUE(Camera::framing_part(lo, hi, aspect, from, at, 0.0).eye_m.isApprox(Camera::framing(lo, hi, aspect, from).eye_m));
 }
 
 TEST(Camera, ViewMatrixPutsEyeAtOriginLookingDownMinusZ) {

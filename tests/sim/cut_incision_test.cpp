@@ -111,5 +111,33 @@ TEST(CutIncision, AtTheFaceTheBladeLeftThroughTheGrooveSinksIntoTheMaterial) {
   EXPECT_GE(bottom, 14);
 }
 
+// A blade 2 mm wide sets the cut's two sides apart: each pair of copies lies 1 mm either side of the blade's plane,
+// each on the side of the triangles it belongs to (a sheet with no thickness, which no groove shows, opens a slit).
+TEST(CutIncision, ABladesWidthSetsTheTwoSidesApart) {
+  Block b;
+  b.cut.set_incision_gap_m(0.002);
+  const std::size_t n0 = b.cut.rest_vertices_m().size();
+  b.cut.apply_quads({slit(0.003, 0.025)}, &b.lat, &b.vertices);
+  const double blade_x = 0.003 + kBladeOffsetCells * b.lat.cell_m * Vec3(1.0, 0.618034, 0.381966).normalized().x();
+  const auto& rest = b.cut.rest_vertices_m();
+  ASSERT_GE(rest.size(), n0 + 14);
+  // the copies come in pairs, one per side of a crossed edge
+  for (std::size_t v = n0; v + 1 < rest.size(); v += 2) {
+    EXPECT_NEAR(std::abs(rest[v].x() - blade_x), 0.001, 1e-9) << "vertex " << v;
+    EXPECT_NEAR(rest[v].x() - blade_x, blade_x - rest[v + 1].x(), 1e-9) << "vertex " << v;
+    EXPECT_NEAR(rest[v].y(), rest[v + 1].y(), 1e-12);
+    EXPECT_NEAR(rest[v].z(), rest[v + 1].z(), 1e-12);
+  }
+  // every triangle of the top and the groove lies on one side of the blade's plane: none spans the slit
+  for (const auto& t : b.cut.triangles()) {
+    if (std::min({rest[t[0]].z(), rest[t[1]].z(), rest[t[2]].z()}) < 0.04 - kIncisionDepthCells * b.lat.cell_m - 1e-9)
+      continue;
+    double lo = 1.0, hi = -1.0;
+    for (int32_t i : t) lo = std::min(lo, rest[i].x() - blade_x), hi = std::max(hi, rest[i].x() - blade_x);
+    EXPECT_FALSE(lo < -1e-9 && hi > 1e-9) << "a triangle spans the slit from " << lo << " to " << hi << " m";
+  }
+  EXPECT_EQ(mesh_problem(rest, b.cut.triangles()), "");
+}
+
 }  // namespace
 }  // namespace palpate

@@ -13,6 +13,7 @@
 #include "support/json_file.h"
 #include "tools/commands/scene_command.h"
 #include "tools/commands/scene_trajectory.h"
+#include "tools/record/recorder.h"
 #include "tools/session/model.h"
 #include "tools/session/surface_queries.h"
 
@@ -98,44 +99,21 @@ std::string bracket_obj() {
   return text;
 }
 
-// The incision a generated cut leaves as the scene's camera sees it: the stroke from the blade's way in (key 2)
-// to its way out (key 3), probed every 0.5 mm; where the blade (tip up to its length) crosses a surface facing it,
-// the incision shows; returns the projected length of those parts, pixels at the scene's width and height.
-double incision_px(const std::string& scene_path) {
+// The incision a generated cut leaves as the scene's camera sees it (incision_px): the stroke from the blade's way in
+// (key 2) to its way out (key 3). With whole_model, as a camera framing the whole model would see it (the scene's
+// render.look_at_m left out).
+double incision_px(const std::string& scene_path, bool whole_model = false) {
   auto scene_r = load_scene(scene_path);
   EXPECT_TRUE(scene_r) << scene_r.error().message;
   auto model_r = load_model(scene_r.value());
   EXPECT_TRUE(model_r) << model_r.error().message;
   if (!model_r) return 0.0;
-  const Scene& s = scene_r.value();
-  const Model& model = model_r.value();
+  Scene& s = scene_r.value();
   const Vec3 in = s.trajectory[2].pos_m, out = s.trajectory[3].pos_m;
   const Vec3 d = (in - s.trajectory[0].pos_m).normalized();
-  const Aabb box = Aabb::of(model.rest.vertices_m);
-  const double aspect = static_cast<double>(s.render.width) / s.render.height;
-  const Camera cam = Camera::framing(box.min_m, box.max_m, aspect, s.render.view_from);
-  const Eigen::Matrix4d clip = cam.projection_matrix(aspect) * cam.view_matrix();
-  auto pixel = [&](const Vec3& p) {
-    const Eigen::Vector4d c = clip * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
-    return Eigen::Vector2d(0.5 * (c.x() / c.w() + 1.0) * s.render.width, 0.5 * (1.0 - c.y() / c.w()) * s.render.height);
-  };
-  double px = 0.0;
-  Eigen::Vector2d last = Eigen::Vector2d::Zero();
-  bool crossed = false;  // the previous probe crossed the surface, at pixel `last`
-  const int n = static_cast<int>(std::ceil((out - in).norm() / 5e-4));
-  for (int i = 0; i <= n; ++i) {
-    const Vec3 tip = in + (out - in) * (static_cast<double>(i) / n);
-    const auto hit = first_ray_hit(model, tip - s.blade_length_m * d, d, s.blade_length_m, true);
-    if (!hit) {
-      crossed = false;
-      continue;
-    }
-    const Eigen::Vector2d at = pixel(hit->point_m);
-    if (crossed) px += (at - last).norm();
-    last = at;
-    crossed = true;
-  }
-  return px;
+  if (whole_model) s.render.frame_radius_m = 0.0;
+  const Camera cam = scene_camera(s, Aabb::of(model_r.value().rest.vertices_m));
+  return incision_px(model_r.value(), cam, s.render.width, s.render.height, in, out, d, s.blade_length_m);
 }
 
 TEST(SceneTrajectory, ACutOnABracketsNarrowArmRunsAlongItAndIsLongInTheScenesView) {
@@ -147,6 +125,46 @@ TEST(SceneTrajectory, ACutOnABracketsNarrowArmRunsAlongItAndIsLongInTheScenesVie
   test::write_text(path, g.json.dump());
   EXPECT_GT(incision_px(path), 150.0);
   EXPECT_TRUE(has_note(g, "blade drawn along")) << g.notes.back();
+}
+
+// A figure's limb: a bar 40 x 4 x 4 mm across the top of a post 4 x 4 x 100 mm (a T). The cut comes down on the bar
+// and runs 20 mm along it to its end; framed whole, the 100 mm model leaves the incision short in the picture, so
+// the scene frames the incision with the model around it, and the incision is longer in the picture.
+TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
+  TriMesh t = make_box_mesh(Vec3(4.0, 4.0, 100.0), 2);
+  TriMesh bar = make_box_mesh(Vec3(40.0, 4.0, 4.0), 4);
+  for (Vec3& v : bar.vertices_m) v.z() += 50.0;
+  for (auto tri : bar.triangles) {
+    for (auto& i : tri) i += static_cast<int32_t>(t.vertices_m.size());
+    t.triangles.push_back(tri);
+  }
+  t.vertices_m.insert(t.vertices_m.end(), bar.vertices_m.begin(), bar.vertices_m.end());
+  SceneRequest rq;
+  rq.mesh_path = write_model("limb.obj", test::obj_text(t));
+  rq.up_axis = 'z';
+  rq.mode = InteractionMode::kCut;
+  auto g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  ASSERT_TRUE(g.value().json["render"].contains("frame_radius_m")) << g.value().notes.back();
+  EXPECT_TRUE(has_note(g.value(), "view: the incision and")) << g.value().notes.back();
+  const std::string path = fs::path(rq.mesh_path).parent_path().string() + "/limb_cut.json";
+  test::write_text(path, g.value().json.dump());
+  const double framed_px = incision_px(path), whole_px = incision_px(path, true);
+  // measured: 212 px framed, 125 px with the whole model framed
+  EXPECT_GT(framed_px, 1.5 * whole_px) << framed_px << " px framed, " << whole_px << " px with the whole model framed";
+}
+
+// A sheet with no thickness has no body under its rim for a groove: its cut sets the slit's sides apart by the
+// blade's width; a solid's does not.
+TEST(SceneTrajectory, ACutThroughASheetSetsItsSidesApartASolidsDoesNot) {
+  const GeneratedScene sheet = generate(write_model("sheet.obj", "v 1 2 3\nv 2 3 1\nv 3 1 2\nf 1 2 3\n"),
+                                        InteractionMode::kCut);
+  EXPECT_DOUBLE_EQ(sheet.json["interaction"].value("blade_width_m", 0.0), 0.002);
+  EXPECT_TRUE(has_note(sheet, "a sheet with no thickness")) << sheet.notes.back();
+  const GeneratedScene solid = generate(write_model("bracket.obj", bracket_obj()), InteractionMode::kCut);
+  EXPECT_FALSE(solid.json["interaction"].contains("blade_width_m"));
+  // the bracket's incision is long in the whole model's frame: it is framed whole
+  EXPECT_FALSE(solid.json["render"].contains("frame_radius_m"));
 }
 
 TEST(SceneTrajectory, ACutThatWouldCrossAThinStubGoesInWhereItsPathIsLong) {

@@ -30,6 +30,8 @@ constexpr double kCutMaxEdgeCells = 2.0;  // a cut scene's longest edge, in latt
 constexpr std::size_t kCutSubdivideMaxTriangles = 20'000;  // no subdivision past this many triangles
 constexpr double kShortRun = 0.25;       // a cut's incision shorter than this fraction of the model is short ...
 constexpr double kLongerRun = 1.5;       // ... and another way in is taken when its stroke is this much longer
+constexpr int kWidthPx = 640, kHeightPx = 480;  // render.width, render.height
+constexpr double kSheetBladeWidth_m = 0.002;  // a cut sheet's slit: its sides this far apart
 constexpr double kSceneWireMinEdgePx = 4.0;  // render.wire_min_edge_px: no wireframe over a finer mesh (below)
 
 std::string mm3(const Vec3& p_m) {
@@ -159,7 +161,7 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   const int level = rq.level > 0 ? rq.level : (thin_m >= 2.0 * kSize_m / 16.0 ? 5 : max_level);
   const std::size_t tris = raw.num_triangles();
   const int grid_levels = std::min(8, std::max(level, 5 + (tris > 100'000 ? 1 : 0) + (tris > 400'000 ? 1 : 0)));
-  char buf[200];
+  char buf[320];
   std::snprintf(buf, sizeof buf, "lattice level %d%s (thinnest side %.0f mm of %.0f), grid levels %d (%zu triangles)",
                 level, rq.level > 0 ? " (--level)" : "", 1e3 * thin_m, 1e3 * kSize_m, grid_levels, tris);
   g.notes.push_back(buf);
@@ -346,9 +348,17 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
   // a sphere's keys are its centre's: a radius back from the surface, so `depth` is how far the sphere goes in
   const Vec3 tip_m = rq.sphere_tool && rq.mode != InteractionMode::kCut ? Vec3(P - 1e-3 * rq.tool_radius_mm * d) : P;
   const double duration_s = add_trajectory(rq.mode, tip_m, d, clearance_m, depth_m, stroke, box, &j);
+  // a sheet with no thickness has no groove to show (nothing under the rim to sink into): its two sides are set
+  // apart by the blade's width instead, so the slit opens
+  if (rq.mode == InteractionMode::kCut && !std::isfinite(thickness_under(model, P, d, box.extent().norm()))) {
+    j["interaction"]["blade_width_m"] = kSheetBladeWidth_m;
+    std::snprintf(buf, sizeof buf, "cut: no body under the entry point (a sheet with no thickness): "
+                  "interaction.blade_width_m %.1f mm sets the slit's sides apart", 1e3 * kSheetBladeWidth_m);
+    g.notes.push_back(buf);
+  }
   // a wireframe only where its lines leave the surface visible: 1-px lines over triangles of edge a px cover about
   // 3.5 / a of it (all of it at a 2.6 px median edge, a 50k-triangle scan in this view), and they cost every frame
-  j["render"] = {{"width", 640}, {"height", 480}, {"style", "both"}, {"backend", "auto"},
+  j["render"] = {{"width", kWidthPx}, {"height", kHeightPx}, {"style", "both"}, {"backend", "auto"},
                  {"wire_min_edge_px", kSceneWireMinEdgePx}};
   if (rq.mode == InteractionMode::kCut) {
     // a cut is drawn solid: its incision shows as a shaded line, and the wireframe of a subdivided part (the
@@ -357,6 +367,34 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
     const Vec3 v = cut_view_from(d, g.surface_normal);
     auto r3 = [](double x) { return std::round(1e3 * x) / 1e3; };
     j["render"]["view_from"] = {r3(v.x()), r3(v.y()), r3(v.z())};
+    // an incision small in the whole model's frame (a limb of a figure) is framed with its surroundings instead
+    const auto f = cut_frame(P, d, stroke, depth_m, box);
+    if (f) {
+      auto um = [](double x_m) { return std::round(x_m * 1e6) / 1e6; };
+      j["render"]["look_at_m"] = {um(f->look_at_m.x()), um(f->look_at_m.y()), um(f->look_at_m.z())};
+      j["render"]["frame_radius_m"] = um(f->radius_m);
+    }
+    // the incision's length in the picture, as the blade's keys draw it (the way in, key 2, to the way out, key 3)
+    const auto& k = j["trajectory"];
+    auto pos = [&](std::size_t i) {
+      const auto& p = k[i]["pos_m"];
+      return Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    };
+    const double blade_m = j["interaction"]["blade_length_m"].get<double>();
+    const double aspect = static_cast<double>(kWidthPx) / kHeightPx;
+    auto seen_px = [&](const Camera& cam) {
+      return incision_px(model, cam, kWidthPx, kHeightPx, pos(2), pos(3), d, blade_m);
+    };
+    const double whole_px = seen_px(Camera::framing(box.min_m, box.max_m, aspect, v));
+    if (f) {
+      std::snprintf(buf, sizeof buf, "view: the incision and %.0f mm around it, centred at %s (the model's box is "
+                    "%.0f mm across): the incision %.0f px long at 640 x 480 (%.0f px with the whole model framed)",
+                    1e3 * f->radius_m, mm3(f->look_at_m).c_str(), 1e3 * box.extent().norm(),
+                    seen_px(Camera::framing_part(box.min_m, box.max_m, aspect, v, f->look_at_m, f->radius_m)), whole_px);
+    } else {
+      std::snprintf(buf, sizeof buf, "view: the whole model: the incision %.0f px long at 640 x 480", whole_px);
+    }
+    g.notes.push_back(buf);
   }
   j["run_mode"] = "lockstep";
   j["duration_s"] = duration_s;

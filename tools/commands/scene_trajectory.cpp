@@ -18,6 +18,9 @@ constexpr double kRunGap_m = 0.002;      // a gap this long in it (a probe throu
 constexpr int kStrokeDirections = 16;    // directions across the approach a cut's stroke is chosen from
 constexpr double kCutViewTurn = 0.6;     // a cut scene's view: from the blade's side, this much of the default view
 constexpr double kCutViewMinCos = 0.5;   // ... seeing the face at the entry point at 60 degrees or less
+constexpr double kFrameContext = 2.0;    // a cut's frame: the incision's sphere this many times as large ...
+constexpr double kFrameMin_m = 0.015;    // ... and at least this large
+constexpr double kFrameOfModel = 0.5;    // ... framed only when under this fraction of the model's sphere
 
 double round_um(double x_m) { return std::round(x_m * 1e6) / 1e6; }
 
@@ -90,6 +93,41 @@ CutStroke choose_cut_stroke(const Model& model, const Aabb& box, const Vec3& P, 
 Vec3 cut_view_from(const Vec3& d, const Vec3& normal) {
   const Vec3 v = (-d.normalized() + kCutViewTurn * kDefaultViewFrom.normalized()).normalized();
   return v.dot(normal) >= kCutViewMinCos ? v : normal.normalized();
+}
+
+std::optional<CutFrame> cut_frame(const Vec3& P, const Vec3& d, const CutStroke& stroke, double depth_m, const Aabb& box) {
+  // the incision: the blade's path on the surface, from the entry point along the stroke, as deep as the blade goes
+  const CutFrame f{P + 0.5 * stroke.run_m * stroke.across + 0.5 * depth_m * d,
+                   std::max(kFrameMin_m, kFrameContext * 0.5 * std::hypot(stroke.run_m, depth_m))};
+  if (!(f.radius_m < kFrameOfModel * 0.5 * box.extent().norm())) return std::nullopt;
+  return f;
+}
+
+double incision_px(const Model& model, const Camera& cam, int width, int height, const Vec3& in, const Vec3& out,
+                   const Vec3& d, double blade_length_m) {
+  const double aspect = static_cast<double>(width) / height;
+  const Eigen::Matrix4d clip = cam.projection_matrix(aspect) * cam.view_matrix();
+  auto pixel = [&](const Vec3& p) {
+    const Eigen::Vector4d c = clip * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
+    return Eigen::Vector2d(0.5 * (c.x() / c.w() + 1.0) * width, 0.5 * (1.0 - c.y() / c.w()) * height);
+  };
+  double px = 0.0;
+  Eigen::Vector2d last = Eigen::Vector2d::Zero();
+  bool crossed = false;  // the previous probe crossed the surface, at pixel `last`
+  const int n = std::max(1, static_cast<int>(std::ceil((out - in).norm() / 5e-4)));
+  for (int i = 0; i <= n; ++i) {
+    const Vec3 tip = in + (out - in) * (static_cast<double>(i) / n);
+    const auto hit = first_ray_hit(model, tip - blade_length_m * d, d, blade_length_m, true);
+    if (!hit) {
+      crossed = false;
+      continue;
+    }
+    const Eigen::Vector2d at = pixel(hit->point_m);
+    if (crossed) px += (at - last).norm();
+    last = at;
+    crossed = true;
+  }
+  return px;
 }
 
 double add_trajectory(InteractionMode mode, const Vec3& P, const Vec3& d, double clearance_m, double depth_m,

@@ -3,11 +3,14 @@
 /// it), which way a cut draws its blade (where its path stays on the surface longest), and the keyframes.
 /// Thread: any (off the real-time path).
 
+#include <optional>
+
 #include <nlohmann/json.hpp>
 
 #include "core/aabb.h"
 #include "core/scene.h"
 #include "core/types.h"
+#include "render/camera.h"
 #include "tools/session/model.h"
 
 namespace palpate {
@@ -44,6 +47,23 @@ CutStroke choose_cut_stroke(const Model& model, const Aabb& box, const Vec3& P, 
 /// edge-on; when that view would meet the face at the entry point (unit normal) at more than 60 degrees (a sheet
 /// whose back the default view faces was seen edge-on), straight at the face instead.
 Vec3 cut_view_from(const Vec3& d, const Vec3& normal);
+
+/// What a generated cut's camera frames: a sphere around the incision (render.look_at_m, render.frame_radius_m).
+struct CutFrame {
+  Vec3 look_at_m = Vec3::Zero();  ///< the sphere's centre (world), metres
+  double radius_m = 0.0;          ///< its radius, metres
+};
+
+/// The sphere around the incision of a cut entering at P along the unit d by depth_m: the stroke's run on the surface
+/// and the blade's depth, with as much again of the model around; nullopt when it is not under half the model's
+/// bounding sphere (the whole model is framed, the incision already large in it).
+std::optional<CutFrame> cut_frame(const Vec3& P, const Vec3& d, const CutStroke& stroke, double depth_m, const Aabb& box);
+
+/// The incision of a blade drawn from `in` to `out` (tip positions, the blade along -d up to blade_length_m) as a
+/// camera sees it at width x height pixels: probed every 0.5 mm, where the blade crosses a surface facing it; the
+/// projected length of those parts, pixels.
+double incision_px(const Model& model, const Camera& cam, int width, int height, const Vec3& in, const Vec3& out,
+                   const Vec3& d, double blade_length_m);
 
 /// Writes the interaction section and the keyframes: from clearance_m out along the approach d to the surface point
 /// P, then a press of depth_m (touch), a grab pulled out by depth_m (pull), or a blade in by depth_m drawn along

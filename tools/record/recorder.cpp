@@ -53,6 +53,15 @@ BrowserView browser_view(const Camera& cam, double aspect, double diagonal_m) {
   return v;
 }
 
+}  // namespace
+
+Camera scene_camera(const Scene& scene, const Aabb& model_box_m) {
+  return Camera::framing_part(model_box_m.min_m, model_box_m.max_m,
+                              static_cast<double>(scene.render.width) / scene.render.height, scene.render.view_from,
+                              scene.render.look_at_m, scene.render.frame_radius_m);
+}
+
+namespace {
 
 // Files a recording writes in its output folder besides frames/frame_*.png (and their temporaries); a new run
 // removes an earlier run's, summary first, so an interrupted run never sits beside another run's summary or log.
@@ -161,9 +170,7 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   // the page's pointer moves the tool on the plane the view looks at
   if (auto* b = dynamic_cast<BrowserDevice*>(rec->device.get())) {
     const Aabb box = Aabb::of(model.rest.vertices_m);
-    b->set_view(browser_view(Camera::framing(box.min_m, box.max_m,
-                                             static_cast<double>(scene.render.width) / scene.render.height,
-                                             scene.render.view_from),
+    b->set_view(browser_view(scene_camera(scene, box),
                              static_cast<double>(scene.render.width) / scene.render.height,
                              (box.max_m - box.min_m).norm()));
   }
@@ -182,8 +189,7 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
     const Aabb box = Aabb::of(model.rest.vertices_m);
     rec->renderer = std::make_unique<Renderer>(
         rec->gl.get(), style,
-        Camera::framing(box.min_m, box.max_m, static_cast<double>(scene.render.width) / scene.render.height,
-                        scene.render.view_from));
+        scene_camera(scene, box));
     rec->renderer->set_layered(!opt.full_redraw);
     rec->renderer->set_wire_min_edge_px(scene.render.wire_min_edge_px);
     // lockstep: two encoder threads use the core the single sim/render thread leaves idle; realtime: one, so

@@ -5,10 +5,12 @@
 #include <atomic>
 #include <string>
 
+#include "core/aabb.h"
 #include "core/rates.h"
 #include "core/result.h"
 #include "core/scene.h"
 #include "haptics/servo_runner.h"
+#include "render/camera.h"
 #include "render/png_io.h"
 
 namespace palpate {
@@ -16,6 +18,10 @@ namespace palpate {
 class LiveFeed;
 class BrowserLink;
 struct RecordPlan;
+
+/// The camera a scene's frames are drawn with, around the model's rest box: its render.view_from, framing the
+/// whole box or, with render.frame_radius_m, the sphere around render.look_at_m.
+Camera scene_camera(const Scene& scene, const Aabb& model_box_m);
 
 /// PNG encoder threads of a lockstep recording (realtime recordings use one).
 inline constexpr int kLockstepPngThreads = 2;

@@ -17,6 +17,7 @@ CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
   const int n = model.grid.cells_per_axis(level);
   auto lat = build_lattice(model.grid, scene.lattice, region_cells(model.grid, level, {n / 2, n / 2, n / 2}, n));
   cut_.set_max_cut_work_per_apply(kCutWorkPerFrame);
+  cut_.set_incision_gap_m(scene.blade_width_m);
   if (!lat) return;
   // the object starts at rest in its own shape, as it lay before the blade came (taken as resting under gravity
   // already): nothing moves, and nothing is stepped, until a piece is cut free
