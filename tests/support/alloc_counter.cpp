@@ -20,7 +20,12 @@ void* counted_alloc(std::size_t n, std::size_t align) {
   if (g_fault_armed.load(std::memory_order_relaxed) && g_fault_countdown.fetch_sub(1) == 1) {
     g_fault_armed.store(false);
     g_fault_fired.store(true);
-    throw std::bad_alloc();
+    // as the real operator new: the new_handler first (it may free memory and return: try again), else throw
+    if (std::new_handler h = std::get_new_handler()) {
+      h();
+    } else {
+      throw std::bad_alloc();
+    }
   }
   void* p = align > alignof(std::max_align_t) ? std::aligned_alloc(align, (n + align - 1) / align * align) : std::malloc(n ? n : 1);
   if (!p) throw std::bad_alloc();

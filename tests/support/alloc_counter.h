@@ -25,8 +25,10 @@ class AllThreadsAllocationGuard {
   int64_t count() const;
 };
 
-/// Makes the n-th operator new on any thread, counted from construction (n >= 1), throw std::bad_alloc once; every
-/// allocation after it succeeds again (memory freed by the unwinding, as after a real failure). One at a time.
+/// Makes the n-th operator new on any thread, counted from construction (n >= 1), fail once as the real one does:
+/// the new_handler, when one is installed, is called (if it returns, the allocation is tried again), else
+/// std::bad_alloc is thrown; every allocation after it succeeds again (memory freed by the unwinding, as after a
+/// real failure). One at a time.
 class AllocationFault {
  public:
   explicit AllocationFault(int64_t n);

@@ -19,6 +19,7 @@
 #include "core/scene.h"
 #include "support/alloc_counter.h"
 #include "support/fixtures.h"
+#include "tools/record/memory_reserve.h"
 #include "tools/record/recorder.h"
 
 namespace palpate {
@@ -134,6 +135,22 @@ TEST(OutOfMemory, AnywhereInARecordingEndsWithALineAndKeepsWhatWasWritten) {
   }
   // most allocations of a recording are its frames': the sweep must have stopped some runs there
   EXPECT_GE(in_run, 3);
+}
+
+// With the recording's reserve alive, an allocation that fails where it cannot throw (a noexcept function, a
+// destructor that allocates) is served from the reserve, and the reserve says so; a second failure throws.
+TEST(OutOfMemory, AnAllocationThatFailsWhereItCannotThrowIsServedFromTheReserve) {
+  const MemoryReserve reserve(std::size_t{1} << 20);
+  EXPECT_FALSE(MemoryReserve::tripped());
+  auto sized = []() noexcept { return std::vector<int>(1000).size(); };
+  {
+    test::AllocationFault fault(1);
+    EXPECT_EQ(sized(), 1000u);
+    EXPECT_TRUE(fault.fired());
+  }
+  EXPECT_TRUE(MemoryReserve::tripped());
+  test::AllocationFault again(1);
+  EXPECT_THROW(static_cast<void>(std::vector<int>(1000)), std::bad_alloc);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 #include "tools/live/live_feed.h"
 #include "tools/session/model.h"
 #include "tools/record/material_report.h"
+#include "tools/record/memory_reserve.h"
 #include "tools/record/record_plan.h"
 #include "tools/session/relative_keys.h"
 #include "tools/session/session.h"
@@ -236,6 +237,8 @@ RunFigures drive_lockstep(Session& session, double duration_s, const RecordOptio
       done = f + 1;
       progress.update(t, f + 1, frames);
       if (stop_requested(opt)) throw StopRequested{};
+      // an allocation failed and was served from the reserve: the run stops as if it had thrown
+      if (MemoryReserve::tripped()) throw std::bad_alloc();
     });
   } catch (const std::bad_alloc&) {
     run.aborted = out_of_memory_note(session, done);
@@ -295,6 +298,7 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
     try {
       session.frame(f, false);
       progress.update(session.frame_time_s(f), f + 1, frames);
+      if (MemoryReserve::tripped()) throw std::bad_alloc();  // served from the reserve: stop here
     } catch (const std::bad_alloc&) {
       run.aborted = out_of_memory_note(session, f);
       runner.stop();  // the device's force ramps down with the servo's end, as at the end of any run
@@ -430,7 +434,9 @@ Result<RecordResult> record_scene(const Scene& scene, const RecordOptions& opt) 
 }
 
 Result<RecordResult> record_planned(const RecordPlan& plan, const RecordOptions& opt) {
-  // out of memory while the run is set up or finished (the frame loop says where it stopped, above) is a line
+  // out of memory while the run is set up or finished (the frame loop says where it stopped, above) is a line;
+  // the reserve lets what was under way when memory ran out finish first
+  const MemoryReserve reserve;
   try {
     return record_planned_unguarded(plan, opt);
   } catch (const std::bad_alloc&) {
