@@ -130,8 +130,10 @@ TEST(SceneTrajectory, ACutOnABracketsNarrowArmRunsAlongItAndIsLongInTheScenesVie
 // A figure's limb: a bar 40 x 4 x 4 mm across the top of a post 4 x 4 x 100 mm (a T). The cut comes down on the bar
 // and runs 20 mm along it to its end; framed whole, the 100 mm model leaves the incision short in the picture, so
 // the scene frames the incision with the model around it, and the incision is longer in the picture.
-TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
-  TriMesh t = make_box_mesh(Vec3(4.0, 4.0, 100.0), 2);
+// The limb of a T: an upright 4 x 4 x 100 with a 40 x 4 x 4 bar at half height; the upright's faces cut in
+// `subdivisions` squares a side.
+TriMesh limb_model(int subdivisions) {
+  TriMesh t = make_box_mesh(Vec3(4.0, 4.0, 100.0), subdivisions);
   TriMesh bar = make_box_mesh(Vec3(40.0, 4.0, 4.0), 4);
   for (Vec3& v : bar.vertices_m) v.z() += 50.0;
   for (auto tri : bar.triangles) {
@@ -139,8 +141,12 @@ TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
     t.triangles.push_back(tri);
   }
   t.vertices_m.insert(t.vertices_m.end(), bar.vertices_m.begin(), bar.vertices_m.end());
+  return t;
+}
+
+TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
   SceneRequest rq;
-  rq.mesh_path = write_model("limb.obj", test::obj_text(t));
+  rq.mesh_path = write_model("limb.obj", test::obj_text(limb_model(2)));
   rq.up_axis = 'z';
   rq.mode = InteractionMode::kCut;
   auto g = generate_scene(rq);
@@ -152,6 +158,19 @@ TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
   const double framed_px = incision_px(path), whole_px = incision_px(path, true);
   // measured: 212 px framed, 125 px with the whole model framed
   EXPECT_GT(framed_px, 1.5 * whole_px) << framed_px << " px framed, " << whole_px << " px with the whole model framed";
+}
+
+// The same limb as a mesh of 200k triangles keeps the whole view (its incision is seen there): a closer view would
+// cost its layer redraws realtime frames.
+TEST(SceneTrajectory, ALargeMeshsCutKeepsTheWholeViewWhereItsIncisionIsSeen) {
+  SceneRequest rq;
+  rq.mesh_path = write_model("limb_fine.obj", test::obj_text(limb_model(130)));
+  rq.up_axis = 'z';
+  rq.mode = InteractionMode::kCut;
+  auto g = generate_scene(rq);
+  ASSERT_TRUE(g) << g.error().message;
+  EXPECT_FALSE(g.value().json["render"].contains("frame_radius_m"));
+  EXPECT_TRUE(has_note(g.value(), "would cost realtime frames")) << g.value().notes.back();
 }
 
 // A sheet with no thickness has no body under its rim for a groove: its cut sets the slit's sides apart by the
