@@ -41,6 +41,14 @@ FrameView moving_view(const TriMesh& m, const std::vector<Vec3>& normals, const 
   return view;
 }
 
+// The frame drawn layered into *a (checked to be layered) and by a full redraw into *b.
+void draw_both(Renderer* layered, Renderer* full, const FrameView& view, std::vector<uint8_t>* a,
+               std::vector<uint8_t>* b) {
+  layered->draw(view, a->data());
+  EXPECT_TRUE(layered->last_draw_layered());
+  full->draw(view, b->data());
+}
+
 class RendererResplitTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
@@ -96,9 +104,7 @@ TEST_P(RendererResplitTest, ATopologyChangeInsideTheMovingPartKeepsTheLayerAndTh
       FrameView view = moving_view(m, normals, moving, 7);
       view.topology_epoch = topology;
       view.static_part_kept = true;
-      layered.draw(view, a.data());
-      EXPECT_TRUE(layered.last_draw_layered());
-      full.draw(view, b.data());
+      draw_both(&layered, &full, view, &a, &b);
       EXPECT_EQ(count_different(a, b), 0) << "style " << static_cast<int>(style) << " frame " << f;
       if (f == 0) first = a;
     }
@@ -182,9 +188,7 @@ TEST_P(RendererResplitTest, AStillMovingPartIsDrawnOnlyWhenItChangesAndTheFullRe
       view.blade_end_m = view.blade_tip_m + Vec3(0.0, 0.0, 0.03);
       view.tool_pos_m = view.blade_tip_m;
       view.tool_radius_m = 0.004;
-      layered.draw(view, a.data());
-      EXPECT_TRUE(layered.last_draw_layered());
-      full.draw(view, b.data());
+      draw_both(&layered, &full, view, &a, &b);
       EXPECT_EQ(count_different(a, b), 0) << "style " << static_cast<int>(style) << " frame " << f;
       if (f == 0) first = a;
     }

@@ -144,17 +144,26 @@ TriMesh limb_model(int subdivisions) {
   return t;
 }
 
-TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
+// The cut scene of that limb, written as `file` (z up).
+GeneratedScene limb_cut_scene(const std::string& file, int subdivisions, std::string* mesh_path) {
   SceneRequest rq;
-  rq.mesh_path = write_model("limb.obj", test::obj_text(limb_model(2)));
+  rq.mesh_path = write_model(file, test::obj_text(limb_model(subdivisions)));
   rq.up_axis = 'z';
   rq.mode = InteractionMode::kCut;
   auto g = generate_scene(rq);
-  ASSERT_TRUE(g) << g.error().message;
-  ASSERT_TRUE(g.value().json["render"].contains("frame_radius_m")) << g.value().notes.back();
-  EXPECT_TRUE(has_note(g.value(), "view: the incision and")) << g.value().notes.back();
-  const std::string path = fs::path(rq.mesh_path).parent_path().string() + "/limb_cut.json";
-  test::write_text(path, g.value().json.dump());
+  EXPECT_TRUE(g) << g.error().message;
+  *mesh_path = rq.mesh_path;
+  return g ? std::move(g).value() : GeneratedScene{};
+}
+
+TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
+  std::string mesh;
+  const GeneratedScene g = limb_cut_scene("limb.obj", 2, &mesh);
+  ASSERT_FALSE(g.notes.empty());
+  ASSERT_TRUE(g.json["render"].contains("frame_radius_m")) << g.notes.back();
+  EXPECT_TRUE(has_note(g, "view: the incision and")) << g.notes.back();
+  const std::string path = fs::path(mesh).parent_path().string() + "/limb_cut.json";
+  test::write_text(path, g.json.dump());
   const double framed_px = incision_px(path), whole_px = incision_px(path, true);
   // measured: 212 px framed, 125 px with the whole model framed
   EXPECT_GT(framed_px, 1.5 * whole_px) << framed_px << " px framed, " << whole_px << " px with the whole model framed";
@@ -163,14 +172,11 @@ TEST(SceneTrajectory, ACutOnAThinLimbFramesTheIncisionNotTheWholeModel) {
 // The same limb as a mesh of 200k triangles keeps the whole view (its incision is seen there): a closer view would
 // cost its layer redraws realtime frames.
 TEST(SceneTrajectory, ALargeMeshsCutKeepsTheWholeViewWhereItsIncisionIsSeen) {
-  SceneRequest rq;
-  rq.mesh_path = write_model("limb_fine.obj", test::obj_text(limb_model(130)));
-  rq.up_axis = 'z';
-  rq.mode = InteractionMode::kCut;
-  auto g = generate_scene(rq);
-  ASSERT_TRUE(g) << g.error().message;
-  EXPECT_FALSE(g.value().json["render"].contains("frame_radius_m"));
-  EXPECT_TRUE(has_note(g.value(), "would cost realtime frames")) << g.value().notes.back();
+  std::string mesh;
+  const GeneratedScene g = limb_cut_scene("limb_fine.obj", 130, &mesh);
+  ASSERT_FALSE(g.notes.empty());
+  EXPECT_FALSE(g.json["render"].contains("frame_radius_m"));
+  EXPECT_TRUE(has_note(g, "would cost realtime frames")) << g.notes.back();
 }
 
 // A sheet with no thickness has no body under its rim for a groove: its cut sets the slit's sides apart by the
