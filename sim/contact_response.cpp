@@ -1,6 +1,23 @@
 #include "sim/contact_response.h"
 
+#include "sim/compliance_estimate.h"
+
 namespace palpate {
+namespace {
+
+ContactResponse response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N, const Mat3& c) {
+  ContactResponse r;
+  Vec3 v = Vec3::Zero();
+  for (int i = 0; i < w.count; ++i) v += w.weight[i] * lat.v_m_per_s[w.node[i]];
+  r.p0_m = point_m;
+  r.v0_m_per_s = v;
+  r.f0_N = f_N;
+  r.compliance_m_per_N = c;
+  r.radius_m = lat.cell_m;
+  return r;
+}
+
+}  // namespace
 
 bool contact_response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
                       ContactCompliance* compliance, ContactResponse* out) {
@@ -8,13 +25,16 @@ bool contact_response(const Lattice& lat, const PointWeights& w, const Vec3& poi
   if (w.count == 0 || !lat.hanging.empty()) return false;
   Mat3 c;
   if (!compliance->compute(lat, w, false, &c)) return false;
-  Vec3 v = Vec3::Zero();
-  for (int i = 0; i < w.count; ++i) v += w.weight[i] * lat.v_m_per_s[w.node[i]];
-  out->p0_m = point_m;
-  out->v0_m_per_s = v;
-  out->f0_N = f_N;
-  out->compliance_m_per_N = c;
-  out->radius_m = lat.cell_m;
+  *out = response(lat, w, point_m, f_N, c);
+  return true;
+}
+
+bool estimated_contact_response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
+                                std::vector<double>* scratch, ContactResponse* out) {
+  if (w.count == 0) return false;
+  const Mat3 c = estimate_compliance(lat, w, scratch);
+  if (!(c.trace() > 0.0)) return false;
+  *out = response(lat, w, point_m, f_N, c);
   return true;
 }
 

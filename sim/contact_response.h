@@ -4,6 +4,8 @@
 /// that acted on it, and the lattice's static compliance there. Thread: the sim thread.
 
 #include "core/types.h"
+#include <vector>
+
 #include "sim/contact_compliance.h"
 #include "sim/lattice.h"
 
@@ -23,5 +25,11 @@ struct ContactResponse {
 /// empty or the lattice's stiffness is singular there.
 bool contact_response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
                       ContactCompliance* compliance, ContactResponse* out);
+
+/// The same with the compliance estimated from the loaded nodes' stiffness (sim/compliance_estimate.h), for a
+/// lattice whose factor is not done or cannot be made (hanging nodes). False, *out untouched, when no loaded node
+/// is free. scratch: per-node storage, reused.
+bool estimated_contact_response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
+                                std::vector<double>* scratch, ContactResponse* out);
 
 }  // namespace palpate

@@ -18,10 +18,14 @@ constexpr double kContactBlockSide_m = 0.08;  // from -0.04 to 0.04
 /// The block at lattice level `level` (level 3: cells of 2 cm), its faces cut in subdivisions^2 quads (8: 1 cm).
 /// Not copyable (rest points into it).
 struct ContactBlock {
-  explicit ContactBlock(int level = 3, int subdivisions = 8)
+  explicit ContactBlock(int level = 3, int subdivisions = 8) : ContactBlock(level, subdivisions, spec_for(level, 40, 20, 10)) {}
+  /// The same with the lattice keys of `lattice` (its level and radius are the block's; its floor is held).
+  ContactBlock(int level, int subdivisions, LatticeSpec lattice)
       : box(make_box_model(kContactBlockSide_m, std::max(level, 4), subdivisions)),
-        spec([level] {
-          LatticeSpec s = spec_for(level, 40, 20, 10);
+        spec([level, &lattice] {
+          LatticeSpec s = lattice;
+          s.level = level;
+          s.radius_cells = 64;
           s.fix_floor = true;  // held at the bottom, so the stiffness is not singular
           return s;
         }()),

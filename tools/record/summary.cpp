@@ -152,7 +152,10 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   j["contact_load"] = {{"asked", scene.device.solved_contact ? "solved" : "prescribed"},
                        {"solved_frames", fst.solved_contact_frames},
                        {"prescribed_frames", fst.prescribed_contact_frames},
-                       {"solved_radius_m", fst.solved_contact_radius_m}};
+                       {"solved_radius_m", fst.solved_contact_radius_m},
+                       // the servo's contact model between frames: the factored compliance, or an estimate above it
+                       {"servo_models_factored", fst.contact_models},
+                       {"servo_models_estimated", fst.contact_models_estimated}};
   if (scene.lattice.budget_ms > 0.0) j["budget"] = budget_summary(scene, stage, in.lockstep);
   if (scene.mode == InteractionMode::kCut) {
     const CutModel* cut = stage.cut_model();

@@ -223,13 +223,21 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)],
                                latest_.contact_bary);
   ContactResponse r;
-  if (!contact_response(lat, w, p, frame_force_obj_N_, &compliance_, &r)) {
-    // a refined lattice gives the servo no contact model; a solved contact still needs the stiffness factored
+  if (contact_response(lat, w, p, frame_force_obj_N_, &compliance_, &r)) {
+    ++stats_.contact_models;
+  } else {
+    // a refined lattice has no condensed compliance; a solved contact still needs its stiffness factored
     if (scene_.device.solved_contact && !lat.hanging.empty()) {
       Mat3 c;
       compliance_.compute(lat, w, false, &c);
     }
-    return;
+    // while the factor is made in slices, or on a refined lattice, the servo takes a compliance estimated from the
+    // loaded nodes' stiffness (above the factored one): with none it would couple by the sampled force alone, and a
+    // surface much softer than the coupling overshoots past the tool every frame (docs/material.md). A singular
+    // lattice (a piece with nothing holding it) gets no model.
+    if (!compliance_.factoring() && lat.hanging.empty()) return;
+    if (!estimated_contact_response(lat, w, p, frame_force_obj_N_, &estimate_scratch_, &r)) return;
+    ++stats_.contact_models_estimated;
   }
   m->has_contact_model = true;
   m->contact_p0_m = r.p0_m;
@@ -237,7 +245,6 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   m->contact_f0_N = r.f0_N;
   m->compliance_m_per_N = r.compliance_m_per_N;
   m->model_radius_m = r.radius_m;
-  ++stats_.contact_models;
 }
 
 void FrameStage::publish_patch() {

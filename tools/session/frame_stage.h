@@ -140,6 +140,7 @@ class FrameStage {
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch
   ContactCompliance compliance_;     // static condensation of the lattice at the contact
+  std::vector<double> estimate_scratch_;  // per-node storage of the estimated compliance (sim/compliance_estimate.h)
   SolvedContactLoad solved_;         // device.contact "solved": the push's weights from the contact
   PointWeights solved_w_;            // those of this frame (valid while solved_this_frame_)
   bool solved_this_frame_ = false;

@@ -65,7 +65,8 @@ struct FrameStats {
   int64_t node_frames = 0, spring_frames = 0, vertex_frames = 0;  ///< sums over frames of what was simulated
   int64_t region_moves = 0;         ///< times the region followed the contact
   int64_t divergence_events = 0;    ///< finite states with a spring past kDivergedStrain (reset to rest)
-  int64_t contact_models = 0;       ///< frames that published a contact model for the servo
+  int64_t contact_models = 0;       ///< frames that published a contact model for the servo, from the factor
+  int64_t contact_models_estimated = 0;  ///< frames that published one estimated (factor not done, refined lattice)
   int force_nodes = 0;              ///< lattice nodes loaded by the contact force in the last frame with contact
   int64_t solved_contact_frames = 0;  ///< frames whose push went where the solved contact put it (device.contact)
   int64_t prescribed_contact_frames = 0;  ///< frames with a push loaded by formula (no factor yet, or not asked)
