@@ -22,10 +22,17 @@ inline constexpr double kNodeComplianceTimesStiffness = 3.2;
 /// compliance of a Neo-Hookean lattice at nu 0.45 is 2.2 times that of springs carrying the same shear).
 inline constexpr double kNeoHookeanCornerStiffness = 0.75;
 
+/// The loop gain k_c c (coupling times estimated compliance) from which the servo takes the estimate. Coupled by
+/// the sampled force alone, each frame the surface moves by k_c c_true times the last frame's miss, the other way:
+/// under 1 it settles, over it overshoots and grows. The estimate is 1 to about 5 times c_true, so from this gain on
+/// k_c c_true is at least about 1 and the servo needs it; below, the sampled force settles (or nearly), and an
+/// estimate several times too compliant would make the servo lag the surface (a stiff surface under a wide patch).
+inline constexpr double kEstimateNeededGain = 5.0;
+
 /// c I with c = kNodeComplianceTimesStiffness (sum of w over free nodes)^2 / k, k the free loaded nodes' stiffness
 /// (springs, and a Neo-Hookean cell term by kNeoHookeanCornerStiffness; a volume term, which only stiffens, left
-/// out) averaged by their weights. A load spread over many nodes gets up to about 4.5 times its factored compliance.
-/// Zero when no loaded node is free. scratch: per-node storage, reused.
+/// out) averaged by their weights: 1 to about 4.6 times the factored compliance (the more, the wider the load is
+/// spread). Zero when no loaded node is free. scratch: per-node storage, reused.
 Mat3 estimate_compliance(const Lattice& lat, const PointWeights& w, std::vector<double>* scratch);
 
 }  // namespace palpate

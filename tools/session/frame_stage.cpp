@@ -6,6 +6,7 @@
 
 #include "core/state_hash.h"
 #include "haptics/cpu_steal.h"
+#include "sim/compliance_estimate.h"
 #include "sim/deformer.h"
 #include "sim/lattice_estimate.h"
 #include "sim/rest.h"
@@ -237,6 +238,9 @@ void FrameStage::fill_contact_model(LocalModel* m) {
     // lattice (a piece with nothing holding it) gets no model.
     if (!compliance_.factoring() && lat.hanging.empty()) return;
     if (!estimated_contact_response(lat, w, p, frame_force_obj_N_, &estimate_scratch_, &r)) return;
+    // only where the sampled force alone would overshoot (sim/compliance_estimate.h: kEstimateNeededGain); on a
+    // stiffer surface it settles as before, and an estimate several times too compliant would make the servo lag it
+    if (scene_.device.coupling_N_per_m * r.compliance_m_per_N.trace() / 3.0 < kEstimateNeededGain) return;
     ++stats_.contact_models_estimated;
   }
   m->has_contact_model = true;
