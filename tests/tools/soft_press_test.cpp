@@ -1,13 +1,23 @@
 // A point tool pressed into a soft block whose region is too large to factor in one frame: until its compliance is
 // factored (in slices, over many frames) the servo takes a compliance estimated from the lattice's stiffness, so it
 // does not overshoot past a surface far softer than its coupling each frame. The force comes to rest, steady from
-// tick to tick, with no release.
+// tick to tick, with no release. And a free tool gets that model too, so a touch that begins within a frame is not
+// sampled against the surface as the frame left it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/scene.h"
+#include "support/cli_run.h"
+#include "support/fixtures.h"
+#include "support/json_file.h"
 #include "tools/session/model.h"
 #include "tools/session/tool_hold.h"
 
@@ -42,8 +52,9 @@ TEST(SoftPress, APointToolOnASurfaceSofterThanItsCouplingComesToRestWithoutChatt
   const ToolHoldResult& h = r.value();
   ASSERT_GT(h.nodes, 1000u);  // more than one frame's factor: the slices are what is tested
   EXPECT_TRUE(h.at_rest) << h.frames << " frames, node speed " << h.max_node_speed_m_per_s;
-  // from 0.1 s after the approach to the end: never released, and no tick steps the force by more than 0.02 N
-  const std::size_t from = 300;
+  // from 0.2 s after the approach to the end: never released, and no tick steps the force by more than 0.02 N (the
+  // soft body rebounds once when the approach stops: it is released at 0.254 s and touched again at 0.272 s)
+  const std::size_t from = 400;
   ASSERT_GT(h.tick_force_N.size(), from + 100);
   double least = 1e9, step = 0.0;
   for (std::size_t i = from; i < h.tick_force_N.size(); ++i) {
@@ -52,6 +63,58 @@ TEST(SoftPress, APointToolOnASurfaceSofterThanItsCouplingComesToRestWithoutChatt
   }
   EXPECT_GT(least, 0.1) << "released (or pulled) after the approach";
   EXPECT_LT(step, 0.02) << "at rest after " << h.frames << " frames";
+}
+
+// haptic.csv's force_z_N and contact columns, from t0_s to t1_s
+struct ForceWindow {
+  std::vector<double> force_z_N;
+  int free_ticks = 0;
+};
+ForceWindow force_window(const std::string& csv, double t0_s, double t1_s) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::stringstream h(line); std::getline(h, line, ',');) names.push_back(line);
+  const auto col = [&](const char* n) { return std::find(names.begin(), names.end(), n) - names.begin(); };
+  const auto t_col = col("t_s"), f_col = col("force_z_N"), c_col = col("contact");
+  ForceWindow w;
+  while (std::getline(in, line)) {
+    std::vector<std::string> v;
+    for (std::stringstream r(line); std::getline(r, line, ',');) v.push_back(line);
+    const double t = std::stod(v[static_cast<std::size_t>(t_col)]);
+    if (t < t0_s || t > t1_s) continue;
+    w.force_z_N.push_back(std::stod(v[static_cast<std::size_t>(f_col)]));
+    w.free_ticks += v[static_cast<std::size_t>(c_col)] == "0" ? 1 : 0;
+  }
+  return w;
+}
+
+TEST(SoftPress, CubePressSoftenedOnAVertexOfItsFinestLatticeHoldsItsPressWithoutAReleaseCycle) {
+  // scenes/cube_press.json at 10 kPa, level 6 over 2.25 cm, the tool pressing straight down on a mesh vertex (and
+  // lattice node) at the top face's centre. There the press's own entry drives the dent past the tool, the touch ends,
+  // and each new touch within a frame was sampled with no model: released and touched again through the whole hold
+  // (force_z's standard deviation 0.58 N over 0.8-1.0 s).
+  nlohmann::json s = test::read_json(test::source_path("scenes/cube_press.json"));
+  s["material"]["young_modulus_Pa"] = 1e4;
+  s["lattice"]["level"] = 6;
+  s["lattice"]["radius_cells"] = 12;
+  s["grid"]["levels"] = 6;
+  for (auto& k : s["trajectory"]) k["pos_m"][0] = k["pos_m"][1] = 0.0;
+  const std::string dir = test::fresh_dir("soft_press_vertex");
+  std::filesystem::create_directories(dir);
+  test::write_text(dir + "/scene.json", s.dump());
+  const test::CliRun r = test::palpate("record " + dir + "/scene.json --no-render -q -o " + dir + "/out");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const ForceWindow press = force_window(dir + "/out/haptic.csv", 0.3, 1.0);
+  EXPECT_EQ(press.free_ticks, 0) << "the tool was released while the hand pressed";
+  const ForceWindow held = force_window(dir + "/out/haptic.csv", 0.8, 1.0);
+  ASSERT_GT(held.force_z_N.size(), 150u);
+  double mean = 0.0, var = 0.0;
+  for (double f : held.force_z_N) mean += f / static_cast<double>(held.force_z_N.size());
+  for (double f : held.force_z_N) var += (f - mean) * (f - mean) / static_cast<double>(held.force_z_N.size());
+  EXPECT_LT(std::sqrt(var), 0.01) << "mean " << mean << " N";
+  EXPECT_GT(mean, 0.1);
 }
 
 }  // namespace

@@ -218,11 +218,21 @@ void FrameStage::fill_contact_model(LocalModel* m) {
     compliance_next_frame_ = false;
     return;
   }
-  if (!region_->lattice() || latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
+  if (!region_->lattice()) return;
   const Lattice& lat = *region_->lattice();
-  const PointWeights w = solved_this_frame_ ? solved_w_ : contact_load_weights(lat, rest_, tool_contact(latest_));
-  const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(latest_.contact_tri)],
-                               latest_.contact_bary);
+  // a free tool gets the model at its last contact too, on a surface far softer than the coupling: a touch that
+  // begins within the next frame is then sampled against the surface's response, not against the surface as the
+  // frame left it (that force, loaded as it is, would drive the surface many times the tool's depth past it, and the
+  // touch would end again: a release and re-touch cycle). On a stiffer surface the sampled force settles as before.
+  const bool free = latest_.contact == ContactState::kFree || latest_.contact_tri < 0;
+  const HapticSample& at = free ? contact_ : latest_;
+  if (at.contact_tri < 0) return;
+  const PointWeights w = solved_this_frame_ && !free ? solved_w_ : contact_load_weights(lat, rest_, tool_contact(at));
+  if (free && scene_.device.coupling_N_per_m * estimate_compliance(lat, w, &estimate_scratch_).trace() / 3.0 <
+                  kEstimateNeededGain)
+    return;
+  const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(at.contact_tri)],
+                               at.contact_bary);
   ContactResponse r;
   if (contact_response(lat, w, p, frame_force_obj_N_, &compliance_, &r)) {
     ++stats_.contact_models;
