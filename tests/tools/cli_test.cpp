@@ -181,6 +181,31 @@ TEST(Cli, ABodyTooSoftForItsOwnWeightIsSaidWithItsHeightAlongGravity) {
   EXPECT_NE(standing.out.find("the 0.06 m tall box takes a strain rho g H / E = 50"), std::string::npos) << standing.out;
 }
 
+// A lattice finer than the mesh's triangles is said before the run: cube_press's 5 mm quads (longest edge 7.1 mm)
+// under level-6 cells of 1.875 mm, and not once the faces are cut in 2.5 mm quads (3.5 mm) or the lattice is level 4.
+TEST(Cli, ALatticeFinerThanTheMeshsTrianglesIsSaid) {
+  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
+  scene["lattice"]["level"] = 6;
+  scene["grid"]["levels"] = 6;
+  const auto run = [&](const char* name) {
+    const std::string path = tmp(std::string(name) + ".json");
+    write_text(path, scene.dump());
+    const CliRun r = palpate("record " + path + " -q --no-render --duration 0.05 --out " + tmp(std::string(name) + "_out"));
+    EXPECT_EQ(r.code, 0) << r.out;
+    return r.out;
+  };
+  const std::string coarse = run("coarse_mesh");
+  EXPECT_NE(coarse.find("warning: mesh: its triangles (median longest edge 7.07 mm) are coarser than the lattice's "
+                        "finest cells (1.88 mm at level 6)"),
+            std::string::npos)
+      << coarse;
+  scene["mesh"]["box_subdivisions"] = 24;
+  EXPECT_EQ(run("fine_mesh").find("coarser than"), std::string::npos);
+  scene["mesh"]["box_subdivisions"] = 12;
+  scene["lattice"]["level"] = 4;
+  EXPECT_EQ(run("coarse_lattice").find("coarser than"), std::string::npos);
+}
+
 TEST(Cli, AssimpInvalidModelsGiveErrorsNotCrashes) {
   const fs::path dir = "/usr/share/assimp/models/invalid";
   if (!fs::exists(dir)) GTEST_SKIP() << "assimp-testmodels not installed";

@@ -11,6 +11,7 @@
 #include "core/grid_hierarchy.h"
 #include "core/result.h"
 #include "core/scene.h"
+#include "core/tri_mesh.h"
 
 namespace palpate {
 
@@ -28,5 +29,14 @@ std::vector<std::string> material_warnings(const Scene& scene);
 /// Once the model is loaded: the warning for a body too soft to carry its own weight in the scene's gravity, its
 /// height the rest mesh's extent along g (sim/material.h self_weight_warning); "" when it can.
 std::string self_weight_notice(const Scene& scene, const std::vector<Vec3>& rest_vertices_m);
+
+/// Once the model is loaded: the warning for a lattice finer than the mesh's triangles in touch and pull (the surface
+/// the tool meets moves only at the triangles' corners, so finer cells add cost, not accuracy, and a push lands on the
+/// corners of the triangle it meets): when the median edge of the rest mesh is more than kCoarseMeshEdgeCells of the
+/// finest cells (lattice.refine.level when refined); "" otherwise.
+std::string mesh_resolution_notice(const Scene& scene, const TriMesh& rest, const GridHierarchy& grid);
+
+/// Median triangle edge over the finest cell from which mesh_resolution_notice() speaks.
+inline constexpr double kCoarseMeshEdgeCells = 2.0;
 
 }  // namespace palpate

@@ -163,6 +163,8 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   if (const std::string w = self_weight_notice(scene, model.rest.vertices_m); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
+  if (const std::string w = mesh_resolution_notice(scene, model.rest, model.grid); !w.empty())
+    std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
   auto device_r = make_device(scene, opt.device, opt.browser);
