@@ -132,6 +132,7 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
               {"cpu_ms", ms_json(fst.sim_cpu_ms)},
               {"integrator", integrator_name(scene.lattice.integrator)},
               {"max_substeps", fst.max_substeps},
+              {"max_strain", fst.max_strain},
               {"nodes", fst.lattice_nodes},
               {"springs", fst.lattice_springs},
               {"vertices", fst.lattice_vertices},

@@ -157,6 +157,7 @@ bool FrameStage::step_lattice_frame() {
   stats_.vertex_frames += static_cast<int64_t>(region_->bound_vertices());
   stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
   stats_.substeps_total += rep.substeps;
+  if (!rep.diverged) stats_.max_strain = std::max(stats_.max_strain, rep.max_strain);
   if (rep.diverged) {
     // a diverged state is counted and replaced by rest, so the run goes on
     ++(rep.finite ? stats_.divergence_events : stats_.nan_events);

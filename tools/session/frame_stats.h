@@ -56,6 +56,7 @@ struct FrameStats {
   int64_t samples = 0;              ///< servo samples drained
   double max_displacement_m = 0.0;  ///< largest node displacement from rest
   int max_substeps = 0;             ///< most substeps in one frame
+  double max_strain = 0.0;          ///< largest spring strain |l - l0| / l0 after any step (diverged steps left out)
   std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< largest region simulated in a frame
   std::vector<double> step_ms;      ///< per stepped frame: the integrator step alone
   std::vector<double> sim_cpu_ms;   ///< per frame: sim_ms in the sim thread's CPU time (unaffected by other load)
