@@ -229,8 +229,9 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   const HapticSample& at = free ? contact_ : latest_;
   if (at.contact_tri < 0) return;
   const PointWeights w = solved_this_frame_ && !free ? solved_w_ : contact_load_weights(lat, rest_, tool_contact(at));
-  if (free && scene_.device.coupling_N_per_m * estimate_compliance(lat, w, &estimate_scratch_).trace() / 3.0 <
-                  kEstimateNeededGain)
+  if (free && (scene_.device.sphere_tool ||
+               scene_.device.coupling_N_per_m * estimate_compliance(lat, w, &estimate_scratch_).trace() / 3.0 <
+                   kEstimateNeededGain))
     return;
   const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(at.contact_tri)],
                                at.contact_bary);
@@ -248,6 +249,9 @@ void FrameStage::fill_contact_model(LocalModel* m) {
     // surface much softer than the coupling overshoots past the tool every frame (docs/material.md). A singular
     // lattice (a piece with nothing holding it) gets no model.
     if (!compliance_.factoring() && lat.hanging.empty()) return;
+    // the estimate is a point load's (a node's stiffness): a sphere's patch is many times stiffer, and given the
+    // node's compliance the servo buzzes on it (the soft cube_press's sphere at level 6: 320 force reversals)
+    if (scene_.device.sphere_tool) return;
     if (!estimated_contact_response(lat, w, p, frame_force_obj_N_, &estimate_scratch_, &r)) return;
     // only where the sampled force alone would overshoot (sim/compliance_estimate.h: kEstimateNeededGain); on a
     // stiffer surface it settles as before, and an estimate several times too compliant would make the servo lag it
