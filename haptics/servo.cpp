@@ -255,9 +255,12 @@ void Servo::update_cut(const LocalModel& m, const Vec3& tool, const Vec3& axis, 
 }
 
 Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) const noexcept {
-  // (a sphere's centre moves with the surface point under it)
-  const Vec3& at = params_.tool_radius_m > 0.0 ? contact_point_m_ : proxy_m_;
-  if (!m.has_contact_model || (at - m.contact_p0_m).norm() > m.model_radius_m) return proxy_m_;
+  // the model holds while the proxy stays near the frame's contact: a point's proxy is its contact point; a sphere's
+  // is judged by its centre, since a sphere resting in a dent it fills has its nearest surface point jump across the
+  // dent as it rolls a hair, which is no move of the contact (judged by that point, the prediction dropped out for a
+  // tick: a click of 0.36 N)
+  const Vec3 moved = params_.tool_radius_m > 0.0 ? Vec3(proxy_m_ - m.contact_centre_m) : Vec3(proxy_m_ - m.contact_p0_m);
+  if (!m.has_contact_model || moved.norm() > m.model_radius_m) return proxy_m_;
   // the proxy P rides the surface, which has moved by v0 tau + C (F_obj - f0) with F_obj = -k_c (P - P_t);
   // solving for P: (I + k_c C) P = P_frame + v0 tau - C f0 + k_c C P_t
   const double k = params_.coupling_N_per_m;
