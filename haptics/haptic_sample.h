@@ -16,6 +16,8 @@ struct HapticSample {
   double t_s = 0.0;                    ///< scene time
   Vec3 tool_pos_m = Vec3::Zero();      ///< P_t, device position
   Vec3 proxy_pos_m = Vec3::Zero();     ///< P_s, contact point (== P_t when free)
+  Vec3 god_pos_m = Vec3::Zero();       ///< the god-object where the surface holds it, before the contact model's
+                                       ///< prediction moves P_s (== proxy_pos_m without one)
   Vec3 force_N = Vec3::Zero();         ///< force sent to the device
   ContactState contact = ContactState::kFree;
   int32_t contact_tri = -1;            ///< mesh triangle holding P_s (-1 when free)

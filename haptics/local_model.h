@@ -26,7 +26,7 @@ struct LocalModel {
   // the contact point moves by v0 (t - t_s) + C (F_obj - f0) for a force F_obj pushed on the object
   bool has_contact_model = false;
   Vec3 contact_p0_m = Vec3::Zero();       ///< contact point at the frame
-  Vec3 contact_centre_m = Vec3::Zero();   ///< the proxy at the frame (a sphere tool: its centre)
+  Vec3 contact_centre_m = Vec3::Zero();   ///< the god-object at the frame, before prediction (a sphere: its centre)
   Vec3 contact_v0_m_per_s = Vec3::Zero(); ///< its velocity at the frame
   Vec3 contact_f0_N = Vec3::Zero();       ///< force on the object during the frame's step
   Mat3 compliance_m_per_N = Mat3::Zero(); ///< C, static compliance at the contact (3 x 3, symmetric)

@@ -259,6 +259,7 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
   // is judged by its centre, since a sphere resting in a dent it fills has its nearest surface point jump across the
   // dent as it rolls a hair, which is no move of the contact (judged by that point, the prediction dropped out for a
   // tick: a click of 0.36 N)
+  // (proxy_m_ is still the god-object here, before this tick's prediction: it is compared with the frame's)
   const Vec3 moved = params_.tool_radius_m > 0.0 ? Vec3(proxy_m_ - m.contact_centre_m) : Vec3(proxy_m_ - m.contact_p0_m);
   if (!m.has_contact_model || moved.norm() > m.model_radius_m) return proxy_m_;
   // the proxy P rides the surface, which has moved by v0 tau + C (F_obj - f0) with F_obj = -k_c (P - P_t);
@@ -332,6 +333,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     ++counters_.ramps;
   }
   Vec3 force = Vec3::Zero();
+  god_m_sample_ = proxy_m_;
   if (contact_ == ContactState::kCut && !rejected) {
     force = cut_force_N_;
     if (params_.ramp_s > 0.0) force *= std::clamp((t_s - ramp_start_s_) / params_.ramp_s, 0.0, 1.0);
@@ -340,6 +342,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
       const Vec3 before = proxy_m_;
       proxy_m_ = predicted_proxy(m, tool, t_s);
       contact_point_m_ += proxy_m_ - before;
+      god_m_sample_ = before;
     }
     if (params_.force_model == ForceModel::kHoldFrame && held_frame_ == m.frame) {
       force = held_force_N_;
@@ -379,6 +382,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   s.t_s = t_s;
   s.tool_pos_m = tool;
   s.proxy_pos_m = proxy_m_;
+  s.god_pos_m = god_m_sample_;
   s.force_N = force;
   s.contact = contact_;
   s.contact_tri = contact_ == ContactState::kFree ? -1 : tri_;

@@ -128,6 +128,7 @@ class Servo {
   Vec3 near_m_ = Vec3::Zero();     // and where it was
   Vec3 proxy_m_ = Vec3::Zero();
   Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
+  Vec3 god_m_sample_ = Vec3::Zero();     // this tick's god-object before the prediction (HapticSample::god_pos_m)
   Vec3 contact_normal_ = Vec3::UnitZ();  // touch: surface normal at the proxy (which side we are on)
   Vec3 cut_force_N_ = Vec3::Zero();      // cut: blade resistance this tick
   Vec3 god_m_ = Vec3::Zero();            // touch: the god-object's centre on the latest frame's surface

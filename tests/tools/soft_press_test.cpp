@@ -128,15 +128,18 @@ TEST(SoftPress, ASphereToolOnTheSoftBlockDoesNotBuzz) {
 TEST(SoftPress, ASolvedSphereInTheDentItFillsDoesNotClick) {
   // the sphere with its contact solved sinks into a dent shaped like itself, where the surface point nearest its centre
   // jumps across the dent as it rolls a hair: judged by that point the servo's contact model dropped out for a tick at
-  // frame boundaries, and the force stepped 0.36 N and back (252 reversals over the run)
+  // frame boundaries, and the force stepped 0.36 N and back (252 reversals over the run). Judged by the centre it
+  // must be the god-object's on both sides, before the model's prediction moves it: against the predicted centre the
+  // model dropped out while the sphere pressed in, for 6 ticks at a time (steps of 0.66 N from 0.234 s)
   const std::string csv = soft_cube_press("soft_press_solved_sphere", [](nlohmann::json& s) {
     s["device"]["tool_shape"] = "sphere";
     s["device"]["contact"] = "solved";
   });
-  const ForceWindow press = force_window(csv, 0.3, 1.0);
-  ASSERT_GT(press.force_z_N.size(), 600u);
-  EXPECT_EQ(press.free_ticks, 0);
-  EXPECT_LT(largest_step(press), 0.05) << "largest tick-to-tick step of force_z while pressed";
+  // (it rebounds off the surface once as it enters, to 0.3 s: touched from then on)
+  EXPECT_EQ(force_window(csv, 0.3, 1.0).free_ticks, 0);
+  const ForceWindow press = force_window(csv, 0.2, 1.0);
+  ASSERT_GT(press.force_z_N.size(), 700u);
+  EXPECT_LT(largest_step(press), 0.05) << "largest tick-to-tick step of force_z from 0.2 s";
 }
 
 TEST(SoftPress, CubePressSoftenedOnAVertexOfItsFinestLatticeHoldsItsPressWithoutAReleaseCycle) {

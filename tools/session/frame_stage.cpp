@@ -260,7 +260,7 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   }
   m->has_contact_model = true;
   m->contact_p0_m = r.p0_m;
-  m->contact_centre_m = at.proxy_pos_m;
+  m->contact_centre_m = at.god_pos_m;
   m->contact_v0_m_per_s = r.v0_m_per_s;
   m->contact_f0_N = r.f0_N;
   m->compliance_m_per_N = r.compliance_m_per_N;
