@@ -1,7 +1,5 @@
 #include "sim/compliance_estimate.h"
 
-#include <algorithm>
-
 namespace palpate {
 
 Mat3 estimate_compliance(const Lattice& lat, const PointWeights& w, std::vector<double>* scratch) {

@@ -1,7 +1,5 @@
 #include "sim/contact_response.h"
 
-#include "sim/compliance_estimate.h"
-
 namespace palpate {
 namespace {
 
@@ -29,12 +27,10 @@ bool contact_response(const Lattice& lat, const PointWeights& w, const Vec3& poi
   return true;
 }
 
-bool estimated_contact_response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
-                                std::vector<double>* scratch, ContactResponse* out) {
+bool contact_response_with(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
+                           const Mat3& c_m_per_N, ContactResponse* out) {
   if (w.count == 0) return false;
-  const Mat3 c = estimate_compliance(lat, w, scratch);
-  if (!(c.trace() > 0.0)) return false;
-  *out = response(lat, w, point_m, f_N, c);
+  *out = response(lat, w, point_m, f_N, c_m_per_N);
   return true;
 }
 

@@ -4,8 +4,6 @@
 /// that acted on it, and the lattice's static compliance there. Thread: the sim thread.
 
 #include "core/types.h"
-#include <vector>
-
 #include "sim/contact_compliance.h"
 #include "sim/lattice.h"
 
@@ -26,10 +24,9 @@ struct ContactResponse {
 bool contact_response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
                       ContactCompliance* compliance, ContactResponse* out);
 
-/// The same with the compliance estimated from the loaded nodes' stiffness (sim/compliance_estimate.h), for a
-/// lattice whose factor is not done or cannot be made (hanging nodes). False, *out untouched, when no loaded node
-/// is free. scratch: per-node storage, reused.
-bool estimated_contact_response(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
-                                std::vector<double>* scratch, ContactResponse* out);
+/// The same with the compliance `c_m_per_N` given (an estimate, sim/compliance_estimate.h, for a lattice whose factor
+/// is not done or cannot be made: hanging nodes). False, *out untouched, when w is empty.
+bool contact_response_with(const Lattice& lat, const PointWeights& w, const Vec3& point_m, const Vec3& f_N,
+                           const Mat3& c_m_per_N, ContactResponse* out);
 
 }  // namespace palpate

@@ -32,11 +32,11 @@ std::string self_weight_notice(const Scene& scene, const std::vector<Vec3>& rest
 
 /// Once the model is loaded: the warning for a lattice finer than the mesh's triangles in touch and pull (the surface
 /// the tool meets moves only at the triangles' corners, so finer cells add cost, not accuracy, and a push lands on the
-/// corners of the triangle it meets): when the median edge of the rest mesh is more than kCoarseMeshEdgeCells of the
-/// finest cells (lattice.refine.level when refined); "" otherwise.
+/// corners of the triangle it meets): when the median of the rest mesh's triangles' longest edges is more than
+/// kCoarseMeshEdgeCells of the finest cells (lattice.refine.level when refined); "" otherwise.
 std::string mesh_resolution_notice(const Scene& scene, const TriMesh& rest, const GridHierarchy& grid);
 
-/// Median triangle edge over the finest cell from which mesh_resolution_notice() speaks.
+/// That median over the finest cell from which mesh_resolution_notice() speaks.
 inline constexpr double kCoarseMeshEdgeCells = 2.0;
 
 }  // namespace palpate

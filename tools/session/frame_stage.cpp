@@ -211,6 +211,17 @@ int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) {
   return loaded;
 }
 
+std::optional<Mat3> FrameStage::needed_estimate(const Lattice& lat, const PointWeights& w) {
+  // the estimate is a point load's (a node's stiffness): a sphere's patch is many times stiffer, and given the node's
+  // compliance the servo buzzes on it (the soft cube_press's sphere at level 6: 320 force reversals)
+  if (scene_.device.sphere_tool) return std::nullopt;
+  const Mat3 c = estimate_compliance(lat, w, &estimate_scratch_);
+  // only where the sampled force alone would overshoot (sim/compliance_estimate.h: kEstimateNeededGain); on a stiffer
+  // surface it settles as before, and an estimate several times too compliant would make the servo lag it
+  if (!(scene_.device.coupling_N_per_m * c.trace() / 3.0 >= kEstimateNeededGain)) return std::nullopt;
+  return c;
+}
+
 void FrameStage::fill_contact_model(LocalModel* m) {
   m->has_contact_model = false;
   // a region placed or moved this frame has already built its lattice and the solver's factor: its compliance
@@ -229,10 +240,9 @@ void FrameStage::fill_contact_model(LocalModel* m) {
   const HapticSample& at = free ? contact_ : latest_;
   if (at.contact_tri < 0) return;
   const PointWeights w = solved_this_frame_ && !free ? solved_w_ : contact_load_weights(lat, rest_, tool_contact(at));
-  if (free && (scene_.device.sphere_tool ||
-               scene_.device.coupling_N_per_m * estimate_compliance(lat, w, &estimate_scratch_).trace() / 3.0 <
-                   kEstimateNeededGain))
-    return;
+  // a free tool's model is the estimate's case only (and computed once)
+  std::optional<Mat3> estimate;
+  if (free && !(estimate = needed_estimate(lat, w))) return;
   const Vec3 p = surface_point(vertices_m_, model_.rest.triangles[static_cast<std::size_t>(at.contact_tri)],
                                at.contact_bary);
   ContactResponse r;
@@ -244,18 +254,11 @@ void FrameStage::fill_contact_model(LocalModel* m) {
       Mat3 c;
       compliance_.compute(lat, w, false, &c);
     }
-    // while the factor is made in slices, or on a refined lattice, the servo takes a compliance estimated from the
-    // loaded nodes' stiffness (above the factored one): with none it would couple by the sampled force alone, and a
-    // surface much softer than the coupling overshoots past the tool every frame (docs/material.md). A singular
-    // lattice (a piece with nothing holding it) gets no model.
+    // while the factor is made in slices, or on a refined lattice, the servo takes the estimate where it needs one; a
+    // singular lattice (a piece with nothing holding it) gets no model
     if (!compliance_.factoring() && lat.hanging.empty()) return;
-    // the estimate is a point load's (a node's stiffness): a sphere's patch is many times stiffer, and given the
-    // node's compliance the servo buzzes on it (the soft cube_press's sphere at level 6: 320 force reversals)
-    if (scene_.device.sphere_tool) return;
-    if (!estimated_contact_response(lat, w, p, frame_force_obj_N_, &estimate_scratch_, &r)) return;
-    // only where the sampled force alone would overshoot (sim/compliance_estimate.h: kEstimateNeededGain); on a
-    // stiffer surface it settles as before, and an estimate several times too compliant would make the servo lag it
-    if (scene_.device.coupling_N_per_m * r.compliance_m_per_N.trace() / 3.0 < kEstimateNeededGain) return;
+    if (!estimate) estimate = needed_estimate(lat, w);
+    if (!estimate || !contact_response_with(lat, w, p, frame_force_obj_N_, *estimate, &r)) return;
     ++stats_.contact_models_estimated;
   }
   m->has_contact_model = true;

@@ -104,6 +104,8 @@ class FrameStage {
   ToolContact tool_contact(const HapticSample& s) const;
   // the object's linearised response at the current contact (sim/contact_response.h), for the servo between frames
   void fill_contact_model(LocalModel* m);
+  // the estimated compliance at w where the servo needs it (a point tool on a surface far softer than the coupling)
+  std::optional<Mat3> needed_estimate(const Lattice& lat, const PointWeights& w);
   void publish_patch();
   void render(int64_t index, bool block);
   // files the time since the last part ended under `part` of the frame's profile
