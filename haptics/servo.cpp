@@ -81,11 +81,12 @@ bool Servo::material_point(const LocalModel& m, int32_t tri, const Vec3& bary, V
   return false;
 }
 
-void Servo::track_nearest(const LocalModel& m, const Vec3& tool) noexcept {
+void Servo::track_nearest(const LocalModel& m, const Vec3& tool, double r) noexcept {
   int slot = -1;
   Vec3 b = Vec3::Zero();
   near_tri_ = closest_on_patch(m, tool, &slot, &near_m_, &b) ? m.tri_ids[slot] : -1;
   near_bary_ = b;
+  near_outside_ = near_tri_ < 0 || outside_of(m, slot, b, near_m_, tool, r, nullptr);
 }
 
 bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept {
@@ -109,15 +110,22 @@ bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool
   return false;
 }
 
+bool Servo::outside_of(const LocalModel& m, int slot, const Vec3& b, const Vec3& q, const Vec3& tool, double r,
+                       Vec3* normal_out) const noexcept {
+  // in front of the surface point q's smooth normal (on the contact's side), and a radius from it
+  const auto& n = m.normal[slot];
+  const Vec3 smooth = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+  const Vec3 normal = smooth.squaredNorm() > 0.0 ? smooth : contact_normal_;
+  if (normal_out) *normal_out = normal;
+  const Vec3 d = tool - q;
+  return d.dot(normal) > 0.0 && d.squaredNorm() >= r * r * (1.0 - 1e-6);
+}
+
 bool Servo::tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept {
-  // in front of the nearest surface point's smooth normal (on the contact's side), and a radius from it
   int slot = -1;
   Vec3 q = Vec3::Zero(), b = Vec3::Zero();
   if (!closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_)) return true;
-  const auto& n = m.normal[slot];
-  const Vec3 normal = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
-  const Vec3 d = tool - q;
-  return d.dot(normal.squaredNorm() > 0.0 ? normal : contact_normal_) > 0.0 && d.squaredNorm() >= r * r * (1.0 - 1e-6);
+  return outside_of(m, slot, b, q, tool, r, nullptr);
 }
 
 void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
@@ -134,8 +142,21 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
       from += p - near_m_;
       begins = touch_begins(m, from, tool, r);
     }
+    if (!begins && surface_moved_ && near_outside_) {
+      // the surface came through the tool by another way than the point nearest it (a fold springing back, or its
+      // triangles no longer in the patch): outside by the last tick's surface, inside by this one. The god-object
+      // starts on this surface's outside, over the point nearest the tool
+      int slot = -1;
+      Vec3 q = Vec3::Zero(), b = Vec3::Zero(), normal = Vec3::Zero();
+      if (closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_) &&
+          !outside_of(m, slot, b, q, tool, r, &normal) && normal.squaredNorm() > 0.0) {
+        contact_normal_ = normal.normalized();
+        from = q + (r + kPointClearance_m) * contact_normal_;
+        begins = true;
+      }
+    }
     if (!begins) {
-      track_nearest(m, tool);
+      track_nearest(m, tool, r);
       proxy_m_ = contact_point_m_ = tool;
       return;
     }
@@ -163,7 +184,7 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     contact_ = ContactState::kFree;
     tri_ = -1;
     friction_ = FrictionState{};
-    track_nearest(m, tool);
+    track_nearest(m, tool, r);
     proxy_m_ = contact_point_m_ = tool;
     return;
   }

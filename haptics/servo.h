@@ -89,10 +89,15 @@ class Servo {
   void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
   // whether the tool lies outside the surface by at least r (where a touch may end)
   bool tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept;
+  // the same judged at the surface point q (triangle slot, barycentric b) nearest the tool; *normal_out (if given):
+  // the smooth normal there
+  bool outside_of(const LocalModel& m, int slot, const Vec3& b, const Vec3& q, const Vec3& tool, double r,
+                  Vec3* normal_out) const noexcept;
   // whether the tool's move from `from` starts a touch (sets the side it came from)
   bool touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept;
-  // a free tool: the surface point nearest it, remembered so the next tick can carry its path with the surface
-  void track_nearest(const LocalModel& m, const Vec3& tool) noexcept;
+  // a free tool: the surface point nearest it, remembered so the next tick can carry its path with the surface, and
+  // whether the tool is outside the surface there (by r)
+  void track_nearest(const LocalModel& m, const Vec3& tool, double r) noexcept;
   // the step this tick that the device's motion does not explain is an event (entry, release, grab, region, cut)
   bool jump_event(const LocalModel& m, ContactState before) noexcept;
   void update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept;
@@ -126,6 +131,7 @@ class Servo {
   int32_t near_tri_ = -1;          // free touch tool: the triangle holding the surface point nearest it last tick
   Vec3 near_bary_ = Vec3::Zero();  // that point in it
   Vec3 near_m_ = Vec3::Zero();     // and where it was
+  bool near_outside_ = false;      // and whether the tool was outside the surface there (never yet: false)
   Vec3 proxy_m_ = Vec3::Zero();
   Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
   Vec3 god_m_sample_ = Vec3::Zero();     // this tick's god-object before the prediction (HapticSample::god_pos_m)
