@@ -12,6 +12,10 @@ namespace {
 
 // a point tool is a god-object sphere of this radius whose proxy is the surface point under it
 constexpr double kPointClearance_m = 1e-6;
+// a surface coming back through a free tool by another way than the point nearest it is caught when the tool was
+// within this of the surface (beyond its radius), outside, at the last tick and is within it, inside, now: a surface
+// seen only from afar, or not at all, starts no touch (the patch's first triangles can face away from the tool)
+constexpr double kReturnReach_m = 0.005;
 // with no jump limit a point tool still rolls over a convex facet edge at most this much of the coupling's force a
 // tick beyond the device's step: pressed d into the surface, a point held at the edge would otherwise snap onto the
 // next face by about d sin(turn) in one tick (0.15 N at 1 mm and 25 degrees), a sphere wider than its depth never does
@@ -86,7 +90,8 @@ void Servo::track_nearest(const LocalModel& m, const Vec3& tool, double r) noexc
   Vec3 b = Vec3::Zero();
   near_tri_ = closest_on_patch(m, tool, &slot, &near_m_, &b) ? m.tri_ids[slot] : -1;
   near_bary_ = b;
-  near_outside_ = near_tri_ < 0 || outside_of(m, slot, b, near_m_, tool, r, nullptr);
+  near_outside_ = near_tri_ >= 0 && (tool - near_m_).norm() <= r + kReturnReach_m &&
+                  outside_of(m, slot, b, near_m_, tool, r, nullptr);
 }
 
 bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept {
@@ -148,7 +153,7 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
       // starts on this surface's outside, over the point nearest the tool
       int slot = -1;
       Vec3 q = Vec3::Zero(), b = Vec3::Zero(), normal = Vec3::Zero();
-      if (closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_) &&
+      if (closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_) && (tool - q).norm() <= r + kReturnReach_m &&
           !outside_of(m, slot, b, q, tool, r, &normal) && normal.squaredNorm() > 0.0) {
         contact_normal_ = normal.normalized();
         from = q + (r + kPointClearance_m) * contact_normal_;

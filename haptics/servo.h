@@ -131,7 +131,7 @@ class Servo {
   int32_t near_tri_ = -1;          // free touch tool: the triangle holding the surface point nearest it last tick
   Vec3 near_bary_ = Vec3::Zero();  // that point in it
   Vec3 near_m_ = Vec3::Zero();     // and where it was
-  bool near_outside_ = false;      // and whether the tool was outside the surface there (never yet: false)
+  bool near_outside_ = false;      // and whether the tool was just outside the surface there (kReturnReach_m)
   Vec3 proxy_m_ = Vec3::Zero();
   Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
   Vec3 god_m_sample_ = Vec3::Zero();     // this tick's god-object before the prediction (HapticSample::god_pos_m)

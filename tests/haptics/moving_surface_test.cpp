@@ -99,6 +99,25 @@ TEST(MovingSurface, ASurfaceComingBackThroughTheToolByAnotherWayTouchesItToo) {
   }
 }
 
+TEST(MovingSurface, ASurfaceFirstSeenWithTheToolBehindItStartsNoTouch) {
+  // the patch near a tool far from the object can be empty; the first triangles it then takes in may face away from
+  // the tool (the object's far side): the tool was never seen outside, so nothing is touched. Taken as outside while
+  // no surface was seen, the tool was pulled onto that face (0.3 N and more at once, from free air)
+  for (const double behind_m : {0.001, 0.004}) {
+    test::FloorRig rig(test::static_surface_params(kK), false);
+    rig.dev.pos_m = Vec3(0.001, 0.002, -behind_m);
+    LocalModel& empty = rig.tb->write_buffer();
+    empty.num_triangles = 0;
+    empty.frame = 1;
+    rig.tb->publish();
+    for (int i = 0; i < 60; ++i) {
+      if (i == 30) test::publish_floor_at(rig.tb.get(), 0.0, 0.0, 2, i * 1e-3, false);
+      rig.tick(i);
+      ASSERT_EQ(rig.servo->last_sample().contact, ContactState::kFree) << behind_m << " m behind, tick " << i;
+    }
+  }
+}
+
 TEST(MovingSurface, AToolThatWasNeverOutsideStaysFreeAsTheSurfaceMoves) {
   // a device held 1 mm inside from the start while the floor rises 2 mm round it: nothing was ever touched
   test::FloorRig rig(test::static_surface_params(kK), true);
