@@ -126,6 +126,11 @@ TEST(SoftPress, ASphereToolOnTheSoftBlockDoesNotBuzz) {
   ASSERT_GT(press.force_z_N.size(), 600u);
   EXPECT_EQ(press.free_ticks, 0);
   EXPECT_LT(largest_step(press), 0.05) << "largest tick-to-tick step of force_z while pressed";
+  // and as the hand lifts off: given the node's compliance the servo let the sphere leave the surface while the
+  // frame's dent was still deep, and the next frames' surface met it again a millimetre up (steps of 0.25 N)
+  const ForceWindow lift = force_window(csv, 1.0, 1.4);
+  ASSERT_GT(lift.force_z_N.size(), 350u);
+  EXPECT_LT(largest_step(lift), 0.05) << "largest tick-to-tick step of force_z as the hand lifts off";
 }
 
 TEST(SoftPress, ASolvedSphereInTheDentItFillsDoesNotClick) {

@@ -212,8 +212,9 @@ int FrameStage::apply_contact_force(std::vector<Vec3>* f_ext) {
 }
 
 std::optional<Mat3> FrameStage::needed_estimate(const Lattice& lat, const PointWeights& w) {
-  // the estimate is a point load's (a node's stiffness): a sphere's patch is many times stiffer, and given the node's
-  // compliance the servo buzzes on it (the soft cube_press's sphere at level 6: 320 force reversals)
+  // the estimate is a point load's (a node's stiffness): a sphere's patch is many times stiffer. Given the node's
+  // compliance the servo let the soft cube_press's sphere (level 6) leave the surface as the hand lifted off while the
+  // frame's dent was still deep, and the next frames' surface met it again a millimetre up: steps of 0.25 N
   if (scene_.device.sphere_tool) return std::nullopt;
   const Mat3 c = estimate_compliance(lat, w, &estimate_scratch_);
   // only where the sampled force alone would overshoot (sim/compliance_estimate.h: kEstimateNeededGain); on a stiffer
