@@ -133,6 +133,8 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   EXPECT_EQ(j["material"]["poisson_ratio_represented"].get<double>(), 0.25);
   EXPECT_NEAR(j["material"]["total_mass_kg"].get<double>(), 1070.0 * 0.06 * 0.06 * 0.06, 1e-9);
   EXPECT_TRUE(j.contains("state_hash"));
+  // the tool pressing the cube is never free inside it
+  EXPECT_EQ(j["tool_inside"]["frames"].get<int64_t>(), 0) << j["tool_inside"].dump();
   // its point tool: no Hertz figure, and the summary says why
   EXPECT_TRUE(j["material"]["contact_model_error"]["hertz_force_error"].is_null()) << j["material"].dump();
   EXPECT_NE(j["material"]["contact_model_error"]["basis"].get<std::string>().find("point tool"), std::string::npos);
@@ -158,6 +160,27 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   std::snprintf(line, sizeof line, "contact prescribed: force %+.0f %% against Hertz at 0.27 cells",
                 100.0 * c["hertz_force_error"].get<double>());
   EXPECT_NE(w.out.find(line), std::string::npos) << line << " in " << w.out;
+}
+
+// A free tool deep inside the object (a touch lost, the tool through the surface, or a trajectory begun inside) is
+// said at the end of the run and in summary.json: cube_press's tool held at the cube's middle, 30 mm from every face.
+TEST(Cli, AFreeToolDeepInsideTheObjectIsSaid) {
+  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
+  scene["trajectory"] = {{{"t_s", 0.0}, {"pos_m", {0.004, 0.004, 0.0}}}, {{"t_s", 0.2}, {"pos_m", {0.004, 0.004, 0.0}}}};
+  scene["duration_s"] = 0.2;
+  const std::string path = tmp("tool_inside.json");
+  write_text(path, scene.dump());
+  const CliRun r = palpate("record " + path + " -q --no-render --out " + tmp("tool_inside_out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: the tool was inside the object without touching it from 0.0"), std::string::npos)
+      << r.out;
+  const auto j = nlohmann::json::parse(read_file(tmp("tool_inside_out") + "/summary.json"));
+  const auto& t = j["tool_inside"];
+  EXPECT_GE(t["frames"].get<int64_t>(), 10) << t.dump();
+  EXPECT_LT(t["first_t_s"].get<double>(), 0.05) << t.dump();
+  // at least the tool's radius under the surface, and no deeper than it is
+  EXPECT_GE(t["depth_m"].get<double>(), 0.002) << t.dump();
+  EXPECT_LE(t["depth_m"].get<double>(), 0.03) << t.dump();
 }
 
 // A body too soft to carry its own weight is said before the run, its height the model's extent along gravity: a

@@ -201,6 +201,9 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     return 130;
   }
   if (!r.no_contact.empty()) std::fprintf(stderr, "palpate: warning: %s\n", r.no_contact.c_str());
+  if (!r.tool_inside.empty())
+    std::fprintf(stderr, "palpate: warning: %s (see %s, tool_inside)\n", r.tool_inside.c_str(),
+                 printable_text(r.summary_path).c_str());
   if (server && a.serve_linger_s > 0.0) linger(*server, a.serve_linger_s);
   if (server) server->stop();
   // divergence is never silent: the outputs stay, the exit status says they hold a reset lattice (unless the

@@ -378,6 +378,7 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   res.nan_events = fst.nan_events;
   res.divergence_events = fst.divergence_events;
   res.no_contact = no_contact;
+  res.tool_inside = tool_inside_note(fst);
   res.mesh_notice = rec.model->orientation.notice();
   const Status summary_status = write_file_atomic(res.summary_path, res.summary_json, "summary");
   if (opt.live) {

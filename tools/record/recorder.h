@@ -69,6 +69,7 @@ struct RecordResult {
   int64_t nan_events = 0;        ///< frames whose lattice state became non-finite (and was reset)
   int64_t divergence_events = 0; ///< frames whose lattice diverged (and was reset)
   std::string no_contact;        ///< when no force was ever sent: why ("no contact in 4.0 s: ..."), else empty
+  std::string tool_inside;       ///< touch mode: when the free tool was deep inside the object (tool_inside_note)
   std::string mesh_notice;       ///< what the load turned outward ("turned 12 of 12 triangles outward: ..."), else empty
   std::string interrupted;       ///< RecordOptions::stop ended the run: where, and what was kept; else empty
 };

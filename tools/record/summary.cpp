@@ -96,6 +96,11 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   j["max_force_N"] = sc.max_force_N;
   if (!in.no_contact.empty()) j["no_contact"] = in.no_contact;
   j["max_displacement_m"] = fst.max_displacement_m;
+  // touch mode: a free tool deeper inside the object than the material has moved (a touch lost)
+  if (scene.mode == InteractionMode::kTouch)
+    j["tool_inside"] = {{"frames", fst.tool_inside_frames},
+                        {"first_t_s", fst.tool_inside_frames > 0 ? nlohmann::json(fst.tool_inside_first_t_s) : nlohmann::json()},
+                        {"depth_m", fst.tool_inside_depth_m}};
   j["nan_events"] = fst.nan_events;
   j["dropped_samples"] = sc.dropped_samples;
   j["rejected_inputs"] = sc.rejected_inputs;

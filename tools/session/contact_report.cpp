@@ -62,3 +62,18 @@ std::string no_contact_note(const Scene& scene, const Model& model, const std::v
 }
 
 }  // namespace palpate
+
+namespace palpate {
+
+std::string tool_inside_note(const FrameStats& stats) {
+  if (stats.tool_inside_frames == 0) return "";
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "the tool was inside the object without touching it from %.2f s, in %lld frames, at least %s under its "
+                "rest surface: the touch was lost (the tool went through the surface) or never began",
+                stats.tool_inside_first_t_s, static_cast<long long>(stats.tool_inside_frames),
+                mm(stats.tool_inside_depth_m).c_str());
+  return buf;
+}
+
+}  // namespace palpate

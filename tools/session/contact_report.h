@@ -7,6 +7,7 @@
 
 #include "core/scene.h"
 #include "haptics/replay_device.h"
+#include "tools/session/frame_stats.h"
 #include "tools/session/model.h"
 
 namespace palpate {
@@ -15,5 +16,11 @@ namespace palpate {
 /// trajectory stays 12 mm from the surface at its closest" (distances from the tool positions in `rows` to the
 /// rest surface; pull counts only button presses, cut only rows with the button held). Thread: any.
 std::string no_contact_note(const Scene& scene, const Model& model, const std::vector<ReplayRow>& rows);
+
+/// For a touch recording whose free tool was deep inside the object (FrameStats::tool_inside_frames): one line
+/// saying when and how deep, e.g. "the tool was inside the object without touching it from 0.28 s, in 73 frames, at
+/// least 9.4 mm under its rest surface: the touch was lost (the tool went through) or never began"; empty when it
+/// never was. Thread: any.
+std::string tool_inside_note(const FrameStats& stats);
 
 }  // namespace palpate

@@ -107,6 +107,8 @@ class FrameStage {
   // the estimated compliance at w where the servo needs it (a point tool on a surface far softer than the coupling)
   std::optional<Mat3> needed_estimate(const Lattice& lat, const PointWeights& w);
   void publish_patch();
+  // counts a frame whose free tool (touch mode) lies deeper inside the object than the material can have moved
+  void check_tool_inside();
   void render(int64_t index, bool block);
   // files the time since the last part ended under `part` of the frame's profile
   void lap(FramePart part);

@@ -55,6 +55,11 @@ struct FrameStats {
   int64_t nan_events = 0;           ///< lattice states that went non-finite (reset to rest)
   int64_t samples = 0;              ///< servo samples drained
   double max_displacement_m = 0.0;  ///< largest node displacement from rest
+  // touch mode: frames whose free tool was inside the object, deeper under its rest surface than the material has
+  // moved (FrameStage::check_tool_inside): a touch lost, the tool through the surface
+  int64_t tool_inside_frames = 0;
+  double tool_inside_first_t_s = -1.0;  ///< the first such frame's time (-1: none)
+  double tool_inside_depth_m = 0.0;     ///< how deep under the rest surface it was then, at least
   int max_substeps = 0;             ///< most substeps in one frame
   double max_strain = 0.0;          ///< largest spring strain |l - l0| / l0 after any step (diverged steps left out)
   std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< largest region simulated in a frame
