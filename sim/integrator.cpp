@@ -14,6 +14,32 @@ namespace {
 
 constexpr int kDefaultNewtonIterations = 1;
 constexpr int kStrainLimitSweeps = 4;
+// Most pieces a failed implicit substep is split into before the explicit fallback: J = M + h D + h^2 K is positive
+// definite once h^2 times K's most negative curvature is under the mass, so a squashed or inverted Neo-Hookean cell
+// whose tangent broke the solve at the frame's step is stepped at a quarter, an eighth... of it
+constexpr int kMaxImplicitSplit = 64;
+
+// An implicit Euler substep h taken again in 2, 4, ... kMaxImplicitSplit pieces after the whole one failed (the
+// solver leaves the lattice as it was): the iterations, or -1 when every split failed (the lattice back where it was)
+int implicit_split(Lattice* lat, double h, const std::vector<Vec3>& f_ext, int newton, IntegratorWorkspace* ws,
+                   int* cg_iterations) {
+  ws->x0_m = lat->x_m;
+  ws->v0_m_per_s = lat->v_m_per_s;
+  for (int split = 2; split <= kMaxImplicitSplit; split *= 2) {
+    int total = 0;
+    bool ok = true;
+    for (int k = 0; k < split && ok; ++k) {
+      const int it = ws->implicit->step(lat, h / split, f_ext, newton);
+      *cg_iterations += ws->implicit->step_cg_iterations();
+      ok = it >= 0;
+      total += std::max(it, 0);
+    }
+    if (ok) return total;
+    lat->x_m = ws->x0_m;
+    lat->v_m_per_s = ws->v0_m_per_s;
+  }
+  return -1;
+}
 
 // One explicit (eq. 8) or symplectic Euler substep.
 void euler_substep(Lattice* lat, bool symplectic, double h, const std::vector<Vec3>& f_ext, IntegratorWorkspace* ws) {
@@ -135,6 +161,9 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
         if (!ws->implicit) ws->implicit = std::make_unique<ImplicitEulerSolver>();
         iters = ws->implicit->step(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations);
         rep.cg_iterations += ws->implicit->step_cg_iterations();
+        if (iters < 0)
+          iters = implicit_split(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations, ws,
+                                 &rep.cg_iterations);
         break;
       case IntegratorKind::kLocalGlobal:
         if (!ws->local_global) ws->local_global = std::make_unique<LocalGlobalSolver>();

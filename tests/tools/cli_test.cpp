@@ -162,6 +162,24 @@ TEST(Cli, MaterialIsReportedAtStartAndInTheSummary) {
   EXPECT_NE(w.out.find(line), std::string::npos) << line << " in " << w.out;
 }
 
+// Every shipped scene records to its end with its lattice never reset: a reset (nan_events, divergence_events) exits
+// 1 and leaves the recording at rest, so its state hash alone would not show it (tissue_pull's release went NaN: its
+// implicit step broke down on inverted cells and fell back to explicit substeps; it is now split instead).
+TEST(Cli, EveryShippedSceneRecordsWithoutResettingItsLattice) {
+  int scenes = 0;
+  for (const auto& e : fs::directory_iterator(test::source_path("scenes"))) {
+    if (e.path().extension() != ".json") continue;
+    ++scenes;
+    const std::string name = e.path().stem().string(), out = tmp("shipped_" + name);
+    const CliRun r = palpate("record " + e.path().string() + " -q --no-render --out " + out);
+    EXPECT_EQ(r.code, 0) << name << ": " << r.out;
+    const auto j = nlohmann::json::parse(read_file(out + "/summary.json"));
+    EXPECT_EQ(j["nan_events"].get<int64_t>(), 0) << name;
+    EXPECT_EQ(j["sim"]["divergence_events"].get<int64_t>(), 0) << name;
+  }
+  EXPECT_GE(scenes, 8);
+}
+
 // A free tool deep inside the object (a touch lost, the tool through the surface, or a trajectory begun inside) is
 // said at the end of the run and in summary.json: cube_press's tool held at the cube's middle, 30 mm from every face.
 TEST(Cli, AFreeToolDeepInsideTheObjectIsSaid) {
