@@ -161,9 +161,11 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
         if (!ws->implicit) ws->implicit = std::make_unique<ImplicitEulerSolver>();
         iters = ws->implicit->step(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations);
         rep.cg_iterations += ws->implicit->step_cg_iterations();
-        if (iters < 0)
+        if (iters < 0) {
+          ++rep.implicit_splits;
           iters = implicit_split(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations, ws,
                                  &rep.cg_iterations);
+        }
         break;
       case IntegratorKind::kLocalGlobal:
         if (!ws->local_global) ws->local_global = std::make_unique<LocalGlobalSolver>();

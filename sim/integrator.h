@@ -34,6 +34,7 @@ struct StepReport {
   int cg_iterations = 0;    ///< implicit Euler: conjugate gradient iterations over all its Newton solves (else 0)
   bool finite = true;       ///< false when the state went non-finite (the caller resets it)
   bool diverged = false;    ///< non-finite, or a spring stretched past kDivergedStrain (the caller resets it)
+  int implicit_splits = 0;  ///< implicit Euler substeps that failed whole and were taken again in pieces
   bool solver_ok = true;    ///< false when a linear solve or factorisation failed (implicit Euler: in every split of the substep too; the step then fell back to symplectic Euler)
   double max_strain = 0.0;  ///< largest |l - l0| / l0 after the step
 };

@@ -176,6 +176,11 @@ TEST(Cli, EveryShippedSceneRecordsWithoutResettingItsLattice) {
     const auto j = nlohmann::json::parse(read_file(out + "/summary.json"));
     EXPECT_EQ(j["nan_events"].get<int64_t>(), 0) << name;
     EXPECT_EQ(j["sim"]["divergence_events"].get<int64_t>(), 0) << name;
+    // no step fell back to explicit substeps (what went NaN); tissue_pull's release is where a split carries it
+    EXPECT_EQ(j["sim"]["solver_fallbacks"].get<int64_t>(), 0) << name;
+    if (name == "tissue_pull") {
+      EXPECT_GE(j["sim"]["implicit_splits"].get<int64_t>(), 1) << name;
+    }
   }
   EXPECT_GE(scenes, 8);
 }

@@ -157,6 +157,8 @@ bool FrameStage::step_lattice_frame() {
   stats_.vertex_frames += static_cast<int64_t>(region_->bound_vertices());
   stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
   stats_.substeps_total += rep.substeps;
+  stats_.implicit_splits += rep.implicit_splits;
+  stats_.solver_fallbacks += rep.solver_ok ? 0 : 1;
   if (!rep.diverged) stats_.max_strain = std::max(stats_.max_strain, rep.max_strain);
   if (rep.diverged) {
     // a diverged state is counted and replaced by rest, so the run goes on
