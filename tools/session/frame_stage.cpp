@@ -11,6 +11,7 @@
 #include "sim/lattice_estimate.h"
 #include "sim/rest.h"
 #include "tools/session/region_policy_factory.h"
+#include "tools/session/surface_queries.h"
 
 namespace palpate {
 namespace {
@@ -275,36 +276,15 @@ void FrameStage::fill_contact_model(LocalModel* m) {
 
 void FrameStage::check_tool_inside() {
   if (scene_.mode != InteractionMode::kTouch || latest_.contact != ContactState::kFree) return;
-  // Every point of the object is at most the lattice's largest displacement now from where it rests, so a point
-  // deeper than that under the rest surface is inside the deformed object: a free tool there has gone through the
-  // surface (or began inside). The depth is bounded below by the layers of leaf cells around the tool that are solid
-  // and not crossed by the surface; never a false alarm (a tool in a dent the material left is at most that deep).
-  const GridHierarchy& g = model_.grid;
-  const int level = g.levels();
-  const double leaf = g.cell_size_m(level);
-  if (!g.cube().contains(latest_.tool_pos_m)) return;
-  const CellCoord c = g.cell_of(latest_.tool_pos_m, level);
-  const int n = g.cells_per_axis(level);
-  auto inside = [&](int i, int j, int k) {
-    if (i < 0 || j < 0 || k < 0 || i >= n || j >= n || k >= n) return false;
-    const int32_t id = g.linear_index({i, j, k}, level);
-    return g.solid_cell(id, level) && !g.surface_cell(id, level);
-  };
-  if (!inside(c.i, c.j, c.k)) return;
+  if (proven_depth_inside(model_, latest_.tool_pos_m, 0.0) == 0.0) return;  // a few cells decide the usual case
   double moved = 0.0;
   if (const auto& lat = region_->lattice())
     for (std::size_t i = 0; i < lat->num_nodes(); ++i) moved = std::max(moved, (lat->x_m[i] - lat->rest_m[i]).norm());
-  constexpr int kMaxLayers = 24;  // 49^3 cells at most
-  const int layers = static_cast<int>(std::ceil((moved + scene_.device.tool_radius_m) / leaf)) + 1;
-  if (layers > kMaxLayers) return;
-  if (!inside(c.i, c.j, c.k)) return;
-  for (int k = c.k - layers; k <= c.k + layers; ++k)
-    for (int j = c.j - layers; j <= c.j + layers; ++j)
-      for (int i = c.i - layers; i <= c.i + layers; ++i)
-        if (!inside(i, j, k)) return;
+  const double depth = proven_depth_inside(model_, latest_.tool_pos_m, moved + scene_.device.tool_radius_m);
+  if (depth == 0.0) return;
   if (stats_.tool_inside_frames++ == 0) {
     stats_.tool_inside_first_t_s = t_s_;
-    stats_.tool_inside_depth_m = layers * leaf;
+    stats_.tool_inside_depth_m = depth;
   }
 }
 

@@ -107,7 +107,10 @@ class FrameStage {
   // the estimated compliance at w where the servo needs it (a point tool on a surface far softer than the coupling)
   std::optional<Mat3> needed_estimate(const Lattice& lat, const PointWeights& w);
   void publish_patch();
-  // counts a frame whose free tool (touch mode) lies deeper inside the object than the material can have moved
+  // counts a frame whose free tool (touch mode) lies deeper inside the object than the material can have moved: every
+  // point of the object is at most the lattice's largest displacement from where it rests, so a point deeper than
+  // that (and the tool's radius) under the rest surface is inside the deformed object, whatever the dent (never a
+  // false alarm). The tool went through the surface, or began inside.
   void check_tool_inside();
   void render(int64_t index, bool block);
   // files the time since the last part ended under `part` of the frame's profile

@@ -95,4 +95,26 @@ std::optional<SurfaceHit> nearest_surface_point(const Model& model, const Vec3& 
   return best;
 }
 
+double proven_depth_inside(const Model& model, const Vec3& p_m, double reach_m) {
+  const GridHierarchy& g = model.grid;
+  const int level = g.levels();
+  const double leaf = g.cell_size_m(level);
+  constexpr int kMaxLayers = 24;
+  const double wanted = std::ceil(std::max(reach_m, 0.0) / leaf) + 1.0;
+  if (!g.cube().contains(p_m) || !(wanted <= kMaxLayers)) return 0.0;
+  const int layers = static_cast<int>(wanted), n = g.cells_per_axis(level);
+  const CellCoord c = g.cell_of(p_m, level);
+  auto inside = [&](int i, int j, int k) {
+    if (i < 0 || j < 0 || k < 0 || i >= n || j >= n || k >= n) return false;
+    const int32_t id = g.linear_index({i, j, k}, level);
+    return g.solid_cell(id, level) && !g.surface_cell(id, level);
+  };
+  if (!inside(c.i, c.j, c.k)) return 0.0;  // the usual case (a free tool outside), decided by one cell
+  for (int k = c.k - layers; k <= c.k + layers; ++k)
+    for (int j = c.j - layers; j <= c.j + layers; ++j)
+      for (int i = c.i - layers; i <= c.i + layers; ++i)
+        if (!inside(i, j, k)) return 0.0;
+  return layers * leaf;
+}
+
 }  // namespace palpate

@@ -1,6 +1,7 @@
 #pragma once
 /// Surface queries on a loaded model at rest (world frame): the first hit of a ray and the nearest surface point.
-/// Used off the real-time path (scene generation, model-relative keyframes, the no-contact report). Thread: any.
+/// Used off the real-time path (scene generation, model-relative keyframes, the no-contact report; the sim thread's
+/// check for a tool inside the object, once a frame). Thread: any.
 
 #include <cstdint>
 #include <optional>
@@ -27,5 +28,11 @@ std::optional<SurfaceHit> first_ray_hit(const Model& model, const Vec3& origin_m
 /// The closest point of the rest surface to p_m (exact, found through the grid's leaf lists);
 /// empty only for a model without triangles.
 std::optional<SurfaceHit> nearest_surface_point(const Model& model, const Vec3& p_m);
+
+/// A depth p_m provably lies under the rest surface, inside a closed model: layers x the leaf cell's edge when every
+/// leaf cell within `layers` = ceil(reach_m / leaf) + 1 of p's own is solid and not crossed by the surface (so p is
+/// farther than reach_m from the surface); 0 when one is not, p is outside the grid, or layers would pass 24 (49^3
+/// cells). Nothing allocated.
+double proven_depth_inside(const Model& model, const Vec3& p_m, double reach_m);
 
 }  // namespace palpate
