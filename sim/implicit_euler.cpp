@@ -32,6 +32,8 @@ void ImplicitEulerSolver::prepare(const Lattice& lat) {
   last_dv_m_per_s_.assign(n, Vec3::Zero());  // no previous step to start from
   x0_m_.resize(n);
   v0_m_per_s_.resize(n);
+  trial_v_.resize(n);
+  trial_x_.resize(n);
   x_m_.resize(n);
   v_m_per_s_.resize(n);
   f_N_.resize(n);
@@ -64,13 +66,32 @@ void ImplicitEulerSolver::assemble(const Lattice& lat, double h_s, const std::ve
   }
   // the cells' Neo-Hookean terms: h^2 times their tangent blocks
   neo_h2_ = h_s * h_s;
-  if (lat.neo_mu_Pa != 0.0) {
+  if (projected_ && lat.neo_mu_Pa != 0.0) {
+    neo_.clear();
+    neo_h9_.resize(lat.cell_nodes.size());
+    for (std::size_t k = 0; k < neo_h9_.size(); ++k) {
+      const double l = lat.cell_edge_m(k);
+      const auto& nodes = lat.cell_nodes[k];
+      neo_h9_[k] = (l * l * l) * neo_hookean_projected_hessian(lat.neo_mu_Pa, lat.neo_lambda_Pa,
+                                                               cell_deformation_gradient(x_m, nodes, l));
+      // corner a's diagonal block: sum over j, j' of g_j g_j' H(r + 3 j, s + 3 j')
+      for (int a = 0; a < 8; ++a) {
+        const Vec3 g = corner_gradient(a, l);
+        Mat3 b = Mat3::Zero();
+        for (int j = 0; j < 3; ++j)
+          for (int jj = 0; jj < 3; ++jj) b += (g[j] * g[jj]) * neo_h9_[k].block<3, 3>(3 * j, 3 * jj);
+        node_block_[static_cast<std::size_t>(nodes[a])] += neo_h2_ * b;
+      }
+    }
+  } else if (lat.neo_mu_Pa != 0.0) {
+    neo_h9_.clear();
     neo_hookean_cells(lat, x_m, &neo_);
     for (std::size_t k = 0; k < neo_.size(); ++k)
       for (int a = 0; a < 8; ++a)
         node_block_[static_cast<std::size_t>(lat.cell_nodes[k][a])] += neo_h2_ * neo_hookean_block(lat, neo_[k], a, a);
   } else {
     neo_.clear();
+    neo_h9_.clear();
   }
   // a refined lattice: a hanging node's block moves to its masters (the diagonal of P^T J P, less the coupling
   // between masters), finest first so a hanging master passes its share on
@@ -128,6 +149,17 @@ void ImplicitEulerSolver::multiply(const Lattice& lat, const std::vector<Vec3>& 
     add_neo_hookean_product(lat, neo_, p, &neo_y_);
     for (std::size_t i = 0; i < lat.num_nodes(); ++i) y[i] += neo_h2_ * neo_y_[i];
   }
+  for (std::size_t k = 0; k < neo_h9_.size(); ++k) {
+    // the projected cell: dF = sum_a p_a g_a^T, dP = H vec dF, corner b gets h^2 dP g_b
+    const auto& nodes = lat.cell_nodes[k];
+    const double l = lat.cell_edge_m(k);
+    Mat3 df = Mat3::Zero();
+    for (int a = 0; a < 8; ++a) df += p[static_cast<std::size_t>(nodes[a])] * corner_gradient(a, l).transpose();
+    Mat3 dp;
+    Eigen::Map<Eigen::Matrix<double, 9, 1>>(dp.data()) = neo_h9_[k] * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(df.data());
+    dp *= neo_h2_;
+    for (int b = 0; b < 8; ++b) y[static_cast<std::size_t>(nodes[b])] += dp * corner_gradient(b, l);
+  }
   fold_hanging(lat, &y);
   for (std::size_t i = 0; i < lat.num_nodes(); ++i)
     if (lat.fixed[i]) y[i].setZero();
@@ -180,33 +212,51 @@ bool ImplicitEulerSolver::solve(const Lattice& lat) {
   return std::isfinite(r_norm);
 }
 
-int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations) {
+void ImplicitEulerSolver::residual(const Lattice& lat, double h_s, const std::vector<Vec3>& f_ext_N) {
+  // residual g(v) = M (v - v0) - h f(x0 + h v, v); the Newton system is J delta = -g
+  const std::size_t n = lat.num_nodes();
+  for (std::size_t i = 0; i < n; ++i) x_m_[i] = lat.fixed[i] ? x0_m_[i] : Vec3(x0_m_[i] + h_s * v_m_per_s_[i]);
+  compute_forces(lat, x_m_, v_m_per_s_, f_ext_N, &f_N_);
+  for (std::size_t i = 0; i < n; ++i)
+    rhs_[i] = lat.fixed[i] ? Vec3::Zero() : Vec3(h_s * f_N_[i] - lat.mass_kg[i] * (v_m_per_s_[i] - v0_m_per_s_[i]));
+  if (!lat.hanging.empty()) {
+    // the residual of the constrained lattice: P^T g (fixed masters and held DOFs take none)
+    fold_hanging(lat, &rhs_);
+    for (std::size_t i = 0; i < n; ++i)
+      if (lat.fixed[i]) rhs_[i].setZero();
+    for (std::size_t d = 0; d < lat.held_dof.size(); ++d)
+      if (lat.held_dof[d]) rhs_[d / 3][static_cast<int>(d % 3)] = 0.0;
+  }
+}
+
+void ImplicitEulerSolver::begin_step(Lattice* lat) {
   if (lat->revision != revision_ || node_block_.size() != lat->num_nodes() || num_springs_ != lat->springs.size())
     prepare(*lat);
-  const std::size_t n = lat->num_nodes();
   // a refined lattice's hanging nodes start where their faces are (a state carried over or set by hand may not)
   spread_hanging(*lat, &lat->x_m);
   spread_hanging(*lat, &lat->v_m_per_s);
   std::copy(lat->x_m.begin(), lat->x_m.end(), x0_m_.begin());
   std::copy(lat->v_m_per_s.begin(), lat->v_m_per_s.end(), v0_m_per_s_.begin());
   std::copy(v0_m_per_s_.begin(), v0_m_per_s_.end(), v_m_per_s_.begin());
+}
+
+void ImplicitEulerSolver::finish_step(Lattice* lat, double h_s) {
+  for (std::size_t i = 0; i < lat->num_nodes(); ++i) {
+    if (lat->fixed[i]) continue;
+    last_dv_m_per_s_[i] = v_m_per_s_[i] - v0_m_per_s_[i];
+    lat->v_m_per_s[i] = v_m_per_s_[i];
+    lat->x_m[i] = x0_m_[i] + h_s * v_m_per_s_[i];
+  }
+}
+
+int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations) {
+  begin_step(lat);
+  const std::size_t n = lat->num_nodes();
   const double tol_m_per_s = 1e-9 * lat->cell_m / h_s;
   int it = 0;
   step_cg_iterations_ = 0;
   while (it < std::max(1, max_iterations)) {
-    // residual g(v) = M (v - v0) - h f(x0 + h v, v); the Newton system is J delta = -g
-    for (std::size_t i = 0; i < n; ++i) x_m_[i] = lat->fixed[i] ? x0_m_[i] : Vec3(x0_m_[i] + h_s * v_m_per_s_[i]);
-    compute_forces(*lat, x_m_, v_m_per_s_, f_ext_N, &f_N_);
-    for (std::size_t i = 0; i < n; ++i)
-      rhs_[i] = lat->fixed[i] ? Vec3::Zero() : Vec3(h_s * f_N_[i] - lat->mass_kg[i] * (v_m_per_s_[i] - v0_m_per_s_[i]));
-    if (!lat->hanging.empty()) {
-      // the residual of the constrained lattice: P^T g (fixed masters and held DOFs take none)
-      fold_hanging(*lat, &rhs_);
-      for (std::size_t i = 0; i < n; ++i)
-        if (lat->fixed[i]) rhs_[i].setZero();
-      for (std::size_t d = 0; d < lat->held_dof.size(); ++d)
-        if (lat->held_dof[d]) rhs_[d / 3][static_cast<int>(d % 3)] = 0.0;
-    }
+    residual(*lat, h_s, f_ext_N);
     assemble(*lat, h_s, x_m_);
     // warm start: the first solve from the previous step's velocity change (accelerations change little between
     // steps), later Newton corrections from zero
@@ -227,12 +277,7 @@ int ImplicitEulerSolver::step(Lattice* lat, double h_s, const std::vector<Vec3>&
       }
     if (!(worst > tol_m_per_s)) break;  // converged (or non-finite: the caller's check catches it)
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (lat->fixed[i]) continue;
-    last_dv_m_per_s_[i] = v_m_per_s_[i] - v0_m_per_s_[i];
-    lat->v_m_per_s[i] = v_m_per_s_[i];
-    lat->x_m[i] = x0_m_[i] + h_s * v_m_per_s_[i];
-  }
+  finish_step(lat, h_s);
   return it;
 }
 

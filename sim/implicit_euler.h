@@ -32,6 +32,15 @@ class ImplicitEulerSolver {
   /// non-finite residual; the lattice is left unchanged).
   int step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations);
 
+  /// Takes the backward Euler substep h_s by projected Newton: each cell's Neo-Hookean tangent has its negative
+  /// eigenvalues raised to zero (so J stays positive definite and every Newton step descends), and each step is
+  /// halved until it lowers the substep's incremental potential (kinetic, elastic, damping and load terms, whose
+  /// gradient is the residual), for at most max_iterations steps or until a step moves no node by 1e-6 of a cell.
+  /// For the substeps step() cannot take (a squashed cell's indefinite tangent breaks its conjugate gradients
+  /// at any split): the result is the minimum of the same potential, not an explicit guess. Returns the iterations
+  /// taken, or -1 when the potential was not finite at the start or a solve went non-finite (the lattice unchanged).
+  int projected_step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations);
+
   /// Conjugate gradient iterations of the last Newton solve (for benchmarks and tests).
   int last_cg_iterations() const { return last_cg_iterations_; }
   /// Conjugate gradient iterations over every Newton solve of the last step (for benchmarks and tests).
@@ -44,6 +53,16 @@ class ImplicitEulerSolver {
   void assemble(const Lattice& lat, double h_s, const std::vector<Vec3>& x_m);
   void multiply(const Lattice& lat, const std::vector<Vec3>& p, std::vector<Vec3>* out) const;
   bool solve(const Lattice& lat);
+  // a substep's start: the solver sized for lat, its hanging nodes spread, x0, v0 and v taken from it
+  void begin_step(Lattice* lat);
+  // a substep's end: lat at x0 + h v with velocities v, and v - v0 kept as the next step's warm start
+  void finish_step(Lattice* lat, double h_s);
+  // the residual h f - M (v - v0) at velocities v_m_per_s_ into rhs_ (x_m_ set to x0 + h v), reduced to the free
+  // coordinates of a refined or held lattice
+  void residual(const Lattice& lat, double h_s, const std::vector<Vec3>& f_ext_N);
+  // the substep's incremental potential at velocities v (J; its gradient is minus the residual): 1/2 |v - v0|_M^2,
+  // the lattice's elastic energy at x0 + h v, the springs' damping h/2 c |v_b - v_a|^2, less the work h (m g + f_ext) . v
+  double incremental_potential(const Lattice& lat, double h_s, const std::vector<Vec3>& v, const std::vector<Vec3>& f_ext_N);
 
   uint64_t revision_ = 0;
   std::size_t num_springs_ = 0;
@@ -56,12 +75,15 @@ class ImplicitEulerSolver {
   std::vector<std::array<Vec3, 8>> cell_c_;  // volume term: cof(F) g_a of each cell's corners (n_c x 8; sim/volume_term.h)
   std::vector<NeoHookeanCell> neo_;      // Neo-Hookean term: each cell's tangent state (n_c; sim/neo_hookean_term.h)
   double neo_h2_ = 0.0;                  // h^2, the factor on that term's tangent
+  bool projected_ = false;               // projected_step: the cells' tangents are neo_h9_, not neo_
+  std::vector<Mat9> neo_h9_;             // projected_step: l^3 times each cell's projected Hessian on vec F (n_c)
   mutable std::vector<Vec3> neo_y_;      // scratch for its product (n; sized once per lattice)
   mutable std::vector<Vec3> p_spread_;   // a refined lattice's CG direction with its hanging nodes spread (n)
   std::vector<double> cell_w_;           // h^2 l^3 psi''(J) per cell: its Gauss-Newton blocks are cell_w_ c_a c_b^T (n_c)
   std::vector<Vec3> rhs_, delta_, r_, z_, p_, jp_;  // CG vectors, zero at fixed nodes (n)
   std::vector<Vec3> last_dv_m_per_s_;    // velocity change of the previous step: the first solve's warm start (n)
   std::vector<Vec3> x0_m_, v0_m_per_s_, x_m_, v_m_per_s_, f_N_;  // (n)
+  std::vector<Vec3> trial_v_, trial_x_;  // projected_step's line search: trial velocities and positions (n)
 };
 
 }  // namespace palpate

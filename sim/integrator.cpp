@@ -18,6 +18,8 @@ constexpr int kStrainLimitSweeps = 4;
 // definite once h^2 times K's most negative curvature is under the mass, so a squashed or inverted Neo-Hookean cell
 // whose tangent broke the solve at the frame's step is stepped at a quarter, an eighth... of it
 constexpr int kMaxImplicitSplit = 64;
+// Most Newton steps of the projected step that takes a substep no split could (ImplicitEulerSolver::projected_step)
+constexpr int kProjectedNewtonIterations = 20;
 
 // An implicit Euler substep h taken again in 2, 4, ... kMaxImplicitSplit pieces after the whole one failed (the
 // solver leaves the lattice as it was): the iterations, or -1 when every split failed (the lattice back where it was)
@@ -165,6 +167,12 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
           ++rep.implicit_splits;
           iters = implicit_split(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations, ws,
                                  &rep.cg_iterations);
+          if (iters < 0) {
+            // every split broke down too: the substep as the minimum of its potential, on a tangent kept positive
+            iters = ws->implicit->projected_step(lat, h, f_ext_N, kProjectedNewtonIterations);
+            rep.cg_iterations += ws->implicit->step_cg_iterations();
+            if (iters >= 0) ++rep.projected_steps;
+          }
         }
         break;
       case IntegratorKind::kLocalGlobal:

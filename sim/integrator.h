@@ -35,7 +35,8 @@ struct StepReport {
   bool finite = true;       ///< false when the state went non-finite (the caller resets it)
   bool diverged = false;    ///< non-finite, or a spring stretched past kDivergedStrain (the caller resets it)
   int implicit_splits = 0;  ///< implicit Euler substeps that failed whole and were taken again in pieces
-  bool solver_ok = true;    ///< false when a linear solve or factorisation failed (implicit Euler: in every split of the substep too; the step then fell back to symplectic Euler)
+  int projected_steps = 0;  ///< implicit Euler substeps that failed in every split too and were taken by projected Newton
+  bool solver_ok = true;    ///< false when a linear solve or factorisation failed (implicit Euler: in every split and the projected Newton step too; the step then fell back to symplectic Euler)
   double max_strain = 0.0;  ///< largest |l - l0| / l0 after the step
 };
 

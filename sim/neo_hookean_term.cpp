@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "sim/volume_term.h"
 
 namespace palpate {
@@ -39,9 +41,12 @@ double neo_hookean_energy_J(const Lattice& lat, const std::vector<Vec3>& x_m) {
   for (std::size_t k = 0; k < lat.cell_nodes.size(); ++k) {
     const double l = lat.cell_edge_m(k);
     const Mat3 f = cell_deformation_gradient(x_m, lat.cell_nodes[k], l);
-    const double log_j = std::log(std::max(f.determinant(), kMinCellJ));
+    // below kMinCellJ the force keeps the volumetric stress there: the energy continues linearly in J
+    const double j = f.determinant(), log_j = std::log(std::max(j, kMinCellJ));
+    const double below = j < kMinCellJ ? (lat.neo_lambda_Pa * log_j - lat.neo_mu_Pa) / kMinCellJ * (j - kMinCellJ) : 0.0;
     e += l * l * l *
-         (0.5 * lat.neo_mu_Pa * (f.squaredNorm() - 3.0) - lat.neo_mu_Pa * log_j + 0.5 * lat.neo_lambda_Pa * log_j * log_j);
+         (0.5 * lat.neo_mu_Pa * (f.squaredNorm() - 3.0) - lat.neo_mu_Pa * log_j + 0.5 * lat.neo_lambda_Pa * log_j * log_j +
+          below);
   }
   return e;
 }
@@ -80,6 +85,31 @@ Mat3 neo_hookean_block(const Lattice& lat, const NeoHookeanCell& cell, int b, in
   return l * l * l *
          (mu * ga.dot(gb) * Mat3::Identity() + (mu - lambda * cell.log_j) * ha * hb.transpose() +
           lambda * hb * ha.transpose());
+}
+
+Mat9 neo_hookean_projected_hessian(double mu_Pa, double lambda_Pa, const Mat3& f) {
+  const Mat3 cof = cofactor(f);
+  const double j = f.col(0).dot(cof.col(0));
+  const double jc = std::max(j, kMinCellJ), log_j = std::log(jc);
+  const double a = (lambda_Pa * log_j - mu_Pa) / jc;                                        // P = mu F + a cof F
+  const double da = j > kMinCellJ ? (lambda_Pa * (1.0 - log_j) + mu_Pa) / (jc * jc) : 0.0;  // a'(J)
+  Mat9 h;
+  for (int c = 0; c < 9; ++c) {
+    // dP for the unit dF with entry c: mu dF + a dcof(F)[dF] + a' (cof : dF) cof, dcof's columns from the cross
+    // products of F's columns (cof's column k is F's other two columns crossed, cyclically)
+    Mat3 e = Mat3::Zero();
+    e(c % 3, c / 3) = 1.0;
+    Mat3 dcof;
+    for (int k = 0; k < 3; ++k) {
+      const int p = (k + 1) % 3, q = (k + 2) % 3;
+      dcof.col(k) = e.col(p).cross(f.col(q)) + f.col(p).cross(e.col(q));
+    }
+    const Mat3 dp = mu_Pa * e + a * dcof + (da * cof(c % 3, c / 3)) * cof;
+    h.col(c) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dp.data());
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat9> eig(0.5 * (h + h.transpose()));
+  const Eigen::Matrix<double, 9, 1> lam = eig.eigenvalues().cwiseMax(0.0);
+  return eig.eigenvectors() * lam.asDiagonal() * eig.eigenvectors().transpose();
 }
 
 }  // namespace palpate

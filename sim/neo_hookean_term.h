@@ -4,7 +4,8 @@
 /// (compressible Neo-Hookean; Bonet & Wood), F the cell's deformation gradient at its centre (sim/volume_term.h).
 /// First Piola stress P = mu (F - F^-T) + lambda ln J F^-T; corner a gets -l^3 P g_a. One quadrature point per cell:
 /// nothing locks as nu -> 1/2, and the lattice's springs (a share of the stiffness) hold the cell's hourglass modes.
-/// A cell turned inside out (J <= kMinCellJ) is pushed back by the stress at kMinCellJ. Thread: the stepping thread.
+/// A cell turned inside out (J <= kMinCellJ) is pushed back by the stress at kMinCellJ: its energy continues linearly
+/// in J below there, so forces stay its gradient. Thread: the stepping thread.
 
 #include <array>
 #include <vector>
@@ -12,6 +13,9 @@
 #include "sim/lattice.h"
 
 namespace palpate {
+
+/// A 9x9 matrix on vec(F), column-major (entry i + 3 j is F_ij).
+using Mat9 = Eigen::Matrix<double, 9, 9>;
 
 /// Smallest J the Neo-Hookean stress is evaluated at (a cell squashed further keeps that stress).
 inline constexpr double kMinCellJ = 1e-2;
@@ -42,5 +46,10 @@ void add_neo_hookean_product(const Lattice& lat, const std::vector<NeoHookeanCel
 /// The tangent's 3x3 block K_ba (row node b, column node a) of one cell: l^3 [mu (g_a.g_b) I + (mu - lambda ln J)
 /// h_a h_b^T + lambda h_b h_a^T], h = F^-T g.
 Mat3 neo_hookean_block(const Lattice& lat, const NeoHookeanCell& cell, int b, int a);
+
+/// The term's energy density's Hessian d^2 psi / dF^2 at f, on vec(f) (Pa), with its negative eigenvalues raised to
+/// zero: positive semi-definite at any F, inverted cells included (P = mu F + a(J) cof F, a = (lambda ln J - mu) / J,
+/// held at kMinCellJ below it). For the projected Newton step of implicit Euler (sim/implicit_euler.h).
+Mat9 neo_hookean_projected_hessian(double mu_Pa, double lambda_Pa, const Mat3& f);
 
 }  // namespace palpate

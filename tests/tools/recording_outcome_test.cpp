@@ -1,5 +1,6 @@
-// What a recording says about its own run: every shipped scene records to its end with its lattice never reset, and
-// a free tool left deep inside the object is said at the end and counted in summary.json.
+// What a recording says about its own run: every shipped scene records to its end with its lattice never reset, a
+// soft block pressed deep steps its hardest substeps by projected Newton, and a free tool left deep inside the object
+// is said at the end and counted in summary.json.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -45,6 +46,34 @@ TEST(Cli, EveryShippedSceneRecordsWithoutResettingItsLattice) {
     }
   }
   EXPECT_GE(scenes, 8);
+}
+
+// A soft Neo-Hookean block pressed deep by a small solved tip: cells under it squash until their tangent breaks implicit
+// Euler's conjugate gradients at every split down to 1/64 of the frame. Those substeps are taken by projected Newton,
+// not by explicit substeps sized at the rest stiffness (which went NaN and reset the lattice).
+TEST(Cli, ASubstepNoSplitCanTakeIsTakenByProjectedNewtonNotExplicitly) {
+  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
+  scene["mesh"]["box_subdivisions"] = 128;
+  scene["lattice"]["level"] = 5;
+  scene["lattice"]["radius_cells"] = 4;
+  scene["lattice"]["integrator"] = "implicit_euler";
+  scene["lattice"].erase("iterations");
+  scene["material"]["young_modulus_Pa"] = 5e4;
+  scene["material"]["model"] = "neo_hookean";
+  scene["device"]["contact"] = "solved";
+  scene["trajectory"] = {{{"t_s", 0.0}, {"pos_m", {0.004, 0.004, 0.045}}},
+                         {{"t_s", 0.3}, {"pos_m", {0.004, 0.004, 0.012}}},
+                         {{"t_s", 1.0}, {"pos_m", {0.004, 0.004, 0.012}}}};
+  scene["duration_s"] = 1.0;
+  const std::string path = tmp("projected.json"), out = tmp("projected_out");
+  write_text(path, scene.dump());
+  const CliRun r = palpate("record " + path + " -q --no-render --out " + out);
+  EXPECT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(read_file(out + "/summary.json"));
+  EXPECT_GE(j["sim"]["projected_steps"].get<int64_t>(), 1) << j["sim"].dump();
+  EXPECT_EQ(j["sim"]["solver_fallbacks"].get<int64_t>(), 0);
+  EXPECT_EQ(j["nan_events"].get<int64_t>(), 0);
+  EXPECT_EQ(j["sim"]["divergence_events"].get<int64_t>(), 0);
 }
 
 // A free tool deep inside the object (a touch lost, the tool through the surface, or a trajectory begun inside) is

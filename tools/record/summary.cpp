@@ -137,9 +137,11 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
               {"cpu_ms", ms_json(fst.sim_cpu_ms)},
               {"integrator", integrator_name(scene.lattice.integrator)},
               {"max_substeps", fst.max_substeps},
-              // implicit Euler steps that failed whole (a squashed Neo-Hookean cell's tangent) and were split, and
-              // frames whose solver failed even so and stepped explicitly
+              // implicit Euler steps that failed whole (a squashed Neo-Hookean cell's tangent) and were split,
+              // those no split could take, taken by projected Newton, and frames whose solver failed even so and
+              // stepped explicitly
               {"implicit_splits", fst.implicit_splits},
+              {"projected_steps", fst.projected_steps},
               {"solver_fallbacks", fst.solver_fallbacks},
               {"max_strain", fst.max_strain},
               {"nodes", fst.lattice_nodes},

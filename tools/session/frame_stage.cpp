@@ -159,6 +159,7 @@ bool FrameStage::step_lattice_frame() {
   stats_.max_substeps = std::max(stats_.max_substeps, rep.substeps);
   stats_.substeps_total += rep.substeps;
   stats_.implicit_splits += rep.implicit_splits;
+  stats_.projected_steps += rep.projected_steps;
   stats_.solver_fallbacks += rep.solver_ok ? 0 : 1;
   if (!rep.diverged) stats_.max_strain = std::max(stats_.max_strain, rep.max_strain);
   if (rep.diverged) {

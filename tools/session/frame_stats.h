@@ -79,7 +79,8 @@ struct FrameStats {
   double solved_contact_radius_m = 0.0;   ///< the last solved contact's radius
   int64_t substeps_total = 0;       ///< integrator substeps over all stepped frames
   int64_t implicit_splits = 0;      ///< implicit Euler substeps that failed whole and were split (StepReport)
-  int64_t solver_fallbacks = 0;     ///< substeps whose solver failed (in every split too): stepped explicitly
+  int64_t projected_steps = 0;      ///< implicit Euler substeps no split could take, taken by projected Newton (StepReport)
+  int64_t solver_fallbacks = 0;     ///< substeps whose solver failed (in every split and projected too): stepped explicitly
   // cut mode
   int64_t frames_cutting = 0;       ///< frames that applied blade sweeps
   int64_t springs_cut = 0;          ///< springs removed by the blade
