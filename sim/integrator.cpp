@@ -43,6 +43,40 @@ int implicit_split(Lattice* lat, double h, const std::vector<Vec3>& f_ext, int n
   return -1;
 }
 
+// Whether a step may leave the lattice here: finite, and no spring stretched past kDivergedStrain (where the caller
+// would reset it)
+bool sound(const Lattice& lat) {
+  for (std::size_t i = 0; i < lat.num_nodes(); ++i)
+    if (!lat.x_m[i].allFinite() || !lat.v_m_per_s[i].allFinite()) return false;
+  return max_strain(lat) <= kDivergedStrain;
+}
+
+// One implicit Euler substep: the Newton step(s) of ImplicitEulerSolver::step; when its solve breaks down, the substep
+// in 2, 4, ... pieces; when every split breaks down too, or the step solved but landed where the lattice would be
+// reset (its linearisation far from the material's answer, as at a cell squashed past its tangent's reach), the
+// substep again from its start by projected Newton: the minimum of its potential, on a tangent kept positive. The
+// iterations, or -1 when that failed too (the lattice back at the substep's start).
+int implicit_substep(Lattice* lat, double h, const std::vector<Vec3>& f_ext, const StepOptions& opts,
+                     IntegratorWorkspace* ws, StepReport* rep) {
+  if (!ws->implicit) ws->implicit = std::make_unique<ImplicitEulerSolver>();
+  const int newton = opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations;
+  ws->x0_m = lat->x_m;
+  ws->v0_m_per_s = lat->v_m_per_s;
+  int iters = ws->implicit->step(lat, h, f_ext, newton);
+  rep->cg_iterations += ws->implicit->step_cg_iterations();
+  if (iters < 0) {
+    ++rep->implicit_splits;
+    iters = implicit_split(lat, h, f_ext, newton, ws, &rep->cg_iterations);  // from ws->x0_m, the same start
+  }
+  if (iters >= 0 && sound(*lat)) return iters;
+  lat->x_m = ws->x0_m;
+  lat->v_m_per_s = ws->v0_m_per_s;
+  iters = ws->implicit->projected_step(lat, h, f_ext, kProjectedNewtonIterations);
+  rep->cg_iterations += ws->implicit->step_cg_iterations();
+  if (iters >= 0) ++rep->projected_steps;
+  return iters;
+}
+
 // One explicit (eq. 8) or symplectic Euler substep.
 void euler_substep(Lattice* lat, bool symplectic, double h, const std::vector<Vec3>& f_ext, IntegratorWorkspace* ws) {
   compute_forces(*lat, lat->x_m, lat->v_m_per_s, f_ext, &ws->f_N);
@@ -160,20 +194,7 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
       case IntegratorKind::kSymplecticEuler: euler_substep(lat, true, h, f_ext_N, ws); break;
       case IntegratorKind::kRk4: rk4_substep(lat, h, f_ext_N, ws); break;
       case IntegratorKind::kImplicitEuler:
-        if (!ws->implicit) ws->implicit = std::make_unique<ImplicitEulerSolver>();
-        iters = ws->implicit->step(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations);
-        rep.cg_iterations += ws->implicit->step_cg_iterations();
-        if (iters < 0) {
-          ++rep.implicit_splits;
-          iters = implicit_split(lat, h, f_ext_N, opts.iterations > 0 ? opts.iterations : kDefaultNewtonIterations, ws,
-                                 &rep.cg_iterations);
-          if (iters < 0) {
-            // every split broke down too: the substep as the minimum of its potential, on a tangent kept positive
-            iters = ws->implicit->projected_step(lat, h, f_ext_N, kProjectedNewtonIterations);
-            rep.cg_iterations += ws->implicit->step_cg_iterations();
-            if (iters >= 0) ++rep.projected_steps;
-          }
-        }
+        iters = implicit_substep(lat, h, f_ext_N, opts, ws, &rep);
         break;
       case IntegratorKind::kLocalGlobal:
         if (!ws->local_global) ws->local_global = std::make_unique<LocalGlobalSolver>();

@@ -25,6 +25,32 @@ using test::write_text;
 
 std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("palpate_outcome_" + name)).string(); }
 
+// A shipped scene, as JSON, to change before recording it
+nlohmann::json shipped(const std::string& name) {
+  return nlohmann::json::parse(read_file(test::source_path("scenes/" + name + ".json")));
+}
+
+// The scene's implicit Euler steps of a Neo-Hookean lattice of E young_modulus_Pa
+void neo_hookean_implicit(nlohmann::json* scene, double young_modulus_Pa) {
+  (*scene)["lattice"]["integrator"] = "implicit_euler";
+  (*scene)["lattice"].erase("iterations");
+  (*scene)["material"]["young_modulus_Pa"] = young_modulus_Pa;
+  (*scene)["material"]["model"] = "neo_hookean";
+}
+
+// What recording `scene` (written as `name`.json, lockstep, no frames) printed, its exit status and its summary.json
+struct Recorded {
+  CliRun run;
+  nlohmann::json summary;
+};
+Recorded record(const nlohmann::json& scene, const std::string& name) {
+  const std::string path = tmp(name + ".json"), out = tmp(name + "_out");
+  write_text(path, scene.dump());
+  Recorded r{palpate("record " + path + " -q --no-render --out " + out), {}};
+  r.summary = nlohmann::json::parse(read_file(out + "/summary.json"));
+  return r;
+}
+
 // Every shipped scene records to its end with its lattice never reset: a reset (nan_events, divergence_events) exits
 // 1 and leaves the recording at rest, so its state hash alone would not show it (tissue_pull's release went NaN: its
 // implicit step broke down on inverted cells and fell back to explicit substeps; it is now split instead).
@@ -52,44 +78,52 @@ TEST(Cli, EveryShippedSceneRecordsWithoutResettingItsLattice) {
 // Euler's conjugate gradients at every split down to 1/64 of the frame. Those substeps are taken by projected Newton,
 // not by explicit substeps sized at the rest stiffness (which went NaN and reset the lattice).
 TEST(Cli, ASubstepNoSplitCanTakeIsTakenByProjectedNewtonNotExplicitly) {
-  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
+  nlohmann::json scene = shipped("cube_press");
+  neo_hookean_implicit(&scene, 5e4);
   scene["mesh"]["box_subdivisions"] = 128;
   scene["lattice"]["level"] = 5;
   scene["lattice"]["radius_cells"] = 4;
-  scene["lattice"]["integrator"] = "implicit_euler";
-  scene["lattice"].erase("iterations");
-  scene["material"]["young_modulus_Pa"] = 5e4;
-  scene["material"]["model"] = "neo_hookean";
   scene["device"]["contact"] = "solved";
   scene["trajectory"] = {{{"t_s", 0.0}, {"pos_m", {0.004, 0.004, 0.045}}},
                          {{"t_s", 0.3}, {"pos_m", {0.004, 0.004, 0.012}}},
                          {{"t_s", 1.0}, {"pos_m", {0.004, 0.004, 0.012}}}};
   scene["duration_s"] = 1.0;
-  const std::string path = tmp("projected.json"), out = tmp("projected_out");
-  write_text(path, scene.dump());
-  const CliRun r = palpate("record " + path + " -q --no-render --out " + out);
-  EXPECT_EQ(r.code, 0) << r.out;
-  const auto j = nlohmann::json::parse(read_file(out + "/summary.json"));
+  const Recorded r = record(scene, "projected");
+  EXPECT_EQ(r.run.code, 0) << r.run.out;
+  const auto& j = r.summary;
   EXPECT_GE(j["sim"]["projected_steps"].get<int64_t>(), 1) << j["sim"].dump();
   EXPECT_EQ(j["sim"]["solver_fallbacks"].get<int64_t>(), 0);
   EXPECT_EQ(j["nan_events"].get<int64_t>(), 0);
   EXPECT_EQ(j["sim"]["divergence_events"].get<int64_t>(), 0);
 }
 
+// block_stroke's sphere stroked through a 5 kPa Neo-Hookean block (nu 0.45), its timeline twice as fast: a one-Newton
+// implicit step lands with a spring past 11 times its length (the lattice would be reset: 7 divergence events, exit 1),
+// and is taken again from its start by projected Newton, which stays short of that.
+TEST(Cli, AStepThatWouldTearTheLatticeIsTakenAgainByProjectedNewton) {
+  nlohmann::json scene = shipped("block_stroke");
+  neo_hookean_implicit(&scene, 5e3);
+  for (auto& key : scene["trajectory"]) key["t_s"] = 0.5 * key["t_s"].get<double>();
+  scene["duration_s"] = 1.75;
+  const Recorded r = record(scene, "unsound");
+  EXPECT_EQ(r.run.code, 0) << r.run.out;
+  const auto& j = r.summary;
+  EXPECT_GE(j["sim"]["projected_steps"].get<int64_t>(), 1) << j["sim"].dump();
+  EXPECT_EQ(j["sim"]["divergence_events"].get<int64_t>(), 0);
+  EXPECT_EQ(j["nan_events"].get<int64_t>(), 0);
+}
+
 // A free tool deep inside the object (a touch lost, the tool through the surface, or a trajectory begun inside) is
 // said at the end of the run and in summary.json: cube_press's tool held at the cube's middle, 30 mm from every face.
 TEST(Cli, AFreeToolDeepInsideTheObjectIsSaid) {
-  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/cube_press.json")));
+  nlohmann::json scene = shipped("cube_press");
   scene["trajectory"] = {{{"t_s", 0.0}, {"pos_m", {0.004, 0.004, 0.0}}}, {{"t_s", 0.2}, {"pos_m", {0.004, 0.004, 0.0}}}};
   scene["duration_s"] = 0.2;
-  const std::string path = tmp("tool_inside.json");
-  write_text(path, scene.dump());
-  const CliRun r = palpate("record " + path + " -q --no-render --out " + tmp("tool_inside_out"));
-  ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("warning: the tool was inside the object without touching it from 0.0"), std::string::npos)
-      << r.out;
-  const auto j = nlohmann::json::parse(read_file(tmp("tool_inside_out") + "/summary.json"));
-  const auto& t = j["tool_inside"];
+  const Recorded r = record(scene, "tool_inside");
+  ASSERT_EQ(r.run.code, 0) << r.run.out;
+  EXPECT_NE(r.run.out.find("warning: the tool was inside the object without touching it from 0.0"), std::string::npos)
+      << r.run.out;
+  const auto& t = r.summary["tool_inside"];
   EXPECT_GE(t["frames"].get<int64_t>(), 10) << t.dump();
   EXPECT_LT(t["first_t_s"].get<double>(), 0.05) << t.dump();
   // at least the tool's radius under the surface, and no deeper than it is
