@@ -113,6 +113,24 @@ TEST(Cli, AStepThatWouldTearTheLatticeIsTakenAgainByProjectedNewton) {
   EXPECT_EQ(j["nan_events"].get<int64_t>(), 0);
 }
 
+// cube_press's hand on a 5 kPa Neo-Hookean block (nu 0.45): the press tears the solid even with each step taken again to
+// convergence, and the run says so with what keeps it whole; the volumetric model it names takes the same press.
+TEST(Cli, ATornNeoHookeanSolidIsSaidWithWhatKeepsItWhole) {
+  nlohmann::json scene = shipped("cube_press");
+  neo_hookean_implicit(&scene, 5e3);
+  scene["material"]["poisson_ratio"] = 0.45;
+  const Recorded torn = record(scene, "torn");
+  EXPECT_EQ(torn.run.code, 1) << torn.run.out;
+  EXPECT_GE(torn.summary["sim"]["divergence_events"].get<int64_t>(), 1);
+  EXPECT_NE(torn.run.out.find("the push tore the Neo-Hookean solid"), std::string::npos) << torn.run.out;
+  EXPECT_NE(torn.run.out.find("material.model 'volumetric'"), std::string::npos) << torn.run.out;
+  scene["material"]["model"] = "volumetric";
+  const Recorded whole = record(scene, "whole");
+  EXPECT_EQ(whole.run.code, 0) << whole.run.out;
+  EXPECT_EQ(whole.summary["sim"]["divergence_events"].get<int64_t>(), 0);
+  EXPECT_EQ(whole.run.out.find("tore"), std::string::npos) << whole.run.out;
+}
+
 // A free tool deep inside the object (a touch lost, the tool through the surface, or a trajectory begun inside) is
 // said at the end of the run and in summary.json: cube_press's tool held at the cube's middle, 30 mm from every face.
 TEST(Cli, AFreeToolDeepInsideTheObjectIsSaid) {

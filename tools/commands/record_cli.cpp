@@ -210,9 +210,18 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
   // scene accepts it with lattice.allow_divergence: then a warning says the same)
   if (r.nan_events > 0 || r.divergence_events > 0) {
     const bool allowed = plan.scene.lattice.allow_divergence;
-    std::fprintf(stderr, "palpate: %sscene '%s': the lattice diverged: nan_events %lld, divergence_events %lld (see %s)%s\n",
+    // a Neo-Hookean lattice torn by its push: its steps were taken again to convergence and still stretched a spring
+    // past 11 times its length, so the push asks more than the material holds on these cells
+    const bool torn_solid = plan.scene.lattice.material.enabled && plan.scene.lattice.material.model == MaterialModel::kNeoHookean &&
+                            r.divergence_events > 0;
+    std::fprintf(stderr, "palpate: %sscene '%s': the lattice diverged: nan_events %lld, divergence_events %lld (each "
+                 "reset the lattice to rest: a value not finite, or a spring past 11 times its length) (see %s)%s%s\n",
                  allowed ? "warning: " : "", printable_text(a.scene_path).c_str(), static_cast<long long>(r.nan_events),
                  static_cast<long long>(r.divergence_events), printable_text(r.summary_path).c_str(),
+                 torn_solid ? "; the push tore the Neo-Hookean solid (its steps taken again to convergence stretched it "
+                              "as far): material.model 'volumetric', a stiffer material, a larger tool or a lower "
+                              "device.max_force_N keep it whole"
+                            : "",
                  allowed ? "; accepted (lattice.allow_divergence)" : "");
     return allowed ? 0 : 1;
   }
