@@ -21,7 +21,7 @@ struct HertzPoint {
 constexpr HertzPoint kHertzCalibration[] = {
     {MaterialModel::kSprings, 0.25, 0.25, 3.73},   {MaterialModel::kSprings, 0.25, 0.5, 0.94},
     {MaterialModel::kSprings, 0.25, 1.0, 0.10},    {MaterialModel::kSprings, 0.25, 2.0, 0.029},
-    {MaterialModel::kVolumetric, 0.0, 1.0, -0.375},   {MaterialModel::kVolumetric, 0.0, 2.0, -0.075},
+    {MaterialModel::kVolumetric, 0.0, 1.0, -0.261},   {MaterialModel::kVolumetric, 0.0, 2.0, -0.0775},
     {MaterialModel::kVolumetric, 0.25, 1.0, 0.101}, {MaterialModel::kVolumetric, 0.25, 2.0, 0.029},
     {MaterialModel::kVolumetric, 0.4, 1.0, -0.008}, {MaterialModel::kVolumetric, 0.4, 2.0, 0.002},
     {MaterialModel::kVolumetric, 0.45, 1.0, -0.044}, {MaterialModel::kVolumetric, 0.45, 2.0, -0.0002},
@@ -37,7 +37,7 @@ constexpr HertzPoint kHertzCalibration[] = {
 constexpr HertzPoint kHertzSolvedCalibration[] = {
     {MaterialModel::kSprings, 0.25, 0.25, 3.25},    {MaterialModel::kSprings, 0.25, 0.5, 0.899},
     {MaterialModel::kSprings, 0.25, 1.0, 0.0251},   {MaterialModel::kSprings, 0.25, 2.0, 0.093},
-    {MaterialModel::kVolumetric, 0.0, 1.0, -0.206},  {MaterialModel::kVolumetric, 0.0, 2.0, 0.0813},
+    {MaterialModel::kVolumetric, 0.0, 1.0, -0.151},  {MaterialModel::kVolumetric, 0.0, 2.0, 0.0608},
     {MaterialModel::kVolumetric, 0.25, 1.0, 0.0251}, {MaterialModel::kVolumetric, 0.25, 2.0, 0.0931},
     {MaterialModel::kVolumetric, 0.4, 1.0, 0.0144},  {MaterialModel::kVolumetric, 0.4, 2.0, 0.0831},
     {MaterialModel::kVolumetric, 0.45, 1.0, 0.141},  {MaterialModel::kVolumetric, 0.45, 2.0, 0.0858},

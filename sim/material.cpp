@@ -14,7 +14,7 @@ LatticeCalibration calibrate_lattice(const MaterialSpec& material, double cell_m
   if (material.model == MaterialModel::kNeoHookean || (volumetric && nu < kLatticePoissonRatio)) {
     // a share of mu in the springs (their lambda is that share too), the rest in the cells' Neo-Hookean term; below
     // nu = 1/4 the volumetric model takes this split too (its cell term is, at small strain, the linear solid)
-    const double s = kNeoHookeanSpringShare;
+    const double s = volumetric ? kVolumetricSplitSpringShare : kNeoHookeanSpringShare;
     springs_E_Pa = 2.5 * s * mu;
     c.neo_mu_Pa = (1.0 - s) * mu;
     c.neo_lambda_Pa = lambda - s * mu;

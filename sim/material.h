@@ -65,6 +65,12 @@ inline constexpr double kLatticePoissonRatio = 0.25;
 /// Share of the shear modulus the springs carry in the Neo-Hookean model (the rest is the cells' Neo-Hookean term).
 inline constexpr double kNeoHookeanSpringShare = 0.1;
 
+/// Share of the shear modulus the springs carry in the volumetric model below nu = 1/4, which takes the Neo-Hookean
+/// split there (small strain): with a tenth the one-point cells left the lattice too soft under a contact (Hertz at
+/// level 6, nu 0: -10.1 %), with a fifth -7.7 % (cantilever -3.3 %); the cells' bulk modulus lambda + 2/3 mu - 5/3 s mu
+/// stays positive at nu 0 for s < 0.4.
+inline constexpr double kVolumetricSplitSpringShare = 0.2;
+
 /// Least mass a material lattice's node carries, as a share of a full cell's mass (a full corner carries 1/8): a
 /// node whose cells the solid-fraction sampling finds empty would otherwise be massless.
 inline constexpr double kMinNodeMassShare = 1.0 / 64.0;

@@ -258,7 +258,7 @@ TEST(MaterialVolumetric, SpringsCarryTheShearModulusAndCellsTheRestOfLambda) {
   EXPECT_NEAR(q.volume_Pa, 0.0, 1e-9 * e);
   // below nu = 1/4 the springs carry a share of mu and the cells' (Neo-Hookean, at small strain linear) term the rest;
   // the damping stays that of the whole shear modulus
-  const double mu0 = e / 2.0, s = kNeoHookeanSpringShare;
+  const double mu0 = e / 2.0, s = kVolumetricSplitSpringShare;
   const LatticeCalibration z = calibrate_lattice(volumetric(0.0), l);
   EXPECT_DOUBLE_EQ(z.volume_Pa, 0.0);
   EXPECT_DOUBLE_EQ(z.neo_mu_Pa, (1.0 - s) * mu0);
