@@ -61,13 +61,17 @@ void compute_forces(const Lattice& lat, const std::vector<Vec3>& x_m, const std:
     if (lat.held_dof[d]) (*f_N)[d / 3][static_cast<int>(d % 3)] = 0.0;
 }
 
-double lattice_energy_J(const Lattice& lat) {
+double elastic_energy_J(const Lattice& lat, const std::vector<Vec3>& x_m) {
   double e = 0.0;
   for (const Spring& s : lat.springs) {
-    const double stretch = (lat.x_m[s.b] - lat.x_m[s.a]).norm() - s.rest_m;
+    const double stretch = (x_m[s.b] - x_m[s.a]).norm() - s.rest_m;
     e += 0.5 * s.k_N_per_m * stretch * stretch;
   }
-  e += volume_energy_J(lat, lat.x_m) + neo_hookean_energy_J(lat, lat.x_m);
+  return e + volume_energy_J(lat, x_m) + neo_hookean_energy_J(lat, x_m);
+}
+
+double lattice_energy_J(const Lattice& lat) {
+  double e = elastic_energy_J(lat, lat.x_m);
   for (std::size_t i = 0; i < lat.num_nodes(); ++i) {
     e += 0.5 * lat.mass_kg[i] * lat.v_m_per_s[i].squaredNorm();
     e -= lat.mass_kg[i] * lat.gravity_m_per_s2.dot(lat.x_m[i] - lat.rest_m[i]);

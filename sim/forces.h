@@ -22,6 +22,10 @@ Mat3 spring_stiffness_block(const Spring& s, const Vec3& d, bool clamp_compressi
 void compute_forces(const Lattice& lat, const std::vector<Vec3>& x_m, const std::vector<Vec3>& v_m_per_s,
                     const std::vector<Vec3>& f_ext_N, std::vector<Vec3>* f_N);
 
+/// Elastic energy of springs and cell terms (volume, Neo-Hookean) at positions x_m, in J: what compute_forces' elastic
+/// part is minus the gradient of.
+double elastic_energy_J(const Lattice& lat, const std::vector<Vec3>& x_m);
+
 /// Potential energy of springs, cell volume terms and gravity plus kinetic energy, in J.
 double lattice_energy_J(const Lattice& lat);
 

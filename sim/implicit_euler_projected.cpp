@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/forces.h"
 #include "sim/hanging.h"
 #include "sim/implicit_euler.h"
-#include "sim/volume_term.h"
 
 namespace palpate {
 namespace {
@@ -30,11 +30,9 @@ double ImplicitEulerSolver::incremental_potential(const Lattice& lat, double h_s
     e += 0.5 * lat.mass_kg[i] * (v[i] - v0_m_per_s_[i]).squaredNorm() - h_s * load.dot(v[i]);
   }
   const double c = lat.damping_Ns_per_m;
-  for (const Spring& s : lat.springs) {
-    const double stretch = (trial_x_[s.b] - trial_x_[s.a]).norm() - s.rest_m;
-    e += 0.5 * s.k_N_per_m * stretch * stretch + 0.5 * h_s * c * (v[s.b] - v[s.a]).squaredNorm();
-  }
-  return e + volume_energy_J(lat, trial_x_) + neo_hookean_energy_J(lat, trial_x_);
+  if (c != 0.0)
+    for (const Spring& s : lat.springs) e += 0.5 * h_s * c * (v[s.b] - v[s.a]).squaredNorm();
+  return e + elastic_energy_J(lat, trial_x_);
 }
 
 int ImplicitEulerSolver::projected_step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations) {

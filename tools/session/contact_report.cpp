@@ -61,10 +61,6 @@ std::string no_contact_note(const Scene& scene, const Model& model, const std::v
          mm(closest_m) + " from the surface at its closest";
 }
 
-}  // namespace palpate
-
-namespace palpate {
-
 std::string tool_inside_note(const FrameStats& stats) {
   if (stats.tool_inside_frames == 0) return "";
   char buf[256];
