@@ -2,6 +2,7 @@
 /// LocalModel: the sim's latest snapshot of the deformed surface near the tool, read by the servo.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "core/types.h"
@@ -21,6 +22,14 @@ struct LocalModel {
   /// the same corners as the servo last saw them (the frame before, or tri_m for a triangle new to the patch)
   std::array<std::array<Vec3, 3>, kMaxTriangles> tri_from_m{};
   double blend_s = 0.0;  ///< > 0: the servo moves each corner from tri_from_m to tri_m over this long from t_s
+
+  // what the patch covers (touch): every triangle of the surface that comes within cover_radius_m of the box
+  // [cover_lo_m, cover_hi_m] is in it; beyond, the servo knows nothing of the surface, so a free tool's path there is
+  // judged only once a patch covers it (a tool that went through a face the patch left out would be inside, free).
+  // +inf: no bound
+  Vec3 cover_lo_m = Vec3::Zero();  ///< the box's low corner (world, m)
+  Vec3 cover_hi_m = Vec3::Zero();  ///< its high corner
+  double cover_radius_m = INFINITY;///< the distance from the box within which the patch is whole, m
 
   // the object's response at the contact between frames (multirate force), valid when has_contact_model:
   // the contact point moves by v0 (t - t_s) + C (F_obj - f0) for a force F_obj pushed on the object

@@ -17,8 +17,8 @@ namespace palpate {
 /// than 120 degrees from `side` are the far side of a thin part and never stop it). *active receives how many
 /// planes hold the answer (0: the goal was reached; a move that runs out of rounds, where the slide got to, is held
 /// by at least 1). max_path_m > 0 bounds the way the centre goes along the surface this call (a proxy that would
-/// snap over a convex ridge rolls over it a bounded step a tick); a move cut short ends on the surface, falling
-/// toward the goal from where the bound stopped it.
+/// snap over a convex ridge rolls over it a bounded step a tick); a move cut short ends on the surface, dropped
+/// from where the bound stopped it to r from the nearest face point on the contact's side.
 Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, double r, const Vec3& side,
                      int* active, double max_path_m = 0.0) noexcept;
 

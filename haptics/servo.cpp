@@ -21,6 +21,14 @@ constexpr double kReturnReach_m = 0.005;
 // next face by about d sin(turn) in one tick (0.15 N at 1 mm and 25 degrees), a sphere wider than its depth never does
 constexpr double kPointRoll_N_per_tick = 0.02;
 
+// whether a sphere of radius r centred at c lies where the patch is whole (LocalModel::cover_radius_m); a sphere wider
+// than half what the patch covers is not judged (its reach is more surface than the patch can hold; the patch is
+// ordered round it all the same)
+bool covered(const LocalModel& m, const Vec3& c, double r) noexcept {
+  if (!(m.cover_radius_m < INFINITY) || m.cover_radius_m < 2.0 * r) return true;
+  return (c - c.cwiseMax(m.cover_lo_m).cwiseMin(m.cover_hi_m)).norm() + r <= m.cover_radius_m;
+}
+
 }  // namespace
 
 Servo::Servo(const ServoParams& params, const Rates& rates, Device* device, SpscQueue<HapticSample>* samples,
@@ -141,6 +149,20 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     // surface point nearest the tool: a surface that moves through a slower tool (a dent springing back after a
     // release) touches it too, instead of leaving it inside, untouched, for good
     Vec3 from = prev_tool_m_;
+    if (!covered(m, tool, r) || !covered(m, from, r)) {
+      // the tool is where the patch does not reach (faster than the patch follows, or a patch cut short by a dense
+      // mesh): its path is judged once a patch covers it, from the last point seen outside
+      if (!unseen_) unseen_from_m_ = from;
+      unseen_ = true;
+      near_tri_ = -1;
+      near_outside_ = false;
+      proxy_m_ = contact_point_m_ = tool;
+      return;
+    }
+    if (unseen_) {
+      from = unseen_from_m_;
+      unseen_ = false;
+    }
     bool begins = touch_begins(m, from, tool, r);
     Vec3 p = Vec3::Zero();
     if (!begins && surface_moved_ && near_tri_ >= 0 && material_point(m, near_tri_, near_bary_, &p)) {
@@ -359,7 +381,8 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     ++counters_.ramps;
   }
   Vec3 force = Vec3::Zero();
-  god_m_sample_ = proxy_m_;
+  // (a free touch tool the patch has lost: where it was last seen outside, so the next patch covers its path)
+  god_m_sample_ = contact_ == ContactState::kFree && unseen_ ? unseen_from_m_ : proxy_m_;
   if (contact_ == ContactState::kCut && !rejected) {
     force = cut_force_N_;
     if (params_.ramp_s > 0.0) force *= std::clamp((t_s - ramp_start_s_) / params_.ramp_s, 0.0, 1.0);

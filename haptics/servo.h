@@ -132,6 +132,8 @@ class Servo {
   Vec3 near_bary_ = Vec3::Zero();  // that point in it
   Vec3 near_m_ = Vec3::Zero();     // and where it was
   bool near_outside_ = false;      // and whether the tool was just outside the surface there (kReturnReach_m)
+  bool unseen_ = false;            // free touch tool: its path has left what the patch covers
+  Vec3 unseen_from_m_ = Vec3::Zero();  // where it was last seen (the start of the path judged when it is seen again)
   Vec3 proxy_m_ = Vec3::Zero();
   Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
   Vec3 god_m_sample_ = Vec3::Zero();     // this tick's god-object before the prediction (HapticSample::god_pos_m)

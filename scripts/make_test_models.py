@@ -16,7 +16,17 @@ scripts/check_scene_models.sh:
   bracket_patch.obj  the L-bracket with two of its faces (an L side and the top of its foot) wound against the others, OBJ
 
 With --big also scan_1e5.ply (binary little-endian, 10^5 triangles) and scan_1e6.stl (binary, 10^6 triangles).
-Usage: scripts/make_test_models.py OUT_DIR [--big]
+
+With --hands, the shapes that test a hand's feel (`palpate bench feel --hands`), each closed, instead:
+
+  coarse_ball.off    an icosahedron split once (80 faces): a coarse model felt through its facets
+  star_prism.stl     a six-pointed star 20 mm thick: sharp convex ridges and concave creases, as a CAD part has
+  fin.ply            a T profile 80 mm long: a 2 mm fin 40 mm tall on a base, thin part and concave corners
+  comb.obj           a palm with four 3 mm fingers 3 mm apart, 8 mm thick: thin parts and narrow slots (a hand)
+  torus.off          a ring 70 mm across, tube 24 mm: convex outside, saddle inside
+  dense_blob.ply     the scan blob at 5 x 10^4 triangles: a patch that covers little of a sphere tool's way
+
+Usage: scripts/make_test_models.py OUT_DIR [--big | --hands]
 """
 import math
 import os
@@ -186,12 +196,116 @@ def bracket():
     return verts, polys
 
 
+def icosphere(radius, splits):
+    """An icosahedron split `splits` times, pushed out to the sphere: vertices and outward triangles."""
+    t = (1 + 5 ** 0.5) / 2
+    verts = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+             (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    tris = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6),
+            (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10),
+            (8, 6, 7), (9, 8, 1)]
+    for _ in range(splits):
+        mid, out = {}, []
+        def m(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in mid:
+                verts.append(tuple((verts[a][k] + verts[b][k]) / 2 for k in range(3)))
+                mid[key] = len(verts) - 1
+            return mid[key]
+        for a, b, c in tris:
+            ab, bc, ca = m(a, b), m(b, c), m(c, a)
+            out += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        tris = out
+    verts = [tuple(radius * x / math.sqrt(sum(y * y for y in v)) for x in v) for v in verts]
+    return verts, tris
+
+
+def ear_clip(poly):
+    """Triangles of a simple counter-clockwise polygon (list of (x, y)), by ear clipping."""
+    idx = list(range(len(poly)))
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    def inside(p, a, b, c):
+        return cross(a, b, p) >= 0 and cross(b, c, p) >= 0 and cross(c, a, p) >= 0
+    tris = []
+    while len(idx) > 3:
+        for k in range(len(idx)):
+            i, j, l = idx[k - 1], idx[k], idx[(k + 1) % len(idx)]
+            a, b, c = poly[i], poly[j], poly[l]
+            if cross(a, b, c) <= 0:
+                continue
+            if any(inside(poly[q], a, b, c) for q in idx if q not in (i, j, l)):
+                continue
+            tris.append((i, j, l))
+            idx.pop(k)
+            break
+        else:
+            raise ValueError("not a simple counter-clockwise polygon")
+    tris.append(tuple(idx))
+    return tris
+
+
+def extrude(poly, depth):
+    """The counter-clockwise polygon (x, z) swept along y over [0, depth]: a closed prism, outward triangles."""
+    n = len(poly)
+    verts = [(x, 0.0, z) for x, z in poly] + [(x, depth, z) for x, z in poly]
+    caps = ear_clip(poly)
+    # the polygon is counter-clockwise seen from -y (x right, z up): the y = 0 cap faces -y as listed
+    tris = [(a, b, c) for a, b, c in caps] + [(a + n, c + n, b + n) for a, b, c in caps]
+    for i in range(n):
+        j = (i + 1) % n
+        tris += [(i, i + n, j + n), (i, j + n, j)]
+    return verts, tris
+
+
+def torus(big_r, r, n_u, n_v):
+    verts = []
+    for i in range(n_u):
+        u = 2 * math.pi * i / n_u
+        for j in range(n_v):
+            v = 2 * math.pi * j / n_v
+            verts.append(((big_r + r * math.cos(v)) * math.cos(u), (big_r + r * math.cos(v)) * math.sin(u), r * math.sin(v)))
+    tris = []
+    for i in range(n_u):
+        for j in range(n_v):
+            a, b = i * n_v + j, ((i + 1) % n_u) * n_v + j
+            c, d = i * n_v + (j + 1) % n_v, ((i + 1) % n_u) * n_v + (j + 1) % n_v
+            tris += [(a, b, d), (a, d, c)]
+    return verts, tris
+
+
+def hand_shapes(out):
+    v, t = icosphere(50.0, 1)
+    write_off_exported(os.path.join(out, "coarse_ball.off"), v, t)
+    star = []
+    for k in range(12):
+        a = math.pi * k / 6
+        rr = 50.0 if k % 2 == 0 else 22.0
+        star.append((rr * math.cos(a), rr * math.sin(a)))
+    v, t = extrude(star, 20.0)
+    write_stl_ascii(os.path.join(out, "star_prism.stl"), v, t)
+    tee = [(-20, 0), (20, 0), (20, 10), (1, 10), (1, 50), (-1, 50), (-1, 10), (-20, 10)]
+    v, t = extrude(tee, 80.0)
+    write_ply_binary(os.path.join(out, "fin.ply"), v, t, big=False)
+    comb = [(-25, 0), (25, 0), (25, 80), (22, 80), (22, 40), (19, 40), (19, 80), (16, 80), (16, 40), (13, 40),
+            (13, 80), (10, 80), (10, 40), (7, 40), (7, 80), (4, 80), (4, 40), (-25, 40)]
+    v, t = extrude(comb, 8.0)
+    write_obj(os.path.join(out, "comb.obj"), v, t)
+    v, t = torus(35.0, 12.0, 48, 24)
+    write_off_exported(os.path.join(out, "torus.off"), v, t)
+    v, t = blob(160, 158, 5, 0.3)
+    write_ply_binary(os.path.join(out, "dense_blob.ply"), v, t, big=False)
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     out = sys.argv[1]
     big = "--big" in sys.argv[2:]
     os.makedirs(out, exist_ok=True)
+    if "--hands" in sys.argv[2:]:
+        hand_shapes(out)
+        return
     v, t = blob(71, 72, 1, 0.4)
     write_off_exported(os.path.join(out, "scan_blob.off"), v, t)
     v, t = bowl(24, 96, 50.0, 1.5)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "haptics/proxy_solver.h"
 #include "haptics/servo.h"
 #include "haptics/triangle_queries.h"
 #include "support/haptic_fixtures.h"
@@ -302,6 +303,75 @@ TEST(SphereTool, InAConcaveCornerItTouchesBothFaces) {
   EXPECT_NEAR(distance_to_patch(tb->read(), s.proxy_pos_m), r, 1e-6);
   EXPECT_NEAR(s.proxy_pos_m.z(), r * std::sqrt(2.0), 1e-5);
   EXPECT_NEAR(s.proxy_pos_m.x(), 0.0, 1e-5);
+}
+
+// A fold of a scanned surface: a face the tool's own path enters from its front, but turned more than 120 degrees
+// from the contact's side (the test the far side of a thin part is passed over by). It stops the move as any face
+// does: before, the god-object went through it to the goal beneath.
+TEST(GodObject, AFoldTurnedAgainstTheContactSideStillStopsThePath) {
+  LocalModel m;
+  const double h = 0.01;
+  add_quad(&m, Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0));  // faces +z
+  const Vec3 side = Vec3(0.0, 0.8, -0.6);  // 127 degrees from the face's normal
+  int active = -1;
+  const Vec3 c = god_object_move(m, Vec3(0.001, 0.002, 0.005), Vec3(0.001, 0.002, -0.005), 1e-6, side, &active);
+  EXPECT_GE(active, 1);
+  EXPECT_GE(c.z(), -1e-12);
+  EXPECT_NEAR(c.x(), 0.001, 1e-9);
+}
+
+// Rolling over a convex facet edge with the path bounded (the jump limit): the centre that the bound stopped past the
+// edge drops the shortest way onto the next face, not toward a goal deep beneath it. With the goal almost parallel to
+// the next face, falling toward it carried the proxy 0.8 mm along that face in one tick (a 0.4 N click on a coarse
+// ball); now the move is the bound and the drop, under 0.25 mm.
+TEST(GodObject, ABoundedMovePastAConvexEdgeDropsOntoTheNextFaceNotTowardTheGoal) {
+  LocalModel m;
+  const double w = 0.01, slope = std::tan(20.0 * 3.14159265358979 / 180.0);
+  add_quad(&m, Vec3(-w, -w, 0), Vec3(0, -w, 0), Vec3(0, w, 0), Vec3(-w, w, 0));                   // flat, x < 0
+  add_quad(&m, Vec3(0, -w, 0), Vec3(w, -w, -w * slope), Vec3(w, w, -w * slope), Vec3(0, w, 0));   // 20 degrees down
+  const Vec3 from(-1e-4, 0.0, 1e-6), goal(0.003, 0.0, -0.0012);
+  int active = -1;
+  const Vec3 c = god_object_move(m, from, goal, 1e-6, Vec3::UnitZ(), &active, 2e-4);
+  EXPECT_GE(active, 1);
+  EXPECT_LT((c - from).norm(), 2.5e-4);
+  EXPECT_GT(c.x(), 0.0);                                 // past the edge
+  EXPECT_NEAR(c.z(), -c.x() * slope, 2e-6);              // on the next face
+}
+
+// A free tool that went where the patch does not reach (a dense mesh's patch cut short, a fast hand) and through a
+// face there: the next patch that covers it judges its whole path from where it was last seen outside, and the touch
+// begins on the outside. Judged from the last tick only, the tool was already under the face: free, inside, for good.
+TEST(GodObject, AToolThatPassedUnseenIsCaughtByTheNextPatchThatSeesItsPath) {
+  PathDevice dev;
+  dev.specs_.max_force_N = 100;
+  SpscQueue<HapticSample> q(4096);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  auto publish = [&](const Vec3& at, int64_t frame) {
+    LocalModel& m = tb->write_buffer();
+    m = LocalModel{};
+    const double h = 0.004;
+    add_quad(&m, at + Vec3(-h, -h, 0), at + Vec3(h, -h, 0), at + Vec3(h, h, 0), at + Vec3(-h, h, 0));
+    m.cover_lo_m = m.cover_hi_m = at;
+    m.cover_radius_m = h;
+    m.frame = frame;
+    tb->publish();
+  };
+  publish(Vec3::Zero(), 0);  // the patch round the origin only
+  auto servo = make_servo(&dev, &q, tb.get());
+  HapticSample sink;
+  const Vec3 x(0.02, 0.0, 0.0);
+  for (int i = 0; i <= 40; ++i) {
+    dev.pos_m = x + Vec3(0.0, 0.0, 0.003 - 1.5e-4 * i);  // down through the surface at x = 20 mm, unseen
+    servo->tick(i, i * 1e-3);
+    while (q.try_pop(&sink)) {
+    }
+    EXPECT_EQ(servo->last_sample().contact, ContactState::kFree);
+  }
+  publish(x, 1);  // the next frame's patch covers the tool
+  servo->tick(41, 0.041);
+  EXPECT_EQ(servo->last_sample().contact, ContactState::kTouch);
+  EXPECT_GE(servo->last_sample().god_pos_m.z(), 0.0);
+  EXPECT_GT(dev.force_N.z(), 0.0);
 }
 
 }  // namespace

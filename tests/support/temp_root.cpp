@@ -47,4 +47,8 @@ const std::string& temp_root() {
   return root.path();
 }
 
+std::string temp_path(const std::string& prefix, const std::string& name) {
+  return (std::filesystem::path(temp_root()) / (prefix + name)).string();
+}
+
 }  // namespace palpate::test

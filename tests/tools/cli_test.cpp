@@ -14,6 +14,7 @@
 
 #include "sim/contact_model_error.h"
 #include "support/cli_run.h"
+#include "support/temp_root.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
 #include "support/read_file.h"
@@ -27,7 +28,7 @@ using test::palpate;
 using test::read_file;
 using test::write_text;
 
-std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("palpate_cli_" + name)).string(); }
+std::string tmp(const std::string& name) { return test::temp_path("palpate_cli_", name); }
 
 // A scene using the given mesh file, written next to it.
 std::string scene_for_mesh(const std::string& mesh, const std::string& name) {

@@ -29,7 +29,7 @@ using test::CliRun;
 using test::palpate;
 using test::read_file;
 
-std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("hostile_" + name)).string(); }
+std::string tmp(const std::string& name) { return test::temp_path("hostile_", name); }
 
 std::string write(const std::string& name, const std::string& text) {
   const std::string path = tmp(name);

@@ -32,7 +32,7 @@ using test::read_file;
 using test::read_json;
 using test::shell;
 
-std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("plot_" + name)).string(); }
+std::string tmp(const std::string& name) { return test::temp_path("plot_", name); }
 
 std::string write(const std::string& name, const std::string& text) {
   const std::string path = tmp(name);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/cli_run.h"
+#include "support/temp_root.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
 #include "support/read_file.h"
@@ -23,7 +24,7 @@ using test::palpate;
 using test::read_file;
 using test::write_text;
 
-std::string tmp(const std::string& name) { return (fs::path(test::temp_root()) / ("palpate_outcome_" + name)).string(); }
+std::string tmp(const std::string& name) { return test::temp_path("palpate_outcome_", name); }
 
 // A shipped scene, as JSON, to change before recording it
 nlohmann::json shipped(const std::string& name) {
@@ -70,6 +71,11 @@ TEST(Cli, EveryShippedSceneRecordsWithoutResettingItsLattice) {
     if (name == "tissue_pull") {
       EXPECT_GE(j["sim"]["implicit_splits"].get<int64_t>(), 1) << name;
     }
+    // the god-object's invariant, every tick: no free tool and no held proxy inside the object
+    if (j.contains("tool_inside")) {
+      EXPECT_EQ(j["tool_inside"]["ticks"].get<int64_t>(), 0) << name;
+      EXPECT_EQ(j["tool_inside"]["proxy_ticks"].get<int64_t>(), 0) << name;
+    }
   }
   EXPECT_GE(scenes, 8);
 }
@@ -97,12 +103,12 @@ TEST(Cli, ASubstepNoSplitCanTakeIsTakenByProjectedNewtonNotExplicitly) {
   EXPECT_EQ(j["sim"]["divergence_events"].get<int64_t>(), 0);
 }
 
-// block_stroke's sphere stroked through a 5 kPa Neo-Hookean block (nu 0.45), its timeline twice as fast: a one-Newton
+// block_stroke's sphere stroked through a 6 kPa Neo-Hookean block (nu 0.45), its timeline twice as fast: a one-Newton
 // implicit step lands with a spring past 11 times its length (the lattice would be reset: 7 divergence events, exit 1),
 // and is taken again from its start by projected Newton, which stays short of that.
 TEST(Cli, AStepThatWouldTearTheLatticeIsTakenAgainByProjectedNewton) {
   nlohmann::json scene = shipped("block_stroke");
-  neo_hookean_implicit(&scene, 5e3);
+  neo_hookean_implicit(&scene, 6e3);
   for (auto& key : scene["trajectory"]) key["t_s"] = 0.5 * key["t_s"].get<double>();
   scene["duration_s"] = 1.75;
   const Recorded r = record(scene, "unsound");
@@ -113,11 +119,11 @@ TEST(Cli, AStepThatWouldTearTheLatticeIsTakenAgainByProjectedNewton) {
   EXPECT_EQ(j["nan_events"].get<int64_t>(), 0);
 }
 
-// cube_press's hand on a 5 kPa Neo-Hookean block (nu 0.45): the press tears the solid even with each step taken again to
+// cube_press's hand on a 3 kPa Neo-Hookean block (nu 0.45): the press tears the solid even with each step taken again to
 // convergence, and the run says so with what keeps it whole; the volumetric model it names takes the same press.
 TEST(Cli, ATornNeoHookeanSolidIsSaidWithWhatKeepsItWhole) {
   nlohmann::json scene = shipped("cube_press");
-  neo_hookean_implicit(&scene, 5e3);
+  neo_hookean_implicit(&scene, 3e3);
   scene["material"]["poisson_ratio"] = 0.45;
   const Recorded torn = record(scene, "torn");
   EXPECT_EQ(torn.run.code, 1) << torn.run.out;
@@ -147,6 +153,24 @@ TEST(Cli, AFreeToolDeepInsideTheObjectIsSaid) {
   // at least the tool's radius under the surface, and no deeper than it is
   EXPECT_GE(t["depth_m"].get<double>(), 0.002) << t.dump();
   EXPECT_LE(t["depth_m"].get<double>(), 0.03) << t.dump();
+  // and every tick of it, from the first
+  EXPECT_EQ(t["ticks"].get<int64_t>(), r.summary["servo_ticks"].get<int64_t>()) << t.dump();
+  EXPECT_EQ(t["proxy_ticks"].get<int64_t>(), 0) << t.dump();
+  EXPECT_EQ(t["first_tick_t_s"].get<double>(), 0.0) << t.dump();
+}
+
+// Ticks are judged where the grid's frames cannot: cube_press's tool held 3 mm under the top face, free (a trajectory
+// that begins inside), is nearer the surface than two leaf cells, so no frame counts it; every tick does.
+TEST(Cli, AFreeToolJustUnderTheSurfaceIsCountedEveryTick) {
+  nlohmann::json scene = shipped("cube_press");
+  const double top = 0.03;  // cube_press's 60 mm cube stands on z = -30 mm
+  scene["trajectory"] = {{{"t_s", 0.0}, {"pos_m", {0.004, 0.004, top - 0.005}}},
+                         {{"t_s", 0.2}, {"pos_m", {0.004, 0.004, top - 0.005}}}};
+  scene["duration_s"] = 0.2;
+  const Recorded r = record(scene, "tool_just_inside");
+  ASSERT_EQ(r.run.code, 0) << r.run.out;
+  const auto& t = r.summary["tool_inside"];
+  EXPECT_EQ(t["ticks"].get<int64_t>(), r.summary["servo_ticks"].get<int64_t>()) << t.dump();
 }
 
 }  // namespace

@@ -56,5 +56,41 @@ TEST(SurfaceQueries, NearestPointIsExactInsideOutsideAndFarFromTheGrid) {
   EXPECT_TRUE(n->normal.isApprox(Vec3::UnitX(), 1e-12));
 }
 
+// depth_inside: the box's answers are its distances to the nearest face, inside; outside, or nearer the surface than
+// the reach, 0; and how far the point may move with the answer unchanged
+TEST(SurfaceQueries, DepthInsideIsTheDistanceToTheSurfaceOnlyInsideAndBeyondTheReach) {
+  const Model m = box_model();
+  ASSERT_TRUE(m.closed);
+  EXPECT_NEAR(depth_inside(m, Vec3::Zero(), 0.01), 0.05, 1e-12);          // the middle, a cell no face crosses
+  EXPECT_NEAR(depth_inside(m, Vec3(0.01, 0.0, 0.046), 0.001), 0.004, 1e-12);  // 4 mm under the top, in a face's cell
+  EXPECT_EQ(depth_inside(m, Vec3(0.01, 0.0, 0.046), 0.005), 0.0);          // within the reach
+  EXPECT_EQ(depth_inside(m, Vec3(0.01, 0.0, 0.054), 0.001), 0.0);          // 4 mm above the top
+  EXPECT_EQ(depth_inside(m, Vec3(0.3, 0.0, 0.0), 0.0), 0.0);               // beyond the grid
+  double still = -1.0;
+  EXPECT_EQ(depth_inside(m, Vec3(0.01, 0.0, 0.049), 0.003, &still), 0.0);
+  EXPECT_NEAR(still, 0.002, 1e-12);  // 1 mm under the top with a 3 mm reach: 2 mm more before it could count
+  // near an edge and a corner, outside, the nearest face turns its back to the point: the rays decide, not the face
+  EXPECT_EQ(depth_inside(m, Vec3(0.052, 0.0, 0.052), 0.001), 0.0);
+  EXPECT_EQ(depth_inside(m, Vec3(0.052, 0.052, 0.052), 0.001), 0.0);
+  EXPECT_NEAR(depth_inside(m, Vec3(0.046, 0.0, 0.047), 0.001), 0.003, 1e-12);
+}
+
+TEST(SurfaceQueries, AnOpenSurfaceHasNoInside) {
+  Model m = box_model();
+  // the box without its top: every edge of the opening belongs to one triangle only
+  std::vector<std::array<int32_t, 3>> kept;
+  for (const auto& t : m.rest.triangles) {
+    bool top = true;
+    for (int c = 0; c < 3; ++c) top = top && m.rest.vertices_m[static_cast<std::size_t>(t[c])].z() > 0.05 - 1e-9;
+    if (!top) kept.push_back(t);
+  }
+  ASSERT_LT(kept.size(), m.rest.triangles.size());
+  m.rest.triangles = kept;
+  m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);
+  EXPECT_FALSE(closed_surface(m.rest, m.adjacency));
+  m.closed = false;
+  EXPECT_EQ(depth_inside(m, Vec3::Zero(), 0.01), 0.0);
+}
+
 }  // namespace
 }  // namespace palpate

@@ -19,20 +19,18 @@
 namespace palpate {
 namespace {
 
-struct FeelRun {
-  std::string name;
-  std::vector<FeelTick> trace;
-  FeelSettings settings;
-  FeelFigures figures;
-};
-
-// one lockstep run of the scene as `palpate record` runs it (no rendering), every tick kept
 Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
   auto scene = load_scene(path);
   if (!scene) return scene.error();
   auto model = load_model(scene.value());
   if (!model) return model.error();
-  const Scene& sc = scene.value();
+  return run_feel(scene.value(), model.value(), o);
+}
+
+}  // namespace
+
+// one lockstep run of the scene as `palpate record` runs it (no rendering), every tick kept
+Result<FeelRun> run_feel(const Scene& sc, const Model& model, const BenchFeelOptions& o) {
   const Rates& rates = sc.rates;
   auto dev = make_device(sc, o.device);
   if (!dev) return dev.error();
@@ -41,7 +39,7 @@ Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
   double duration_s = o.duration_s > 0.0 ? o.duration_s : sc.duration_s;
   if (const auto* replay = dynamic_cast<const ReplayDevice*>(dev.value().get()); replay != nullptr && o.duration_s <= 0.0)
     duration_s = replay->duration_s() + sc.rates.servo_period_s();
-  Session session(sc, model.value(), dev.value().get());
+  Session session(sc, model, dev.value().get());
   FeelRun run;
   run.name = sc.name;
   run.trace.reserve(static_cast<std::size_t>(rates.ticks(duration_s)));
@@ -76,9 +74,18 @@ Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
   run.settings.damping_Ns_per_m = sp.coupling_damping_Ns_per_m;
   run.settings.step_threshold_N = o.step_threshold_N;
   run.settings.excess_threshold_N = o.excess_threshold_N;
+  run.settings.jump_limit_N_per_tick = sp.jump_limit_N_per_tick;
   run.figures = feel_figures(run.trace, run.settings);
+  const FrameStats& st = session.stage().stats();
+  run.tool_inside_ticks = st.tool_inside_ticks;
+  run.proxy_inside_ticks = st.proxy_inside_ticks;
+  run.through_first_t_s = st.through_first_t_s;
+  run.nan_events = st.nan_events + st.divergence_events;
+  run.jump_limit_N_per_tick = sp.jump_limit_N_per_tick;
   return run;
 }
+
+namespace {
 
 nlohmann::json to_json(const FeelRun& r) {
   const FeelFigures& f = r.figures;

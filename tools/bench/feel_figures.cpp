@@ -96,6 +96,18 @@ FeelFigures feel_figures(const std::vector<FeelTick>& trace, const FeelSettings&
   for (int i = 1; i < n; ++i)
     for (int k = 0; k < kFeelEvents; ++k)
       if (in_window[i] & (1 << k)) f.events[k].max_excess_N = std::max(f.events[k].max_excess_N, excess[i]);
+  // every tick in or leaving contact: nothing excused but an event tick's jump limit
+  for (int i = 1; i < n; ++i) {
+    if (trace[i].contact == ContactState::kFree && trace[i - 1].contact == ContactState::kFree) continue;
+    bool event = false;
+    for (int k = 0; k < kFeelEvents; ++k) event |= ev[i][k];
+    const double wild = excess[i] - (event ? s.jump_limit_N_per_tick : 0.0);
+    f.excess_ticks += wild > s.excess_threshold_N;
+    if (step[i] > s.step_threshold_N && wild > s.excess_threshold_N) {
+      ++f.wild_steps;
+      f.max_wild_excess_N = std::max(f.max_wild_excess_N, wild);
+    }
+  }
 
   std::vector<Vec3> force(trace.size()), tool(trace.size());
   for (int i = 0; i < n; ++i) {

@@ -42,6 +42,7 @@ struct FeelSettings {
   double flip_floor_N = 0.005;        ///< a lateral force flip counts when both ticks' lateral force exceed this
   double buzz_hz = 100.0;             ///< energy above this frequency is the buzz share
   int min_run_ticks = 128;            ///< contact stretches shorter than this are left out of the spectrum
+  double jump_limit_N_per_tick = 0.0; ///< the servo's jump limit: what an event tick's step may exceed by (all ticks)
 };
 
 /// The steps of one kind of event. Plain data.
@@ -60,6 +61,11 @@ struct FeelFigures {
   double max_excess_N = 0.0;             ///< steady: largest step beyond k_c |dP_t| + b_c |dv|
   int64_t excess_over = 0;               ///< steady steps whose excess is above excess_threshold_N
   int64_t lateral_flips = 0;             ///< steady ticks whose lateral force (off the trend's direction) reversed
+  // every contact tick and the tick after one, event windows included: a step above step_threshold_N beyond the
+  // device's motion by more than excess_threshold_N (and, on an event's own tick, the jump limit besides)
+  int64_t wild_steps = 0;                ///< such ticks
+  int64_t excess_ticks = 0;              ///< ticks (the same ones) beyond the motion by more than excess_threshold_N
+  double max_wild_excess_N = 0.0;        ///< the largest such excess (less an event tick's jump limit)
   int64_t sliding_ticks = 0;             ///< steady ticks while the device slides
   double ripple = 0.0;                   ///< sliding: peak-to-peak of |F| less its trend, over the trend's mean
   double buzz_share = 0.0;               ///< share of the contact force's variation energy above buzz_hz

@@ -16,6 +16,7 @@
 #include "tools/bench/bench_scale.h"
 #include "tools/bench/bench_sim.h"
 #include "tools/commands/cli_checks.h"
+#include "tools/commands/hand_fuzz.h"
 #include "tools/bench/plot.h"
 
 namespace palpate {
@@ -33,6 +34,7 @@ struct BenchArgs {
   BenchLoopOptions loop;
   BenchForceOptions force;
   BenchFeelOptions feel;
+  HandFuzzOptions hands;
   std::string sim_scene;
   BenchSimOptions sim;
   std::string scale_scene = "scenes/bunny_pull.json";
@@ -100,6 +102,13 @@ void add_feel(CLI::App* bench, BenchArgs& a) {
       ->capture_default_str();
   c->add_option("--duration", a.feel.duration_s, "Scene seconds (default: the scene's, or the replayed log's length)")
       ->check(finite_range(0.001, 86400.0));
+  c->add_option("--hands", a.hands.hands,
+                "N seeded random hands per model (the arguments are then mesh files): presses to the force limit, "
+                "strokes at 1-200 mm/s, lift-offs, pulls shaken sideways, blade passes; point and sphere tools, soft "
+                "and stiff materials. Reports proxy crossings, wild steps, flips, buzz, energy, NaN per hand and model")
+      ->check(CLI::Range(1, 100000));
+  c->add_option("--seed", a.hands.seed, "With --hands: the first hand's seed (hand i is seed + i)")->capture_default_str();
+  c->add_option("--keep", a.hands.keep_dir, "With --hands: write the scene of every hand that fails into this folder");
 }
 
 void add_sim(CLI::App* bench, BenchArgs& a) {
@@ -245,6 +254,12 @@ int run_bench(BenchArgs& a) {
   if (*a.scale_cmd && a.scale_cmd->get_option("scene")->count() == 0) a.scale_scene = locate_default(a.scale_scene);
   if (*a.loop_cmd) return run_bench_loop(a.loop);
   if (*a.force_cmd) return run_bench_force(a.force);
+  if (*a.feel_cmd && a.feel_cmd->get_option("--hands")->count() > 0) {
+    a.hands.models = a.feel.scenes;
+    a.hands.json_path = a.feel.json_path;
+    a.hands.step_threshold_N = a.feel.step_threshold_N;
+    return run_hand_fuzz(a.hands);
+  }
   if (*a.feel_cmd) {
     if (a.feel.scenes.empty()) a.feel.scenes_dir = locate_default(a.feel.scenes_dir);
     return run_bench_feel(a.feel);

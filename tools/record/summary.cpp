@@ -100,7 +100,10 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   if (scene.mode == InteractionMode::kTouch)
     j["tool_inside"] = {{"frames", fst.tool_inside_frames},
                         {"first_t_s", fst.tool_inside_frames > 0 ? nlohmann::json(fst.tool_inside_first_t_s) : nlohmann::json()},
-                        {"depth_m", fst.tool_inside_depth_m}};
+                        {"depth_m", fst.tool_inside_depth_m},
+                        {"ticks", fst.tool_inside_ticks},
+                        {"proxy_ticks", fst.proxy_inside_ticks},
+                        {"first_tick_t_s", fst.through_first_t_s >= 0.0 ? nlohmann::json(fst.through_first_t_s) : nlohmann::json()}};
   j["nan_events"] = fst.nan_events;
   j["dropped_samples"] = sc.dropped_samples;
   j["rejected_inputs"] = sc.rejected_inputs;

@@ -27,6 +27,9 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 // whole in one frame as before.
 constexpr int64_t kComplianceWorkPerFrame = 50000;
 
+// a free tool or a held proxy counts as through the surface deeper than this beyond what the material has moved
+constexpr double kThroughTolerance_m = 5e-4;
+
 }  // namespace
 
 FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticSample>* samples,
@@ -77,6 +80,7 @@ void FrameStage::use_budget(BudgetClock* clock) {
 }
 
 void FrameStage::drain() {
+  through_still_m_ = 0.0;  // the reach may have changed with the last step: every frame asks afresh
   HapticSample s;
   while (samples_->try_pop(&s)) {
     if (log_) log_->append(s);
@@ -89,8 +93,25 @@ void FrameStage::drain() {
       contact_this_frame_ = true;
     }
     region_->add_sample(s);
+    check_through(s);
     latest_ = s;
   }
+}
+
+void FrameStage::check_through(const HapticSample& s) {
+  if (scene_.mode != InteractionMode::kTouch) return;
+  const bool free = s.contact == ContactState::kFree;
+  const Vec3& p = free ? s.tool_pos_m : s.god_pos_m;
+  // a point on the deformed surface lies at most the material's move under the rest one (a sphere's centre a radius
+  // above it), and a blended patch between two frames' surfaces
+  const double reach_m = lattice_moved_m_ + scene_.device.tool_radius_m + kThroughTolerance_m;
+  // the last answer holds while the point stays this near where it was asked (a proxy sliding on the surface is
+  // asked about once or twice a frame, not every tick)
+  if (through_still_m_ > 0.0 && (p - through_at_m_).norm() < through_still_m_) return;
+  through_at_m_ = p;
+  if (depth_inside(model_, p, reach_m, &through_still_m_) == 0.0) return;
+  ++(free ? stats_.tool_inside_ticks : stats_.proxy_inside_ticks);
+  if (stats_.through_first_t_s < 0.0) stats_.through_first_t_s = s.t_s;
 }
 
 void FrameStage::drain_remaining() { drain(); }
@@ -295,22 +316,48 @@ void FrameStage::publish_patch() {
   // (a sphere tool reaches its radius beyond its centre)
   const double margin = std::max(2.0 * model_.leaf_cell_m, scene_.grab_radius_m) + stats_.max_displacement_m +
                         (scene_.device.sphere_tool ? scene_.device.tool_radius_m : 0.0);
-  const Vec3 lo = latest_.tool_pos_m.cwiseMin(latest_.proxy_pos_m) - Vec3::Constant(margin);
-  const Vec3 hi = latest_.tool_pos_m.cwiseMax(latest_.proxy_pos_m) + Vec3::Constant(margin);
+  // touch: what the servo's god-object can reach this frame (the patch is ordered by it and covers it): in contact,
+  // the god-object, however deep the tool is pressed; free, the tool and where the servo last saw it outside
+  const bool touch = scene_.mode == InteractionMode::kTouch;
+  Vec3 box_lo = latest_.tool_pos_m.cwiseMin(latest_.proxy_pos_m);
+  Vec3 box_hi = latest_.tool_pos_m.cwiseMax(latest_.proxy_pos_m);
+  Vec3 cover_lo = box_lo, cover_hi = box_hi;
+  if (touch) {
+    box_lo = box_lo.cwiseMin(latest_.god_pos_m);
+    box_hi = box_hi.cwiseMax(latest_.god_pos_m);
+    const bool held = latest_.contact == ContactState::kTouch;
+    cover_lo = held ? latest_.god_pos_m : latest_.tool_pos_m.cwiseMin(latest_.god_pos_m);
+    cover_hi = held ? latest_.god_pos_m : latest_.tool_pos_m.cwiseMax(latest_.god_pos_m);
+  }
+  const Vec3 lo = box_lo - Vec3::Constant(margin);
+  const Vec3 hi = box_hi + Vec3::Constant(margin);
   region_->patch_candidates(latest_, vertices_m_, lo, hi, margin, &near_tris_);
   // keep the held triangle first, then the nearest ones
   const Vec3 tool = latest_.tool_pos_m;
   const auto& tris = triangles();
-  // nearest to the tool, or to the edge the region names (a blade: the triangles it crosses are always kept)
+  // nearest to the tool, or to the edge the region names (a blade: the triangles it crosses are always kept); in
+  // touch, nearest to the box by the nearest any part of the triangle can be (a large face near the tool is kept)
   const Vec3 edge = region_->patch_edge(latest_);
   auto dist = [&](int32_t t) {
     const auto& tr = tris[static_cast<std::size_t>(t)];
     const Vec3 c = (vertices_m_[tr[0]] + vertices_m_[tr[1]] + vertices_m_[tr[2]]) / 3.0;
+    if (touch) {
+      const double rad = std::sqrt(std::max({(vertices_m_[tr[0]] - c).squaredNorm(), (vertices_m_[tr[1]] - c).squaredNorm(),
+                                             (vertices_m_[tr[2]] - c).squaredNorm()}));
+      return std::max(0.0, (c - c.cwiseMax(cover_lo).cwiseMin(cover_hi)).norm() - rad);
+    }
     const double u = edge.squaredNorm() > 0.0 ? std::clamp((c - tool).dot(edge) / edge.squaredNorm(), 0.0, 1.0) : 0.0;
     return (c - tool - u * edge).squaredNorm();
   };
   const int32_t held = latest_.contact != ContactState::kFree ? latest_.contact_tri : -1;
   m.truncated = near_tris_.size() > static_cast<std::size_t>(LocalModel::kMaxTriangles);
+  // the patch is whole within margin of the cover box (less what the surface has moved since rest: candidates come
+  // from the rest grid, in margin of a box holding it), or, truncated, up to the nearest triangle left out
+  m.cover_lo_m = cover_lo;
+  m.cover_hi_m = cover_hi;
+  // (a whole patch holds every triangle within the margin, several leaf cells, of the box: more than a frame's way of
+  // the god-object; only a patch cut short covers less than that)
+  m.cover_radius_m = INFINITY;
   if (m.truncated) {
     // each distance once: nth_element moves the (distance, id) pairs exactly as it would move the ids compared by
     // distance, so the patch is the same triangles in the same order
@@ -320,6 +367,14 @@ void FrameStage::publish_patch() {
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     near_tris_.resize(LocalModel::kMaxTriangles - 1);
     for (std::size_t i = 0; i < near_tris_.size(); ++i) near_tris_[i] = near_keys_[i].second;
+    // the first triangle left out (the held one, kept apart, may be among them: it is in the patch all the same)
+    if (touch) {
+      double out_m = near_keys_[LocalModel::kMaxTriangles - 1].first;
+      if (near_keys_[LocalModel::kMaxTriangles - 1].second == held)
+        for (std::size_t i = LocalModel::kMaxTriangles; i < near_keys_.size(); ++i)
+          if (near_keys_[i].second != held) out_m = std::min(out_m, near_keys_[i].first);
+      m.cover_radius_m = std::min(margin - stats_.max_displacement_m, out_m);
+    }
   }
   int n = 0;
   // the servo moves the surface from the last patch to this one over the frame, so the hand never feels the
@@ -458,8 +513,10 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   }
   if (moved) {
     const Lattice& lat = *region_->lattice();
+    lattice_moved_m_ = 0.0;
     for (std::size_t i = 0; i < lat.num_nodes(); ++i)
-      stats_.max_displacement_m = std::max(stats_.max_displacement_m, (lat.x_m[i] - lat.rest_m[i]).norm());
+      lattice_moved_m_ = std::max(lattice_moved_m_, (lat.x_m[i] - lat.rest_m[i]).norm());
+    stats_.max_displacement_m = std::max(stats_.max_displacement_m, lattice_moved_m_);
     region_->deform(&vertices_m_);
   }
   check_tool_inside();

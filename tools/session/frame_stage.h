@@ -112,6 +112,9 @@ class FrameStage {
   // that (and the tool's radius) under the rest surface is inside the deformed object, whatever the dent (never a
   // false alarm). The tool went through the surface, or began inside.
   void check_tool_inside();
+  // counts a drained tick whose free tool, or held proxy, lies inside the object beyond what the material has moved
+  // (the last deform's largest node displacement) and the tool's radius: the god-object's invariant broken
+  void check_through(const HapticSample& s);
   void render(int64_t index, bool block);
   // files the time since the last part ended under `part` of the frame's profile
   void lap(FramePart part);
@@ -159,6 +162,9 @@ class FrameStage {
   bool contact_this_frame_ = false;
   Vec3 force_sum_N_ = Vec3::Zero();  // sum of device forces over the frame's samples
   int64_t frame_samples_ = 0;
+  double lattice_moved_m_ = 0.0;  // the lattice's largest node displacement after the last step (check_through)
+  Vec3 through_at_m_ = Vec3::Zero();  // where check_through last asked, and how far from it its answer still holds
+  double through_still_m_ = 0.0;
   FrameProfile profile_;             // the current frame's parts
   std::chrono::steady_clock::time_point lap_wall_;  // end of the last part timed
   double lap_cpu_ms_ = 0.0;

@@ -60,6 +60,11 @@ struct FrameStats {
   int64_t tool_inside_frames = 0;
   double tool_inside_first_t_s = -1.0;  ///< the first such frame's time (-1: none)
   double tool_inside_depth_m = 0.0;     ///< how deep under the rest surface it was then, at least
+  // touch mode, every servo tick (FrameStage::check_through): the god-object's one invariant broken — a free tool, or
+  // a held proxy, deeper under the rest surface than the material has moved plus the tool's radius
+  int64_t tool_inside_ticks = 0;        ///< free ticks with the tool inside: a touch missed or lost
+  int64_t proxy_inside_ticks = 0;       ///< contact ticks with the proxy inside: the proxy crossed the surface
+  double through_first_t_s = -1.0;      ///< the first such tick's time (-1: none)
   int max_substeps = 0;             ///< most substeps in one frame
   double max_strain = 0.0;          ///< largest spring strain |l - l0| / l0 after any step (diverged steps left out)
   std::size_t lattice_nodes = 0, lattice_springs = 0, lattice_vertices = 0;  ///< largest region simulated in a frame

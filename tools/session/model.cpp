@@ -52,7 +52,23 @@ Result<Model> load_model(const Scene& scene) {
                              m.rest.vertices_m);
   m.leaf_cell_m = m.grid.cell_size_m(m.grid.levels());
   m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);
+  m.closed = closed_surface(m.rest, m.adjacency);
   return m;
+}
+
+bool closed_surface(const TriMesh& mesh, const VertexTriangles& adjacency) {
+  // each edge from each of its triangles: the triangles at its first vertex that also hold its second
+  for (const auto& tri : mesh.triangles)
+    for (int c = 0; c < 3; ++c) {
+      const int32_t a = tri[c], b = tri[(c + 1) % 3];
+      int sharing = 0;
+      for (int32_t k = adjacency.offsets[a]; k < adjacency.offsets[a + 1]; ++k) {
+        const auto& u = mesh.triangles[static_cast<std::size_t>(adjacency.triangles[k])];
+        sharing += u[0] == b || u[1] == b || u[2] == b;
+      }
+      if (sharing != 2) return false;
+    }
+  return true;
 }
 
 }  // namespace palpate

@@ -22,6 +22,7 @@ struct Model {
   std::vector<VertexBinding> bindings;   ///< per vertex, at the lattice level (lattice.refine.level when refined)
   VertexTriangles adjacency;             ///< triangles at each vertex of `rest` (normals of moved vertices)
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
+  bool closed = false;                   ///< every edge of `rest` is shared by exactly two triangles (an inside exists)
   MeshOrientation orientation;           ///< what was turned outward at load (a mesh file's faces)
 };
 
@@ -33,5 +34,9 @@ Vec3 file_to_world_axes(const Vec3& v, char up_axis);
 /// grid and bindings. Errors name the mesh file, or the
 /// scene when its lattice could pass kMaxLatticeNodes / kMaxLatticeSprings (sim/lattice_estimate.h).
 Result<Model> load_model(const Scene& scene);
+
+/// Whether every edge of mesh is shared by exactly two of its triangles (a closed surface, with an inside).
+/// O(sum of squared vertex degrees).
+bool closed_surface(const TriMesh& mesh, const VertexTriangles& adjacency);
 
 }  // namespace palpate

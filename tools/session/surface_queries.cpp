@@ -117,4 +117,54 @@ double proven_depth_inside(const Model& model, const Vec3& p_m, double reach_m) 
   return layers * leaf;
 }
 
+namespace {
+
+// whether the ray from p along dir to the cube's border crosses the rest surface an odd number of times
+bool odd_crossings(const Model& model, const Vec3& p, const Vec3& dir) {
+  const Aabb& cube = model.normalization.cube;
+  const Vec3 end = p + dir * (2.0 * cube.extent().norm());
+  std::vector<int32_t> ids;
+  model.grid.triangles_near(p.cwiseMin(end), p.cwiseMax(end), &ids);
+  const TriMesh& mesh = model.rest;
+  int crossings = 0;
+  for (int32_t t : ids) {
+    const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+    const Vec3& a = mesh.vertices_m[tri[0]];
+    const Vec3& b = mesh.vertices_m[tri[1]];
+    const Vec3& c = mesh.vertices_m[tri[2]];
+    double u = 0.0;
+    Vec3 bary;
+    crossings += segment_enters_triangle(p, end, a, b, c, &u, &bary) || segment_enters_triangle(p, end, a, c, b, &u, &bary);
+  }
+  return crossings % 2 == 1;
+}
+
+}  // namespace
+
+double depth_inside(const Model& model, const Vec3& p_m, double reach_m, double* still_m) {
+  const GridHierarchy& g = model.grid;
+  const int level = g.levels();
+  double unused = 0.0;
+  double& still = still_m ? *still_m : unused;
+  still = 0.0;
+  if (!model.closed || !p_m.allFinite() || !g.cube().contains(p_m)) return 0.0;
+  const int32_t id = g.linear_index(g.cell_of(p_m, level), level);
+  if (!g.solid_cell(id, level)) return 0.0;  // the usual case (a free tool outside), decided by one cell
+  const auto hit = nearest_surface_point(model, p_m);
+  if (!hit) return 0.0;
+  // within reach of the surface, inside or out: it stays so while it moves less than the rest of the reach
+  if (!(hit->distance_m > reach_m)) {
+    still = reach_m - hit->distance_m;
+    return 0.0;
+  }
+  if (!g.surface_cell(id, level)) return hit->distance_m;  // enclosed by the surface
+  if ((p_m - hit->point_m).dot(hit->normal) >= 0.0) return 0.0;
+  // the rays slightly off the axes, so that none runs along a face or through an edge of an axis-aligned model
+  const Vec3 dirs[3] = {Vec3(1.0, 0.0123, 0.0071).normalized(), Vec3(0.0089, 1.0, 0.0137).normalized(),
+                        Vec3(0.0113, 0.0067, 1.0).normalized()};
+  int odd = 0;
+  for (const Vec3& d : dirs) odd += odd_crossings(model, p_m, d);
+  return odd >= 2 ? hit->distance_m : 0.0;
+}
+
 }  // namespace palpate

@@ -35,4 +35,13 @@ std::optional<SurfaceHit> nearest_surface_point(const Model& model, const Vec3& 
 /// cells). Nothing allocated.
 double proven_depth_inside(const Model& model, const Vec3& p_m, double reach_m);
 
+/// How deep p_m lies inside the object at rest, when deeper than reach_m: its distance to the rest surface, where the
+/// grid says p is inside (a cell enclosed by the surface), or, in a cell the surface crosses, where the face nearest p
+/// turns its back to p and rays along three axes cross the surface an odd number of times in at least two of them.
+/// 0 otherwise: outside, within reach_m of the surface, outside the grid's cube, or on a surface that is not closed
+/// (Model::closed: an open sheet has no inside).
+/// Cheap for a point outside the object or near its surface (a cell and a nearest-point search); allocates.
+/// still_m (when given) receives how far p may move with the answer still 0 (0 when inside, or when not known).
+double depth_inside(const Model& model, const Vec3& p_m, double reach_m, double* still_m = nullptr);
+
 }  // namespace palpate
