@@ -91,6 +91,13 @@ TEST(HandFuzz, TheSameSeedMakesTheSameHandsAndAMissingModelIsNamed) {
   const CliRun missing = palpate("bench feel --hands 2 " + tmp("no_such_model.obj"));
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.out.find("no_such_model.obj"), std::string::npos) << missing.out;
+  // the scripted runs' options are refused with hands, and the hands' options without them
+  const CliRun plot = palpate("bench feel --hands 2 " + bunny + " --plot " + tmp("p.png"));
+  EXPECT_EQ(plot.code, 2);
+  EXPECT_NE(plot.out.find("--plot does not apply with --hands"), std::string::npos) << plot.out;
+  const CliRun seed = palpate("bench feel scenes/cube_press.json --seed 4");
+  EXPECT_EQ(seed.code, 2);
+  EXPECT_NE(seed.out.find("--seed needs --hands N"), std::string::npos) << seed.out;
 }
 
 }  // namespace

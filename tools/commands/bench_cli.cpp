@@ -254,6 +254,21 @@ int run_bench(BenchArgs& a) {
   if (*a.scale_cmd && a.scale_cmd->get_option("scene")->count() == 0) a.scale_scene = locate_default(a.scale_scene);
   if (*a.loop_cmd) return run_bench_loop(a.loop);
   if (*a.force_cmd) return run_bench_force(a.force);
+  if (*a.feel_cmd) {
+    // the random hands make their own scenes and devices; options of the scripted runs do not apply to them
+    const bool hands = a.feel_cmd->get_option("--hands")->count() > 0;
+    for (const char* opt : {"--device", "--plot", "--duration"})
+      if (hands && a.feel_cmd->get_option(opt)->count() > 0) {
+        std::fprintf(stderr, "palpate: bench feel: %s does not apply with --hands (each hand is a scripted scene of its "
+                     "own)\n", opt);
+        return 2;
+      }
+    for (const char* opt : {"--seed", "--keep"})
+      if (!hands && a.feel_cmd->get_option(opt)->count() > 0) {
+        std::fprintf(stderr, "palpate: bench feel: %s needs --hands N\n", opt);
+        return 2;
+      }
+  }
   if (*a.feel_cmd && a.feel_cmd->get_option("--hands")->count() > 0) {
     a.hands.models = a.feel.scenes;
     a.hands.json_path = a.feel.json_path;
