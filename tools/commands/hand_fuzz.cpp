@@ -363,7 +363,7 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
     const std::string name = fs::path(path).filename().string();
     Totals totals;
     totals.closed = base.value().model->closed;
-    // models by their mesh, grid and lattice level (touch and pull share one)
+    // models by their mesh, grid, lattice level and mode (a touch model knows whether its surface is closed)
     std::map<std::string, std::unique_ptr<Model>> models;
     for (int i = 0; i < o.hands; ++i) {
       const uint64_t seed = o.seed + static_cast<uint64_t>(i);
@@ -377,7 +377,8 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
       if (!scene) {
         r.error = scene.error().message;
       } else {
-        const std::string key = hand.scene["mesh"].dump() + hand.scene["grid"].dump() + hand.scene["lattice"]["level"].dump();
+        const std::string key = hand.scene["mesh"].dump() + hand.scene["grid"].dump() +
+                                hand.scene["lattice"]["level"].dump() + hand.scene["interaction"]["mode"].dump();
         auto& model = models[key];
         if (!model) {
           auto m = load_model(scene.value());

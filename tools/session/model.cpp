@@ -52,7 +52,8 @@ Result<Model> load_model(const Scene& scene) {
                              m.rest.vertices_m);
   m.leaf_cell_m = m.grid.cell_size_m(m.grid.levels());
   m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);
-  m.closed = closed_surface(m.rest, m.adjacency);
+  // (asked only in touch, where the tool's side of the surface is checked every tick: O(edges x degree) at load)
+  m.closed = scene.mode == InteractionMode::kTouch && closed_surface(m.rest, m.adjacency);
   return m;
 }
 

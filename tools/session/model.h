@@ -22,7 +22,7 @@ struct Model {
   std::vector<VertexBinding> bindings;   ///< per vertex, at the lattice level (lattice.refine.level when refined)
   VertexTriangles adjacency;             ///< triangles at each vertex of `rest` (normals of moved vertices)
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
-  bool closed = false;                   ///< every edge of `rest` is shared by exactly two triangles (an inside exists)
+  bool closed = false;                   ///< touch scenes: every edge of `rest` is shared by exactly two triangles
   MeshOrientation orientation;           ///< what was turned outward at load (a mesh file's faces)
 };
 
