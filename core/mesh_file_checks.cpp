@@ -152,6 +152,8 @@ std::string ply_ascii_lists_fit(const std::string& path, const std::vector<PlyEl
         if (!word(&w)) return {};  // short file: assimp reports it
         if (!p.list) continue;
         const double entries = std::strtod(w.c_str(), nullptr);
+        if (entries < 0)
+          return "element " + e.name + " " + std::to_string(i) + ": a list of " + w + " entries: a count cannot be negative";
         if (!(entries >= 0) || entries * 2 > static_cast<double>(in.left()) + 1)
           return "element " + e.name + " " + std::to_string(i) + ": a list of " + w + " entries, more than the " +
                  std::to_string(in.left()) + " bytes left in the file";

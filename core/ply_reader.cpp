@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -12,6 +13,14 @@
 
 namespace palpate {
 namespace {
+
+// a value read from the file as the message quotes it: a whole number without decimals, otherwise as few digits as
+// say it (-5, 2.5, 1e+300)
+std::string ply_number(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
 
 enum class Kind { kSigned, kUnsigned, kReal };
 
@@ -245,6 +254,8 @@ Result<TriMesh> read_ply(std::string_view bytes) {
         const double room = format == Format::kAscii ? static_cast<double>(w.size() - word)
                                                      : static_cast<double>(bin.left()) / p.type.bytes;
         if (!(v >= 0) || v != std::floor(v) || v > room) {
+          if (v < 0)
+            return Error{where + who + ": a list of " + ply_number(v) + " entries: a count cannot be negative"};
           if (format != Format::kAscii)
             return Error{who + ": a list of " + std::to_string(static_cast<int64_t>(v)) + " entries, more than the " +
                          std::to_string(bin.left()) + " bytes left in the file"};
@@ -256,8 +267,10 @@ Result<TriMesh> read_ply(std::string_view bytes) {
         for (std::size_t m = 0; m < n; ++m) {
           if (!next(p.type, &v)) return Error{error};
           if (!keep) continue;
-          if (v != std::floor(v) || !(v >= -1) || !(v < 4294967296.0))
-            return Error{where + who + ": vertex index " + std::to_string(v) + " is not a whole number"};
+          if (v != std::floor(v) || !(v < 4294967296.0))
+            return Error{where + who + ": vertex index " + ply_number(v) + " is not a whole number"};
+          if (v < 0 && !(v == -1 && polys->strips))
+            return Error{where + who + ": vertex index " + ply_number(v) + " is negative (indices count from 0)"};
           const auto index = static_cast<int64_t>(v);
           if ((index < 0 && !polys->strips) || index >= static_cast<int64_t>(vertex->count))
             return Error{where + (polys->strips ? who : "face " + std::to_string(i)) + " vertex index " + std::to_string(index) +

@@ -290,6 +290,13 @@ TEST_F(MeshGrammarTest, PlyDamageIsNamed) {
             "element face 0: a list of 3 entries, more than the 8 bytes left in the file");
   EXPECT_EQ(error("list.ply", head + kPlyFaceHeader + kTetraVertices + "3 0 2 1\n9 0 1\n" + std::string(64, '\n')),
             "line 15: element face 1: a list of '9' entries, its line holds 2 more values");
+  // a negative index or count is said to be negative, not "not a whole number" or "more than the bytes left"
+  EXPECT_EQ(error("negative.ply", head + kPlyFaceHeader + kTetraVertices + "3 0 2 1\n3 0 -5 2\n" + std::string(64, '\n')),
+            "line 15: element face 1: vertex index -5 is negative (indices count from 0)");
+  EXPECT_EQ(error("half.ply", head + kPlyFaceHeader + kTetraVertices + "3 0 2 1\n3 0 1.5 2\n" + std::string(64, '\n')),
+            "line 15: element face 1: vertex index 1.5 is not a whole number");
+  EXPECT_EQ(error("count.ply", head + kPlyFaceHeader + kTetraVertices + "3 0 2 1\n-3 0 1 2\n" + std::string(64, '\n')),
+            "element face 1: a list of -3 entries: a count cannot be negative");
 }
 
 // --- STL -------------------------------------------------------------------------------------------------------
