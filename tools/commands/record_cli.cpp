@@ -25,7 +25,8 @@ namespace {
 
 volatile std::sig_atomic_t g_interrupted = 0;
 
-// Ctrl-C or SIGTERM during a recording: the run ends after the frame under way and every output is finished
+// Ctrl-C, SIGTERM or SIGHUP (a dropped SSH session) during a recording: the run ends after the frame under way and
+// every output is finished
 // (frames, haptic.csv, summary.json "interrupted"). A second signal a second or more after the first ends the
 // process at once; one sooner is the same request again (`timeout` passes a signal to its command and to the
 // command's process group, so the command gets it twice)
@@ -46,7 +47,7 @@ extern "C" void on_record_signal(int sig) {
   }
 }
 
-// Installs on_record_signal for SIGINT and SIGTERM for its lifetime.
+// Installs on_record_signal for SIGINT, SIGTERM and SIGHUP for its lifetime.
 class StopOnSignal {
  public:
   StopOnSignal() {
@@ -55,16 +56,18 @@ class StopOnSignal {
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &old_int_);
     sigaction(SIGTERM, &sa, &old_term_);
+    sigaction(SIGHUP, &sa, &old_hup_);
   }
   ~StopOnSignal() {
     sigaction(SIGINT, &old_int_, nullptr);
     sigaction(SIGTERM, &old_term_, nullptr);
+    sigaction(SIGHUP, &old_hup_, nullptr);
   }
   StopOnSignal(const StopOnSignal&) = delete;
   StopOnSignal& operator=(const StopOnSignal&) = delete;
 
  private:
-  struct sigaction old_int_ {}, old_term_ {};
+  struct sigaction old_int_ {}, old_term_ {}, old_hup_ {};
 };
 
 // The command line of `palpate record`, as parsed.
@@ -80,15 +83,17 @@ void linger(const LiveServer& server, double linger_s) {
   std::fprintf(stderr, "palpate: live view: the run is over; serving its last frame at %s for %.0f s (Ctrl-C ends)\n",
                server.url().c_str(), linger_s);
   auto on_signal = [](int) { g_interrupted = 1; };
-  struct sigaction sa {}, old_int {}, old_term {};
+  struct sigaction sa {}, old_int {}, old_term {}, old_hup {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, &old_int);
   sigaction(SIGTERM, &sa, &old_term);
+  sigaction(SIGHUP, &sa, &old_hup);
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(linger_s);
   while (!g_interrupted && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
+  sigaction(SIGHUP, &old_hup, nullptr);
 }
 
 // What was written, one line each (only what exists).

@@ -220,7 +220,7 @@ std::string out_of_memory_note(const Session& session, int64_t f) {
 std::string interrupted_note(const Session& session, int64_t frames_done) {
   char t[32];
   std::snprintf(t, sizeof t, "%.3f", session.frame_time_s(frames_done));
-  return "stopped on request (SIGINT or SIGTERM) after " + std::to_string(frames_done) + " frame(s), at scene time " + t + " s";
+  return "stopped on request (SIGINT, SIGTERM or SIGHUP) after " + std::to_string(frames_done) + " frame(s), at scene time " + t + " s";
 }
 
 bool stop_requested(const RecordOptions& opt) { return opt.stop != nullptr && opt.stop->load(std::memory_order_relaxed); }

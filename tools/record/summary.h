@@ -27,7 +27,7 @@ struct RunFigures {
   int64_t frames_late = 0;                    ///< realtime: frames skipped a whole period late
   bool memory_locked = false;                 ///< realtime: mlockall succeeded
   std::string aborted;                        ///< why the run ended before its duration (out of memory), else empty
-  std::string interrupted;                    ///< a stop asked for (SIGINT, SIGTERM): where the run ended, else empty
+  std::string interrupted;                    ///< a stop asked for (SIGINT, SIGTERM, SIGHUP): where the run ended, else empty
 };
 
 /// Everything summary.json is made of; the pointers are non-null unless said otherwise. Plain data.
