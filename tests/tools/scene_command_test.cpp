@@ -103,6 +103,14 @@ TEST(SceneCommand, ATissueTheUserNamesIsTouchedWithTheContactSolved) {
   const CliRun pull = palpate("scene " + bunny + " --mode pull --contact solved --out " + dir + "/s.json");
   EXPECT_NE(pull.out.find("--contact solved: the contact is solved under a pressing tool; --mode is 'pull'"),
             std::string::npos) << pull.out;
+  // the sphere in pull or cut: refused up front, as `record` would refuse the scene, and nothing written
+  for (const std::string mode : {"pull", "cut"}) {
+    const CliRun sphere = palpate("scene " + bunny + " --mode " + mode + " --tool sphere --out " + dir + "/s.json");
+    EXPECT_EQ(sphere.code, 1) << sphere.out;
+    EXPECT_NE(sphere.out.find("--tool sphere: the sphere is a touch tool; --mode is '" + mode + "'"), std::string::npos)
+        << sphere.out;
+    EXPECT_FALSE(fs::exists(dir + "/s.json")) << mode;
+  }
 }
 
 TEST(SceneCommand, FromPicksTheFirstSurfaceOnThatSideAndDepthSetsThePress) {

@@ -143,6 +143,10 @@ Result<GeneratedScene> generate_scene(const SceneRequest& rq) {
     return st.error();
   if (!std::isfinite(rq.tool_radius_mm) || rq.tool_radius_mm < 0.5 || rq.tool_radius_mm > 20.0)
     return make_error("--tool-radius-mm ", std::to_string(rq.tool_radius_mm), ": not a number in [0.5, 20]");
+  // a scene `palpate record` would refuse is never written: the sphere is a touch tool
+  if (rq.sphere_tool && rq.mode != InteractionMode::kTouch)
+    return make_error("--tool sphere: the sphere is a touch tool; --mode is '", mode_name(rq.mode),
+                      "' (touch only; pull and cut take the point tool)");
   if (rq.solved_contact && rq.mode != InteractionMode::kTouch)
     return make_error("--contact solved: the contact is solved under a pressing tool; --mode is '",
                       mode_name(rq.mode), "' (touch only)");

@@ -120,7 +120,7 @@ Subcommand add_scene_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 0.49))->needs(young)->capture_default_str();
   c->add_option("--density", a->request.density_kg_per_m3, "Its density in kg/m^3")
       ->check(CLI::Range(1.0, 1e5))->needs(young)->capture_default_str();
-  c->add_option("--tool", a->tool, "The tool's tip: point or sphere")
+  c->add_option("--tool", a->tool, "The tool's tip: point or sphere (sphere: touch only)")
       ->check(CLI::IsMember({"point", "sphere"}))->capture_default_str();
   c->add_option("--tool-radius-mm", a->request.tool_radius_mm, "The tool's radius in mm (a sphere's contact radius)")
       ->check(CLI::Range(0.5, 20.0))->capture_default_str();
