@@ -173,5 +173,41 @@ TEST(Cli, AFreeToolJustUnderTheSurfaceIsCountedEveryTick) {
   EXPECT_EQ(t["ticks"].get<int64_t>(), r.summary["servo_ticks"].get<int64_t>()) << t.dump();
 }
 
+// A re-run into a folder that holds a recording never deletes it: the earlier run's files and frames go to
+// previous-1/ (then previous-2/ ...), said on stderr, and the new run is whole beside them.
+TEST(Cli, AReRunMovesTheEarlierRecordingAsideInsteadOfDeletingIt) {
+  nlohmann::json scene = shipped("cube_press");
+  scene["duration_s"] = 0.1;
+  const std::string path = tmp("rerun.json"), out = tmp("rerun_out");
+  write_text(path, scene.dump());
+  const CliRun first = palpate("record " + path + " -q --no-video --out " + out);
+  ASSERT_EQ(first.code, 0) << first.out;
+  const std::string first_summary = read_file(out + "/summary.json");
+  const auto frames = [](const fs::path& dir) {
+    int n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) n += e.path().extension() == ".png";
+    return n;
+  };
+  const int first_frames = frames(fs::path(out) / "frames");
+  ASSERT_GT(first_frames, 0);
+  scene["duration_s"] = 0.05;
+  write_text(path, scene.dump());
+  const CliRun second = palpate("record " + path + " -q --no-video --out " + out);
+  ASSERT_EQ(second.code, 0) << second.out;
+  EXPECT_NE(second.out.find("held an earlier recording: moved to '" + out + "/previous-1'"), std::string::npos)
+      << second.out;
+  EXPECT_EQ(read_file(out + "/previous-1/summary.json"), first_summary);
+  EXPECT_TRUE(fs::exists(out + "/previous-1/haptic.csv"));
+  EXPECT_EQ(frames(fs::path(out) / "previous-1" / "frames"), first_frames);
+  EXPECT_LT(frames(fs::path(out) / "frames"), first_frames);  // the new, shorter run's own
+  EXPECT_NE(read_file(out + "/summary.json"), first_summary);
+  // a third run keeps both
+  const CliRun third = palpate("record " + path + " -q --no-video --out " + out);
+  ASSERT_EQ(third.code, 0) << third.out;
+  EXPECT_TRUE(fs::exists(out + "/previous-2/summary.json"));
+  EXPECT_EQ(read_file(out + "/previous-1/summary.json"), first_summary);
+}
+
 }  // namespace
 }  // namespace palpate

@@ -69,8 +69,36 @@ namespace {
 constexpr const char* kRunFiles[] = {"summary.json", "summary.json.tmp", "haptic.csv", "haptic.csv.partial",
                                      "recording.mp4", "device_events.csv"};
 
-// Creates out/ and out/frames, checks it can be written, clears the files of an earlier recording there.
-Status prepare_output(const std::string& out, bool render, std::string* frames_dir) {
+// An earlier recording in out/ (any of its files, or frames) is moved aside into out/previous-N/ (the first N free),
+// frames under its frames/: a re-run never deletes a run's data. Returns the folder it went to, or "" when there was
+// none. Renames only (the same file system): nothing is copied, and a failure names the file.
+Result<std::string> move_earlier_run_aside(const std::string& out, const std::string& frames_dir) {
+  std::error_code ec;
+  std::vector<fs::path> files, frames;
+  for (const char* name : kRunFiles)
+    if (fs::exists(fs::symlink_status(fs::path(out) / name, ec))) files.push_back(fs::path(out) / name);
+  for (const auto& e : fs::directory_iterator(frames_dir, ec))
+    if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) frames.push_back(e.path());
+  if (files.empty() && frames.empty()) return std::string();
+  fs::path aside;
+  for (int n = 1;; ++n) {
+    aside = fs::path(out) / ("previous-" + std::to_string(n));
+    if (!fs::exists(fs::symlink_status(aside, ec))) break;
+  }
+  fs::create_directories(frames.empty() ? aside : aside / "frames", ec);
+  if (ec) return make_error("output '", out, "': cannot make '", aside.string(), "' for the earlier run: ", ec.message());
+  // the summary first, as a run's files are cleared: an interrupted move never leaves a summary beside other frames
+  for (const fs::path& f : files)
+    if (::rename(f.c_str(), (aside / f.filename()).c_str()) != 0)
+      return make_error("output '", out, "': cannot move the earlier run's ", f.string(), " aside: ", std::strerror(errno));
+  for (const fs::path& f : frames)
+    if (::rename(f.c_str(), (aside / "frames" / f.filename()).c_str()) != 0)
+      return make_error("output '", out, "': cannot move the earlier run's ", f.string(), " aside: ", std::strerror(errno));
+  return aside.string();
+}
+
+// Creates out/ and out/frames, checks it can be written, moves an earlier recording there aside (*moved_to: where).
+Status prepare_output(const std::string& out, bool render, std::string* frames_dir, std::string* moved_to) {
   std::error_code ec;
   // a link to nowhere would otherwise be reported as "File exists" by create_directories
   if (fs::is_symlink(fs::symlink_status(out, ec)) && !fs::exists(out, ec))
@@ -87,8 +115,11 @@ Status prepare_output(const std::string& out, bool render, std::string* frames_d
   if (fd < 0) return make_error("output '", out, "': cannot write files there: ", std::strerror(errno));
   ::close(fd);
   ::unlink(probe.c_str());
-  // one folder is one run: the earlier run's files go before anything of this one is written (a link under
-  // one of these names is removed, never followed)
+  // one folder is one run: the earlier run's files go aside before anything of this one is written (a link under
+  // one of these names is moved as a link, never followed); what is left (temporaries) is removed
+  auto aside = move_earlier_run_aside(out, *frames_dir);
+  if (!aside) return aside.error();
+  *moved_to = aside.value();
   for (const char* name : kRunFiles) {
     const std::string path = (fs::path(out) / name).string();
     if (::unlink(path.c_str()) != 0 && errno != ENOENT)
@@ -179,7 +210,11 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   }
   // a video path inside frames/ is never written (the frames folder is the recording's own)
   if (auto st = check_video_beside_frames(plan.video_path, plan.frames_dir); !st) return st.error();
-  if (auto st = prepare_output(plan.out_dir, opt.render, &rec->frames_dir); !st) return st.error();
+  std::string moved_to;
+  if (auto st = prepare_output(plan.out_dir, opt.render, &rec->frames_dir, &moved_to); !st) return st.error();
+  if (!moved_to.empty())
+    std::fprintf(stderr, "palpate: '%s' held an earlier recording: moved to '%s' (a run never deletes another's data)\n",
+                 plan.out_dir.c_str(), moved_to.c_str());
 
   rec->png.threads = opt.png_threads > 0 ? opt.png_threads : plan.lockstep ? kLockstepPngThreads : 1;
   rec->png.codec = opt.png_codec;
