@@ -36,6 +36,18 @@ SurfaceHit nearest_of(const TriMesh& mesh, const std::vector<int32_t>& ids, cons
   return best;
 }
 
+// whether segment p0 -> p1 crosses triangle t of mesh from its front (the servo's entry test), or, with either_side,
+// from its back too; *u: where along the segment
+bool segment_crosses(const TriMesh& mesh, int32_t t, const Vec3& p0, const Vec3& p1, bool either_side, double* u) {
+  const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+  const Vec3& a = mesh.vertices_m[tri[0]];
+  const Vec3& b = mesh.vertices_m[tri[1]];
+  const Vec3& c = mesh.vertices_m[tri[2]];
+  Vec3 bary;
+  return segment_enters_triangle(p0, p1, a, b, c, u, &bary) ||
+         (either_side && segment_enters_triangle(p0, p1, a, c, b, u, &bary));
+}
+
 }  // namespace
 
 std::optional<SurfaceHit> first_ray_hit(const Model& model, const Vec3& origin_m, const Vec3& dir, double length_m,
@@ -50,16 +62,8 @@ std::optional<SurfaceHit> first_ray_hit(const Model& model, const Vec3& origin_m
   std::optional<SurfaceHit> best;
   double best_u = 2.0;
   for (int32_t t : ids) {
-    const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
-    const Vec3& a = mesh.vertices_m[tri[0]];
-    const Vec3& b = mesh.vertices_m[tri[1]];
-    const Vec3& c = mesh.vertices_m[tri[2]];
     double u = 0.0;
-    Vec3 bary;
-    // the servo's entry test from the front, and the same test on the flipped triangle for a back-side crossing
-    bool hit = segment_enters_triangle(origin_m, end, a, b, c, &u, &bary);
-    if (!hit && !front_only) hit = segment_enters_triangle(origin_m, end, a, c, b, &u, &bary);
-    if (!hit || u >= best_u) continue;
+    if (!segment_crosses(mesh, t, origin_m, end, !front_only, &u) || u >= best_u) continue;
     best_u = u;
     SurfaceHit h;
     h.point_m = origin_m + u * (end - origin_m);
@@ -128,13 +132,8 @@ bool odd_crossings(const Model& model, const Vec3& p, const Vec3& dir) {
   const TriMesh& mesh = model.rest;
   int crossings = 0;
   for (int32_t t : ids) {
-    const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
-    const Vec3& a = mesh.vertices_m[tri[0]];
-    const Vec3& b = mesh.vertices_m[tri[1]];
-    const Vec3& c = mesh.vertices_m[tri[2]];
     double u = 0.0;
-    Vec3 bary;
-    crossings += segment_enters_triangle(p, end, a, b, c, &u, &bary) || segment_enters_triangle(p, end, a, c, b, &u, &bary);
+    crossings += segment_crosses(mesh, t, p, end, true, &u);
   }
   return crossings % 2 == 1;
 }
