@@ -171,6 +171,10 @@ TEST(Cli, AFreeToolJustUnderTheSurfaceIsCountedEveryTick) {
   ASSERT_EQ(r.run.code, 0) << r.run.out;
   const auto& t = r.summary["tool_inside"];
   EXPECT_EQ(t["ticks"].get<int64_t>(), r.summary["servo_ticks"].get<int64_t>()) << t.dump();
+  // and the run says so at its end, though no frame proved it
+  EXPECT_EQ(t["frames"].get<int64_t>(), 0) << t.dump();
+  EXPECT_NE(r.run.out.find("warning: the tool was inside the object from 0.00 s, in 200 servo tick(s)"), std::string::npos)
+      << r.run.out;
 }
 
 // A re-run into a folder that holds a recording never deletes it: the earlier run's files and frames go to

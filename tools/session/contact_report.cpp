@@ -62,8 +62,19 @@ std::string no_contact_note(const Scene& scene, const Model& model, const std::v
 }
 
 std::string tool_inside_note(const FrameStats& stats) {
-  if (stats.tool_inside_frames == 0) return "";
-  char buf[256];
+  if (stats.tool_inside_frames == 0 && stats.tool_inside_ticks + stats.proxy_inside_ticks == 0) return "";
+  char buf[320];
+  if (stats.tool_inside_frames == 0) {
+    // only the every-tick check saw it: nearer the surface than the frames' proof reaches
+    std::snprintf(buf, sizeof buf,
+                  "the %s was inside the object from %.2f s, in %lld servo tick(s)%s: %s",
+                  stats.tool_inside_ticks > 0 ? "tool" : "proxy", stats.through_first_t_s,
+                  static_cast<long long>(stats.tool_inside_ticks + stats.proxy_inside_ticks),
+                  stats.tool_inside_ticks > 0 && stats.proxy_inside_ticks > 0 ? " (tool free, or proxy held)" : "",
+                  stats.tool_inside_ticks > 0 ? "the touch was lost (the tool went through the surface) or never began"
+                                              : "the proxy crossed the surface it was held on");
+    return buf;
+  }
   std::snprintf(buf, sizeof buf,
                 "the tool was inside the object without touching it from %.2f s, in %lld frames, at least %s under its "
                 "rest surface: the touch was lost (the tool went through the surface) or never began",

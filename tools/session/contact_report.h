@@ -19,8 +19,9 @@ std::string no_contact_note(const Scene& scene, const Model& model, const std::v
 
 /// For a touch recording whose free tool was deep inside the object (FrameStats::tool_inside_frames): one line
 /// saying when and how deep, e.g. "the tool was inside the object without touching it from 0.28 s, in 73 frames, at
-/// least 9.4 mm under its rest surface: the touch was lost (the tool went through) or never began"; empty when it
-/// never was. Thread: any.
+/// least 9.4 mm under its rest surface: the touch was lost (the tool went through) or never began"; when only the
+/// every-tick check saw it (FrameStats::tool_inside_ticks, proxy_inside_ticks), the ticks and whether the tool or the
+/// held proxy was inside; empty when neither was. Thread: any.
 std::string tool_inside_note(const FrameStats& stats);
 
 }  // namespace palpate
