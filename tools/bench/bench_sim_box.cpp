@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/grid_hierarchy.h"
+#include "core/rates.h"
 #include "core/limits.h"
 #include "core/scene.h"
 #include "core/stats.h"
@@ -20,7 +21,7 @@
 namespace palpate {
 namespace {
 
-constexpr double kFrameRate_hz = 60.0;
+constexpr double kFrameRate_hz = kDefaultFrameRate_hz;  // the scenes' frame rate when they do not say (core/rates.h)
 constexpr double kBoxSide_m = 0.1;         // the bunny's size_m
 constexpr double kPullTotal_N = 0.3;       // spread over the top face's 3 x 3 centre nodes
 constexpr double kPullRamp_s = 0.25;       // force ramps up over this ...

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/rates.h"
 #include "core/types.h"
 #include "haptics/haptic_sample.h"
 
@@ -31,7 +32,7 @@ struct FeelTick {
 
 /// How the figures are taken. Plain data.
 struct FeelSettings {
-  double period_s = 1e-3;             ///< servo period
+  double period_s = 1.0 / kDefaultServoRate_hz;  ///< servo period (the run's: bench feel sets it from the scene)
   double coupling_N_per_m = 300.0;    ///< k_c: a device step dx explains a force step k_c |dx|
   double damping_Ns_per_m = 0.5;      ///< b_c: a velocity step dv explains b_c |dv|
   double step_threshold_N = 0.1;      ///< steps counted above this
