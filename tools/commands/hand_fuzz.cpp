@@ -8,6 +8,8 @@
 #include <memory>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "core/atomic_file.h"
 #include "core/scene.h"
 #include "tools/bench/bench_feel.h"
@@ -63,6 +65,13 @@ class Keys {
   double t_s_ = 0.0;
   bool button_ = false;
   nlohmann::ordered_json keys_ = nlohmann::ordered_json::array();
+};
+
+// One hand: the scene it ran (the model's generated scene with its own tool, material and trajectory).
+struct Hand {
+  std::string kind;              // press | stroke | pull | cut
+  uint64_t seed = 0;             // what makes it
+  nlohmann::ordered_json scene;  // the scene file's content
 };
 
 // a mesh's generated scenes and where hands can work on it
@@ -251,7 +260,7 @@ Hand make_hand(const ModelBase& b, uint64_t seed) {
 // what a hand found; fails when the god-object's invariant broke, the lattice went NaN, a wild step reached the hand
 // or the contact's steps and flips passed 1 % of its ticks
 struct HandResult {
-  std::string model, kind, scene_name;
+  std::string model, kind;
   uint64_t seed = 0;
   std::string error;
   FeelRun run;
@@ -322,14 +331,6 @@ void print_row(const std::string& name, const Totals& t) {
 }
 
 }  // namespace
-
-Result<std::vector<Hand>> make_hands(const std::string& model_path, int hands, uint64_t seed) {
-  auto b = model_base(model_path);
-  if (!b) return b.error();
-  std::vector<Hand> out;
-  for (int i = 0; i < hands; ++i) out.push_back(make_hand(b.value(), seed + static_cast<uint64_t>(i)));
-  return out;
-}
 
 int run_hand_fuzz(const HandFuzzOptions& o) {
   if (o.models.empty()) {
@@ -412,13 +413,13 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
           if (auto st = write_file_atomic(out, text + "\n", "hand scene"); !st)
             std::fprintf(stderr, "palpate: bench feel: %s\n", st.error().message.c_str());
         }
-      } else if (!o.quiet) {
+      } else {
         std::fprintf(stderr, "\r%s: hand %d / %d", name.c_str(), i + 1, o.hands);
       }
       std::fflush(stdout);
       results.push_back(std::move(r));
     }
-    if (!o.quiet) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "\n");
     per_model.emplace_back(name, totals);
   }
   std::printf("\nhands: steps are |dF| per tick on every contact tick, event ticks excused up to the jump limit\n");

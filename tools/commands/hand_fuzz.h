@@ -11,35 +11,18 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "core/result.h"
-
 namespace palpate {
 
 /// What to run.
 struct HandFuzzOptions {
-  std::vector<std::string> models;  ///< mesh files, or scene files (*.json: their own mesh and material)
+  std::vector<std::string> models;  ///< mesh files (anything `palpate info` reads)
   int hands = 10;                   ///< hands per model
   uint64_t seed = 1;                ///< the first hand's seed; hand i of a model uses seed + i
   std::string json_path;            ///< write every hand's figures as JSON here when set
   std::string keep_dir;             ///< write the scene of every hand that fails here when set
   double step_threshold_N = 0.1;    ///< a wild step: above this
   double excess_threshold_N = 0.02; ///< and beyond the device's motion by more than this
-  bool quiet = false;               ///< no progress line per hand
 };
-
-/// One hand: the scene it ran (the model's generated scene with its own tool, material and trajectory).
-struct Hand {
-  std::string kind;              ///< press | stroke | pull | cut
-  uint64_t seed = 0;             ///< what makes it
-  nlohmann::ordered_json scene;  ///< the scene file's content
-};
-
-/// The hands seed, seed + 1 ... make on a mesh: from its generated touch, pull and cut scenes (as `palpate scene`
-/// writes them), each with a surface point, tool, material and trajectory of its own. Deterministic: the same seed
-/// and mesh give the same hands. Errors name the model.
-Result<std::vector<Hand>> make_hands(const std::string& model_path, int hands, uint64_t seed);
 
 /// Runs the hands, prints a line per hand that fails, a table per model and overall; returns the exit code (0 when
 /// every hand ran, whatever it found; 1 on an error).
