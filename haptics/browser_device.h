@@ -5,6 +5,12 @@
 /// and a hand model (the scene's mass-spring-damper hand, pushed back by the device force as a held handle is)
 /// follows the target, so the 1 kHz force is smooth between messages. Watchdog: a page that closes, is refused or
 /// falls silent for stall_s fades the force to zero over fade_s (DevicePose::force_scale), then gives no reading.
+///
+/// Input is relative, like a clutch: the first message of a page's control (its first ever, a page taking over, or
+/// one after the force faded out) anchors the pointer where the tool is — the scene's start before any — and moves
+/// nothing; only later messages that move the pointer or change the buttons engage the device, and only then does
+/// the force fade in. So a page that connects, reloads or takes over mid-press pushes nothing until its user moves,
+/// and a blade never sweeps from a default pose.
 
 #include <cstdint>
 
@@ -24,6 +30,9 @@ struct BrowserView {
   double half_width_m = 0.05;      ///< x = +-1 this far from the centre
   double half_height_m = 0.05;     ///< y = +-1
   double half_depth_m = 0.05;      ///< depth = +-1
+  Vec3 eye_m = Vec3(0.0, -0.2, 0.0);  ///< the camera's eye (for where the picture shows the tool)
+  double tan_half_fov_y = 0.25;    ///< tan of half the camera's vertical field of view
+  double aspect = 1.0;             ///< the picture's width / height
 };
 
 /// Watchdog and interpolation settings. Plain data.
@@ -59,6 +68,11 @@ class BrowserDevice final : public Device {
 
   /// Sets the plane the pointer moves on. Thread: before the servo starts.
   void set_view(const BrowserView& view) noexcept { view_ = view; }
+  /// Where the tool waits before any page steers it (world); the view's centre unless set. Thread: before the servo.
+  void set_start(const Vec3& start_m) noexcept {
+    handle_m_ = target_m_ = from_m_ = to_m_ = start_m;
+    started_ = true;
+  }
   /// The plane the pointer moves on.
   const BrowserView& view() const noexcept { return view_; }
 
@@ -69,8 +83,10 @@ class BrowserDevice final : public Device {
   /// Takes the force (clamped to max_force_N) for the hand model and publishes it to the page.
   void write_force(const Vec3& force_N) noexcept override;
 
-  /// The world point of a message (the view plane, no hand). Thread: any.
+  /// The world point of a message (the view plane, no hand, no anchor). Thread: any.
   Vec3 world_of(const BrowserInput& in) const noexcept;
+  /// Where the camera's picture shows a world point: x, y in -1..1 across it, z the distance along the view (m).
+  Vec3 screen_of(const Vec3& p_m) const noexcept;
   /// Counters so far.
   const BrowserCounters& counters() const noexcept { return counters_; }
   /// The watchdog and interpolation settings.
@@ -100,6 +116,12 @@ class BrowserDevice final : public Device {
   Vec3 vel_m_per_s_ = Vec3::Zero();
   Vec3 force_N_ = Vec3::Zero();  // last force written
   uint32_t buttons_ = 0;
+  Vec3 offset_m_ = Vec3::Zero(); // anchor: the tool's target is a message's world point plus this
+  BrowserInput anchor_;          // the message that anchored the page's control
+  int64_t session_ = 0;          // the page control that message belongs to
+  bool anchored_ = false;        // a page's control is anchored (false before any, and once the force faded out)
+  bool engaged_ = false;         // its pointer or buttons moved since: the force may flow
+  bool started_ = false;         // set_start() placed the tool
   double scale_ = 0.0;           // the watchdog's fade
   int64_t last_ns_ = 0;          // clock at the last read()
   bool stalled_ = false;

@@ -19,6 +19,8 @@ struct BrowserInput {
   double depth = 0.0;         ///< along the view direction, -1 (toward the eye) .. 1 (away)
   uint32_t buttons = 0;       ///< bit 0 = main button (grab in pull, blade down in cut)
   int64_t received_ns = 0;    ///< monotonic time the server read it
+  int64_t session = 0;        ///< which page's control this is (a new number each time control passes to a page):
+                              ///< the device re-anchors on a new one, so a page taking over moves nothing
 };
 
 /// What the servo last did with the page's input, for the page and /stats.json. Plain data.
@@ -28,6 +30,10 @@ struct BrowserFeedback {
   Vec3 target_m = Vec3::Zero();  ///< the interpolated target the hand follows (world)
   Vec3 force_view_N = Vec3::Zero();  ///< the force along the view's right, up and forward axes (N)
   Vec3 handle_view = Vec3::Zero();   ///< the handle in the view's normalised x, y, depth
+  Vec3 handle_screen = Vec3::Zero(); ///< the handle as the camera sees it: x, y in -1..1 across the picture
+                                     ///< (perspective), z its distance from the eye along the view (m)
+  Vec3 view_half_mm = Vec3::Zero();  ///< the view plane's half width, half height and half depth (mm)
+  bool engaged = false;          ///< the controlling page has moved since it took control (force may flow)
   double force_scale = 0.0;      ///< the watchdog's fade: 1 live, 0 silent
   int64_t seq = 0;               ///< newest input the servo has used
   int64_t input_to_force_ns = 0; ///< that input: server receipt to the first force computed from it

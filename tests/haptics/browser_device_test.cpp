@@ -1,6 +1,8 @@
-// The browser driver on a fake clock: the target moves between messages without steps, the hand model settles where
-// its spring balances the device force (offset F / k), the watchdog fades the force to zero within stall_s + fade_s
-// of a page's close or silence, and a servo driving it allocates nothing.
+// The browser driver on a fake clock: a page's first message anchors where the tool is and moves nothing, and no
+// force flows until the pointer moves (connect, reload, takeover, a hidden tab's odd message, a blade's first press);
+// the target moves between messages without steps, the hand model settles where its spring balances the device
+// force (offset F / k), the watchdog fades the force to zero within stall_s + fade_s of a page's close or silence,
+// and a servo driving it allocates nothing.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <memory>
 
 #include "haptics/browser_device.h"
+#include "core/scene.h"
 #include "haptics/servo.h"
 #include "support/alloc_counter.h"
 #include "support/haptic_fixtures.h"
@@ -28,14 +31,27 @@ struct Rig {
     v.forward = Vec3::UnitY();
     dev.set_view(v);
   }
-  void post(double x, double y, uint32_t buttons = 0) {
+  void post(double x, double y, uint32_t buttons = 0, double depth = 0.0) {
     BrowserInput in;
     in.seq = ++seq;
     in.x = x;
     in.y = y;
+    in.depth = depth;
     in.buttons = buttons;
     in.received_ns = g_now_ns;
+    in.session = session;
     link.post(in);
+  }
+  // a page's control that starts at (0, 0): anchored there, then engaged by a small move and back, so later
+  // messages place the tool where the pointer is (the start is the view's centre)
+  void engage(uint32_t buttons = 0) {
+    DevicePose p;
+    post(0.0, 0.0, buttons);
+    tick(&p);
+    post(1e-3, 0.0, buttons);
+    tick(&p);
+    post(0.0, 0.0, buttons);
+    tick(&p);
   }
   // one servo period on the fake clock, then a read; false when there was no reading
   bool tick(DevicePose* pose) {
@@ -45,17 +61,127 @@ struct Rig {
   BrowserLink link;
   BrowserDevice dev;
   int64_t seq = 0;
+  int64_t session = 1;
 };
 
-TEST(BrowserDevice, NoReadingBeforeTheFirstMessage) {
+TEST(BrowserDevice, TheFirstMessageAnchorsWhereTheToolIsNoReadingUntilThePointerMoves) {
   Rig r;
+  const Vec3 start(0.01, 0.0, 0.03);
+  r.dev.set_start(start);
   DevicePose p;
   EXPECT_FALSE(r.tick(&p));
-  r.post(0.2, -0.4);
-  ASSERT_TRUE(r.tick(&p));
-  // the first message places the handle on the view plane at once: x 0.2 * 5 cm, z -0.4 * 5 cm
-  EXPECT_NEAR(p.pos_m.x(), 0.01, 1e-12);
-  EXPECT_NEAR(p.pos_m.z(), -0.02, 1e-12);
+  // the page's first message is far from the tool (the view's centre): it anchors, moves nothing, gives no reading
+  for (int i = 0; i < 200; ++i) {
+    if (i % 16 == 0) r.post(0.0, 0.0);
+    EXPECT_FALSE(r.tick(&p)) << "a reading before the pointer moved, tick " << i;
+  }
+  EXPECT_FALSE(r.link.feedback().engaged);
+  // the pointer moves 0.2 to the right (1 cm on this view): the tool follows from where it was, by that much
+  for (int i = 0; i < 1500; ++i) {
+    if (i % 16 == 0) r.post(0.2, 0.0);
+    ASSERT_TRUE(r.tick(&p)) << i;
+    r.dev.write_force(Vec3::Zero());
+  }
+  EXPECT_NEAR(p.pos_m.x(), start.x() + 0.01, 1e-6);
+  EXPECT_NEAR(p.pos_m.z(), start.z(), 1e-6);
+  EXPECT_TRUE(r.link.feedback().engaged);
+}
+
+// A press held 2 cm into a floor; then a new page takes control (a reload or a takeover) and sends, without any input,
+// the pointer at the view's centre and the button down (a right press in cut mode) for a second. Returns the largest
+// force change per tick and the largest force after the takeover, and the tool's travel; then the new page moves a
+// little and the force comes back, ramped.
+struct Takeover {
+  double max_step_N = 0.0;       // the largest change of the servo's force from one tick to the next
+  int64_t max_step_tick = 0;     // where
+  double after_N = 0.0;          // the largest force once the old press faded out, until the new page moved
+  double travel_m = 0.0;         // how far the tool went in that time
+  bool button_before_move = false;
+  double back_N = 0.0;           // the force once the new page moved
+};
+
+Takeover take_over(bool hidden_tab) {
+  Rig r;
+  r.dev.set_start(Vec3(0.0, 0.0, 0.01));
+  SpscQueue<HapticSample> q(64);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  test::publish_floor(tb.get());
+  Servo servo(test::static_surface_params(300.0), test::kTestRates, &r.dev, &q, tb.get());
+  HapticSample sink;
+  Takeover out;
+  Vec3 last = Vec3::Zero();
+  int64_t tick = 0;
+  auto step = [&] {
+    g_now_ns += 1'000'000;
+    servo.tick(tick, static_cast<double>(tick) * 1e-3);
+    ++tick;
+    while (q.try_pop(&sink)) {
+    }
+    const Vec3 f = servo.last_sample().force_N;
+    if ((f - last).norm() > out.max_step_N) {
+      out.max_step_N = (f - last).norm();
+      out.max_step_tick = tick;
+    }
+    last = f;
+  };
+  // the first page: anchored at (0, 0.2), then down by 0.6 of the view (3 cm): 2 cm into the floor, held
+  for (int i = 0; i < 1500; ++i) {
+    if (i % 16 == 0) r.post(0.0, i < 16 ? 0.2 : -0.4);
+    step();
+  }
+  EXPECT_GT(last.norm(), 1.0) << "the press";
+  out.max_step_N = 0.0;  // the steps from here on: the takeover's (the press's own entry is the servo's business)
+  // the old press fades out over the watchdog (the hand, pushed back less, sinks in a little): from then on nothing
+  // may move or push
+  Vec3 faded_at = Vec3::Zero();
+  if (hidden_tab) {
+    // the page falls silent (a background tab), then sends its unchanged pose about once a second
+    for (int i = 0; i < 4000; ++i) {
+      if (i > 0 && i % 1000 == 0) r.post(0.0, -0.4);
+      step();
+      if (i == 400) faded_at = servo.last_sample().tool_pos_m;
+      if (i < 400) continue;
+      out.after_N = std::max(out.after_N, servo.last_sample().force_N.norm());
+      out.travel_m = std::max(out.travel_m, (servo.last_sample().tool_pos_m - faded_at).norm());
+    }
+  } else {
+    // a new page's control: the centre, button down, every 16 ms for a second
+    r.session = 2;
+    r.seq = 0;
+    for (int i = 0; i < 1000; ++i) {
+      if (i % 16 == 0) r.post(0.0, 0.0, 1);
+      step();
+      out.button_before_move = out.button_before_move || (servo.last_sample().buttons & 1u) != 0;
+      if (i == 150) faded_at = servo.last_sample().tool_pos_m;
+      if (i < 150) continue;
+      out.after_N = std::max(out.after_N, servo.last_sample().force_N.norm());
+      out.travel_m = std::max(out.travel_m, (servo.last_sample().tool_pos_m - faded_at).norm());
+      out.button_before_move = out.button_before_move || (servo.last_sample().buttons & 1u) != 0;
+    }
+    // it moves a little: the press comes back, ramped in
+    for (int i = 0; i < 500; ++i) {
+      if (i % 16 == 0) r.post(0.002, 0.0, 1);
+      step();
+    }
+    out.back_N = last.norm();
+  }
+  return out;
+}
+
+TEST(BrowserDevice, APageTakingOverMidPressPushesNothingUntilItMovesThenRampsIn) {
+  const Takeover t = take_over(false);
+  const double jump_limit_N = Scene{}.device.jump_limit_N_per_tick;
+  EXPECT_EQ(t.after_N, 0.0) << "force from a page that has not moved";
+  EXPECT_LT(t.travel_m, 1e-6) << "the tool moved toward the new page's pointer";
+  EXPECT_FALSE(t.button_before_move) << "the button (a blade) went down before the page moved";
+  EXPECT_GT(t.back_N, 1.0) << "the press did not come back once the page moved";
+  EXPECT_LE(t.max_step_N, 3.0 * jump_limit_N) << "a step in the force at tick " << t.max_step_tick;
+}
+
+TEST(BrowserDevice, AHiddenTabsOddMessageNeverPulsesTheForce) {
+  const Takeover t = take_over(true);
+  EXPECT_EQ(t.after_N, 0.0) << "a message a second from an unmoved page brought force back";
+  EXPECT_LT(t.travel_m, 1e-6);
 }
 
 // A pointer moving at 0.1 m/s with messages every 12..22 ms: the target's step per tick stays near v dt (1e-4 m),
@@ -99,6 +225,7 @@ TEST(BrowserDevice, HandSettlesWhereItsSpringBalancesTheForce) {
   DevicePose p;
   const HandSpec hand;
   const Vec3 force(0.0, 0.0, 1.5);
+  r.engage();
   for (int i = 0; i < 3000; ++i) {
     if (i % 16 == 0) r.post(0.0, 0.0);
     ASSERT_TRUE(r.tick(&p));
@@ -114,6 +241,7 @@ TEST(BrowserDevice, HandSettlesWhereItsSpringBalancesTheForce) {
 std::vector<double> fade_after(bool close_page) {
   Rig r;
   DevicePose p;
+  r.engage(1);
   for (int i = 0; i < 400; ++i) {
     if (i % 16 == 0) r.post(0.0, 0.0, 1);
     r.tick(&p);
@@ -151,6 +279,7 @@ TEST(BrowserDevice, ASilentPageFadesTheForceOutWithinTheWatchdog) {
 // after its close on, and no allocation in 10,000 ticks with messages arriving.
 TEST(BrowserDevice, ServoForceEndsAtTheWatchdogAndAllocatesNothing) {
   Rig r;
+  r.dev.set_start(Vec3(0.0, 0.0, 0.01));
   SpscQueue<HapticSample> q(64);
   auto tb = std::make_unique<TripleBuffer<LocalModel>>();
   test::publish_floor(tb.get());
@@ -161,7 +290,7 @@ TEST(BrowserDevice, ServoForceEndsAtTheWatchdogAndAllocatesNothing) {
   {
     test::AllocationGuard guard;
     for (int i = 0; i < 10000; ++i) {
-      // from above the floor down to 2 cm below it (y is the world's z on this view plane)
+      // anchored at the view's centre 1 cm above the floor, then down to 2 cm below it (y is the world's z here)
       if (i % 16 == 0) r.post(0.0, i < 500 ? 0.2 : -0.4);
       g_now_ns += 1'000'000;
       servo.tick(i, i * 1e-3);

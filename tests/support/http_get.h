@@ -12,8 +12,8 @@
 namespace palpate::test {
 
 /// The raw response (status line, headers, body); empty when nothing answered. A server that never answers fails
-/// the caller's checks after 30 s instead of hanging the test.
-inline std::string http_get(int port, const std::string& path) {
+/// the caller's checks after 30 s instead of hanging the test. host: the Host header sent.
+inline std::string http_get(int port, const std::string& path, const std::string& host = "127.0.0.1") {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   const timeval limit{30, 0};
   ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
@@ -23,7 +23,7 @@ inline std::string http_get(int port, const std::string& path) {
   sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   std::string out;
   if (::connect(fd, reinterpret_cast<sockaddr*>(&sa), sizeof sa) == 0) {
-    const std::string req = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+    const std::string req = "GET " + path + " HTTP/1.1\r\nHost: " + host + "\r\nConnection: close\r\n\r\n";
     if (::send(fd, req.data(), req.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(req.size())) {
       char buf[65536];
       for (ssize_t n; (n = ::recv(fd, buf, sizeof buf, 0)) > 0;) out.append(buf, static_cast<std::size_t>(n));

@@ -177,8 +177,8 @@ TEST(Record, AStopRequestEndsTheRunWithEveryOutputWhole) {
   EXPECT_FALSE(read_json(whole.value().summary_path).contains("interrupted"));
 }
 
-// ... and through the command: SIGINT to a realtime recording of ten minutes ends it, exit 130, outputs whole; SIGHUP
-// (the SSH session the run was started from dropped) the same
+// ... and through the command: SIGINT to a realtime recording of ten minutes ends it, exit 130, outputs whole, the
+// progress line ending where it stopped; SIGHUP (the SSH session the run was started from dropped) the same
 TEST(Record, CtrlCEndsARealtimeRecordingWithItsLogAndSummary) {
   const char* bin_env = std::getenv("PALPATE_BIN_DIR");
   const std::string bin = bin_env ? bin_env : "build/bin";
@@ -187,11 +187,14 @@ TEST(Record, CtrlCEndsARealtimeRecordingWithItsLogAndSummary) {
     // the signal goes once the log is open (the handler is in place before it is); timeout passes it on, and ends a
     // run that ignores it in 2 minutes instead of 10
     const test::CliRun r = test::shell(
-        "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --no-render -q --duration 600 -o " +
+        "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --no-render --duration 600 -o " +
         out + " & p=$!; n=0; while [ ! -e " + out + "/haptic.csv.partial ] && [ $n -lt 300 ]; do sleep 0.1; n=$((n+1)); "
         "done; sleep 0.5; kill -" + sig + " $p; wait $p; echo \"exit $?\")");
     EXPECT_NE(r.out.find("exit 130"), std::string::npos) << sig << ": " << r.out;
     EXPECT_NE(r.out.find("stopped on request"), std::string::npos) << sig << ": " << r.out;
+    // the progress line's last word is where the run stopped, not the frames it never made
+    EXPECT_NE(r.out.find("record cube_press:"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("frame 36000 / 36000"), std::string::npos) << sig << ": " << r.out;
     const auto summary = read_json(out + "/summary.json");
     EXPECT_TRUE(summary.contains("interrupted")) << summary.dump();
     EXPECT_GT(summary["haptic_rows"].get<int>(), 0);

@@ -31,7 +31,8 @@ struct EchoServer {
                           note("message " + std::string(text));
                           http.ws_send(id, "echo " + std::string(text));
                         },
-                        [this](int64_t, const std::string& why) { note("close " + why); }});
+                        [this](int64_t, const std::string& why) { note("close " + why); },
+                        {}});
     EXPECT_TRUE(http.start("127.0.0.1", 0));
   }
   void note(const std::string& e) {

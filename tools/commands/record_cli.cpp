@@ -177,12 +177,17 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     feed = std::make_unique<LiveFeed>(plan.scene.render.width, plan.scene.render.height, a.scene_path,
                                       plan.lockstep ? "lockstep" : "realtime");
     if (a.serve_linger_s > 0.0) feed->keep_frames();
+    feed->set_out_dir(plan.out_dir);
     server = std::make_unique<LiveServer>(feed.get(), browser.get());
     if (auto st = server->start(address.value()); !st) {
       std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
       return 2;
     }
     std::fprintf(stderr, "palpate: live view at %s\n", server->url().c_str());
+    if (!server->token().empty())
+      std::fprintf(stderr, "palpate: the live view listens beyond loopback: from another machine open "
+                           "http://ADDRESS:%d/?token=%s (ADDRESS: this machine's IP address or name); a page "
+                           "without the token watches but cannot steer\n", server->port(), server->token().c_str());
     opt.live = feed.get();
   }
   Result<RecordResult> res = Error{};

@@ -71,7 +71,13 @@ BrowserMessage parse_browser_message(std::string_view text) {
     m.kind = BrowserMessage::Kind::kLatency;
     return m;
   }
-  return bad("unknown message", f[0], "(p or l)");
+  if (f[0] == "k") {
+    if (f.size() != 1) return fail("alive: no fields expected, got " + std::to_string(f.size() - 1));
+    BrowserMessage m;
+    m.kind = BrowserMessage::Kind::kAlive;
+    return m;
+  }
+  return bad("unknown message", f[0], "(p, l or k)");
 }
 
 }  // namespace palpate

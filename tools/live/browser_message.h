@@ -6,6 +6,8 @@
 ///                             BUTTONS 0..3 (bit 0 the main button)
 ///   l FORCE_MS FRAME_MS       latencies the page measured: input event to the force computed from it coming back,
 ///                             and to the first frame drawn after it (0..60000 ms each; -1 = not measured yet)
+///   k                         the page is still open (it sends poses only while its user steers): keeps the
+///                             socket, never control
 
 #include <cstdint>
 #include <string>
@@ -15,7 +17,7 @@ namespace palpate {
 
 /// A parsed page message. Plain data.
 struct BrowserMessage {
-  enum class Kind { kPose, kLatency, kError };
+  enum class Kind { kPose, kLatency, kAlive, kError };
   Kind kind = Kind::kError;
   int64_t seq = 0;             ///< kPose
   double x = 0.0, y = 0.0, depth = 0.0;  ///< kPose, each -1..1

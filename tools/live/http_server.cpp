@@ -344,6 +344,12 @@ void HttpServer::answer(Conn* c, int64_t now_ns, bool must) {
   }
   if (r.wait && !must) return;
   if (r.wait) r.status = 503;
+  if (r.upgrade && ws_.message && ws_.evict && sockets_.load() >= limits_.max_sockets && !stopping_.load()) {
+    // every slot is taken: the application may give one up (an idle page) for the new one
+    const int64_t id = ws_.evict();
+    if (Conn* old = id >= 0 ? socket(id) : nullptr; old && !old->ws_closing)
+      socket_close(old, kWsClosePolicy, "a newer page took the slot of this one, idle longest");
+  }
   if (r.upgrade && (!ws_.message || sockets_.load() >= limits_.max_sockets || stopping_.load())) {
     r = HttpReply{};
     r.status = 503;

@@ -36,7 +36,8 @@ struct HttpLimits {
   int64_t max_wait_ms = 1000;              ///< a handler may defer its reply this long (long-poll)
   int64_t shutdown_grace_ms = 500;         ///< stop() waits at most this for replies under way
   WsLimits ws;                             ///< frames a WebSocket client may send
-  int max_sockets = 4;                     ///< open WebSockets at most (further upgrades get 503)
+  int max_sockets = 4;                     ///< open WebSockets at most (further upgrades get 503, unless the
+                                           ///< WsCallbacks' evict gives one up)
   int64_t ws_idle_timeout_ms = 10000;      ///< a WebSocket with no frame from the client this long is closed
   std::size_t ws_max_out_bytes = 65536;    ///< a WebSocket's unsent output at most (ws_send refuses beyond)
 };
@@ -65,6 +66,8 @@ struct WsCallbacks {
   std::function<void(int64_t id, const HttpRequest& request)> open;      ///< a socket opened (after its 101)
   std::function<void(int64_t id, WsOpcode opcode, std::string_view payload)> message;  ///< a text or binary frame
   std::function<void(int64_t id, const std::string& why)> close;        ///< a socket ended, once, whatever ended it
+  /// every socket slot is taken and a page asks for one: the socket to close for it (-1: none; the page gets 503)
+  std::function<int64_t()> evict;
 };
 
 /// Answers a request; must_answer is true at the wait deadline and while stopping. Thread: the server's loop.

@@ -72,6 +72,9 @@ class LiveFeed {
   int height() const { return height_; }
   const std::string& scene() const { return scene_; }
   const std::string& mode() const { return mode_; }
+  /// Where the recording's outputs go (shown on the page when the run ends); set before the server starts.
+  void set_out_dir(std::string dir) { out_dir_ = std::move(dir); }
+  const std::string& out_dir() const { return out_dir_; }
   /// Scene index of the newest frame copied into the slot, -1 before the first.
   int64_t frame_index() const noexcept { return slot_index_.load(std::memory_order_acquire); }
   /// Clients want frames until monotonic time until_ns (the sim thread copies none otherwise).
@@ -90,6 +93,7 @@ class LiveFeed {
  private:
   const int width_, height_;
   const std::string scene_, mode_;
+  std::string out_dir_;
 
   // frame slot: the sim thread writes under try_lock, a reader copies under lock
   std::mutex slot_mutex_;

@@ -43,7 +43,7 @@ canvas.plot { background: #fff; border: 1px solid #ccc; width: 100%; height: 150
 <div id="top">
   <div><div id="stage"><canvas id="view" width="640" height="480"></canvas><canvas id="overlay"></canvas></div>
   <div id="device">device: <b id="role">&hellip;</b> <span id="devinfo"></span><br>
-  drag: move the tool &middot; wheel: depth &middot; Space, right button or a long press: button (grab / blade)</div></div>
+  drag: move the tool from where it is &middot; wheel or two fingers: depth &middot; [ ]: wheel step &middot; Space, right button or a long press: button (grab / blade)</div></div>
   <table><tbody id="figures"></tbody></table>
 </div>
 <div id="plots">
@@ -62,6 +62,7 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const WINDOW_S = 10;  // scene seconds shown in the plots
 const s = { t: [], force: [], contact: [], wake: [], work: [], late: [] };
 let next = 0;
+let deviceOn = false;  // the server steers a browser device through this page
 
 async function frames() {
   const view = $("view"), ctx = view.getContext("2d");
@@ -121,9 +122,12 @@ function showFigures(j) {
 
 function showState() {
   const el = $("state");
-  if (!live.connected && live.stats) { el.textContent = "server stopped (last frame kept)"; el.className = "gone"; }
+  if (!live.connected && live.stats) {
+    el.textContent = "server stopped (last frame kept)" + (live.stats.out ? "; outputs in " + live.stats.out : ""); el.className = "gone";
+  }
+  if ((live.finished || (!live.connected && live.stats)) && deviceOn && !dev.ended) ended(live.stats && live.stats.out);
   else if (!live.connected) { el.textContent = "connecting"; el.className = ""; }
-  else if (live.finished) { el.textContent = "finished"; el.className = "finished"; }
+  else if (live.finished) { el.textContent = "finished" + (live.stats && live.stats.out ? ": outputs in " + live.stats.out : ""); el.className = "finished"; }
   else { el.textContent = "recording"; el.className = "running"; }
 }
 
@@ -206,30 +210,58 @@ async function stats() {
 }
 
 // ---- the page as a device (only when the server steers a browser device: /ws answers) ----
-const dev = { role: "none", x: 0, y: 0, depth: 0, button: false, seq: 0, force: [0, 0, 0], fv: [0, 0, 0],
-              hv: [0, 0, 0], scale: 0, sent: 0, feedback: 0, inputAt: 0, pending: [], frameWait: [],
-              forceMs: -1, frameMs: -1 };
+// Input is relative: a drag moves the tool from where it is, the wheel steps its depth by dev.wheelMm. The page sends
+// poses only while its user steers (an input in the last HOLD_MS, or a button, a press or a stick held) and never
+// from a hidden tab; otherwise it sends "k" now and then to keep its socket. The server anchors each page's control
+// where the tool is, so a page that connects, reloads or takes over moves nothing until its user does.
+const HOLD_MS = 2000;
+const dev = { role: "none", steer: true, x: 0, y: 0, depth: 0, button: false, seq: 0, force: [0, 0, 0], fv: [0, 0, 0],
+              hv: [0, 0, 0], hs: [0, 0], mm: [0, 0, 0], scale: 0, engaged: false, sent: 0, feedback: 0, inputAt: 0,
+              pending: [], frameWait: [], forceMs: -1, frameMs: -1, activeUntil: 0, synced: false, wheelMm: 1.0,
+              ended: null, alive: 0, ticks: 0 };
 live.device = dev;
-let sock = null, lastEventSeq = 0;
+let sock = null;
 function clamp(v) { return Math.max(-1, Math.min(1, v)); }
-// an input event changed the pose: the next message carries it, and its time is kept for the latency figures
-function moved() { dev.inputAt = performance.now(); }
+function visible() { return document.visibilityState !== "hidden"; }
+// the page's pointer starts where the tool is (the newest feedback), once per control
+function sync() {
+  if (dev.synced || !dev.ticks) return;  // the servo has not run yet: where the tool is is not known
+  dev.x = clamp(dev.hv[0]); dev.y = clamp(dev.hv[1]); dev.depth = clamp(dev.hv[2]);
+  dev.synced = true;
+  sendPose();  // the anchor: where the tool is, before this input moves it
+}
+// an input event: the page steers for HOLD_MS more, and its time is kept for the latency figures
+function moved() { const now = performance.now(); dev.inputAt = now; dev.activeUntil = now + HOLD_MS; }
+function steering() {
+  return visible() && !dev.ended && dev.steer && (performance.now() < dev.activeUntil || dragging || keyDown || padActive);
+}
 function frameDrawn(index) {
   const now = performance.now();
   while (dev.frameWait.length && dev.frameWait[0].k < index) { dev.frameMs = now - dev.frameWait.shift().t; }
 }
+function ended(out) {
+  dev.ended = out || "(the run's output folder)";
+  dev.force = [0, 0, 0]; dev.fv = [0, 0, 0]; dev.scale = 0; dev.button = false; dev.activeUntil = 0;
+  drawForce();
+}
 function connectDevice() {
-  sock = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
+  const token = new URLSearchParams(location.search).get("token");
+  sock = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws" +
+                       (token ? "?token=" + encodeURIComponent(token) : ""));
   sock.onmessage = (e) => {
     const m = JSON.parse(e.data);
     if (m.t === "hello") {
-      dev.role = m.role; dev.seq = 0;
+      dev.role = m.role; dev.steer = m.steer !== false; dev.synced = false;
       $("device").style.display = "block";
-      $("role").textContent = m.role === "control" ? "you steer it" : "watching (another page steers)";
+      $("role").textContent = !dev.steer ? "watching: " + (m.why || "this page may not steer")
+          : m.role === "control" ? "you steer it" : "watching (another page steers; steer here once it stops)";
       $("role").className = m.role;
       return;
     }
-    dev.force = m.f; dev.fv = m.fv; dev.hv = m.hv; dev.scale = m.scale; dev.feedback++;
+    if (m.t === "ended") { ended(m.out); return; }
+    if (dev.ended) return;
+    dev.force = m.f; dev.fv = m.fv; dev.hv = m.hv; dev.hs = m.hs || [m.hv[0], m.hv[1]]; dev.mm = m.mm || dev.mm;
+    dev.scale = m.scale; dev.engaged = !!m.e; dev.ticks = m.n || 0; dev.feedback++;
     // the first feedback that used a message carrying an input event: event to force computed and back
     const now = performance.now();
     while (dev.pending.length && dev.pending[0].seq <= m.s) {
@@ -239,11 +271,10 @@ function connectDevice() {
     if (dev.frameWait.length > 120) dev.frameWait.splice(0, dev.frameWait.length - 120);
     drawForce();
   };
-  sock.onclose = () => { dev.role = "none"; $("role").textContent = "not connected"; $("role").className = ""; };
+  sock.onclose = () => { dev.role = "none"; $("role").textContent = "not connected"; $("role").className = ""; drawForce(); };
 }
-function send() {
-  pollGamepad();
-  if (!sock || sock.readyState !== 1 || dev.role !== "control") return;
+function sendPose() {
+  if (!sock || sock.readyState !== 1 || !dev.steer) return;
   dev.seq++;
   const b = dev.button ? 1 : 0;
   sock.send("p " + dev.seq + " " + dev.x.toFixed(4) + " " + dev.y.toFixed(4) + " " + dev.depth.toFixed(4) + " " + b);
@@ -251,80 +282,139 @@ function send() {
   if (dev.inputAt > 0) { dev.pending.push({ seq: dev.seq, t: dev.inputAt }); dev.inputAt = 0; }
   if (dev.pending.length > 120) dev.pending.splice(0, dev.pending.length - 120);
 }
+function send() {
+  pollGamepad();
+  if (!sock || sock.readyState !== 1) return;
+  if (steering() && dev.synced) { sendPose(); return; }
+  const now = performance.now();
+  if (now - dev.alive > 2000) { dev.alive = now; sock.send("k"); }
+}
 function sendLatency() {
   if (sock && sock.readyState === 1 && dev.role === "control" && (dev.forceMs >= 0 || dev.frameMs >= 0))
     sock.send("l " + Math.min(dev.forceMs, 60000).toFixed(2) + " " + Math.min(dev.frameMs, 60000).toFixed(2));
+}
+function arrowHead(g, x0, y0, x1, y1) {
+  const a = Math.atan2(y1 - y0, x1 - x0);
+  g.beginPath(); g.moveTo(x1, y1); g.lineTo(x1 - 9 * Math.cos(a - 0.4), y1 - 9 * Math.sin(a - 0.4));
+  g.lineTo(x1 - 9 * Math.cos(a + 0.4), y1 - 9 * Math.sin(a + 0.4)); g.fill();
 }
 function drawForce() {
   const o = $("overlay"), v = $("view");
   if (o.width !== v.clientWidth || o.height !== v.clientHeight) { o.width = v.clientWidth; o.height = v.clientHeight; }
   const g = o.getContext("2d");
   g.clearRect(0, 0, o.width, o.height);
+  g.font = "13px system-ui, sans-serif";
+  if (dev.ended) {
+    g.fillStyle = "rgba(0,0,0,0.6)"; g.fillRect(0, 0, o.width, 28);
+    g.fillStyle = "#fff"; g.fillText("run ended: no force; outputs in " + dev.ended, 8, 18);
+    $("devinfo").textContent = "run ended; outputs in " + dev.ended;
+    return;
+  }
   if (dev.role === "none") return;
-  const px = (dev.hv[0] + 1) / 2 * o.width, py = (1 - dev.hv[1]) / 2 * o.height;
+  // the tool where the camera sees it (perspective), drawn over the surface (also when it is inside)
+  const px = (dev.hs[0] + 1) / 2 * o.width, py = (1 - dev.hs[1]) / 2 * o.height;
   const f = Math.hypot(dev.force[0], dev.force[1], dev.force[2]), s = 40;  // px per N
   g.strokeStyle = "#ff9800"; g.fillStyle = "#ff9800"; g.lineWidth = 3;
   g.beginPath(); g.arc(px, py, 5, 0, 2 * Math.PI); g.stroke();
+  g.setLineDash([2, 3]); g.lineWidth = 1; g.beginPath(); g.arc(px, py, 9, 0, 2 * Math.PI); g.stroke(); g.setLineDash([]);
   const ex = px + dev.fv[0] * s, ey = py - dev.fv[1] * s;
-  g.beginPath(); g.moveTo(px, py); g.lineTo(ex, ey); g.stroke();
-  const a = Math.atan2(ey - py, ex - px);
-  if (f > 0.01) { g.beginPath(); g.moveTo(ex, ey); g.lineTo(ex - 9 * Math.cos(a - 0.4), ey - 9 * Math.sin(a - 0.4));
-                  g.lineTo(ex - 9 * Math.cos(a + 0.4), ey - 9 * Math.sin(a + 0.4)); g.fill(); }
-  g.font = "13px system-ui, sans-serif";
-  g.fillText("F " + f.toFixed(2) + " N" + (dev.button ? "  [button]" : "") + (dev.scale < 1 ? "  fading " + dev.scale.toFixed(2) : ""), 8, 18);
+  g.lineWidth = 3; g.beginPath(); g.moveTo(px, py); g.lineTo(ex, ey); g.stroke();
+  if (f > 0.01) arrowHead(g, px, py, ex, ey);
+  // depth gauge at the right edge: near (top) .. far (bottom), the tool's depth marked, in mm from the view plane
+  const gx = o.width - 22, gt = 30, gb = o.height - 30, gy = gt + (gb - gt) * (clamp(dev.hv[2]) + 1) / 2;
+  g.fillStyle = "rgba(255,255,255,0.75)"; g.fillRect(gx - 6, gt - 4, 16, gb - gt + 8);
+  g.strokeStyle = "#555"; g.lineWidth = 1; g.beginPath(); g.moveTo(gx + 2, gt); g.lineTo(gx + 2, gb);
+  g.moveTo(gx - 3, (gt + gb) / 2); g.lineTo(gx + 7, (gt + gb) / 2); g.stroke();
+  g.fillStyle = "#ff9800"; g.beginPath(); g.moveTo(gx - 8, gy); g.lineTo(gx + 2, gy - 6); g.lineTo(gx + 2, gy + 6); g.fill();
+  const depthMm = dev.hv[2] * dev.mm[2];
+  g.fillStyle = "#fff"; g.strokeStyle = "#000"; g.lineWidth = 3;
+  const label = "F " + f.toFixed(2) + " N" + (dev.button ? "  [button]" : "") + "   depth " +
+      (depthMm >= 0 ? "+" : "") + depthMm.toFixed(1) + " mm   wheel " + dev.wheelMm + " mm/notch ([ ])" +
+      (dev.role === "control" && !dev.engaged ? "   move to steer" : "") +
+      (dev.scale > 0 && dev.scale < 1 ? "  fading " + dev.scale.toFixed(2) : "");
+  g.strokeText(label, 8, 18); g.fillText(label, 8, 18);
   $("devinfo").textContent = "force " + f.toFixed(2) + " N, input \u2192 force back " +
       (dev.forceMs >= 0 ? dev.forceMs.toFixed(1) + " ms" : "\u2013") + ", input \u2192 frame " +
       (dev.frameMs >= 0 ? dev.frameMs.toFixed(0) + " ms" : "\u2013");
 }
-// pointer (mouse, touch, pen): a drag moves the tool; a press held still 0.5 s (or the right button) is the button
-let dragging = false, pressTimer = 0, pressAt = null;
-function at(e) {
-  const r = $("overlay").getBoundingClientRect();
-  dev.x = clamp((e.clientX - r.left) / r.width * 2 - 1);
-  dev.y = clamp(1 - (e.clientY - r.top) / r.height * 2);
-  if (e.pointerType === "pen" && e.pressure > 0) dev.depth = clamp(e.pressure * 2 - 1);
-  moved();
-}
+// pointer (mouse, touch, pen): a drag moves the tool by the pointer's motion; a press held still 0.5 s (or the right
+// button) is the button; two fingers dragged up or down set the depth
+let dragging = false, pressTimer = 0, pressAt = null, keyDown = false, padButton = false, padActive = false;
+const touches = new Map();
 function setupInput() {
   const o = $("overlay");
+  const rect = () => o.getBoundingClientRect();
   o.addEventListener("contextmenu", (e) => e.preventDefault());
   o.addEventListener("pointerdown", (e) => {
     o.setPointerCapture(e.pointerId);
-    dragging = true; at(e);
-    if (e.button === 2) { dev.button = true; moved(); return; }
+    touches.set(e.pointerId, [e.clientX, e.clientY]);
+    sync();
+    dragging = true; moved();
+    if (e.pointerType === "pen" && e.pressure > 0) dev.depth = clamp(e.pressure * 2 - 1);
+    if (e.button === 2) { dev.button = true; return; }
     pressAt = [e.clientX, e.clientY];
     clearTimeout(pressTimer);
     pressTimer = setTimeout(() => { dev.button = true; moved(); }, 500);
   });
   o.addEventListener("pointermove", (e) => {
-    if (!dragging) return;
-    at(e);
+    const last = touches.get(e.pointerId);
+    if (!dragging || !last) return;
+    const r = rect(), dx = e.clientX - last[0], dy = e.clientY - last[1];
+    touches.set(e.pointerId, [e.clientX, e.clientY]);
+    sync();
+    if (touches.size >= 2) {
+      // two fingers: depth, 0.2 mm a pixel of their vertical drag (each finger moves half)
+      if (dev.mm[2] > 0) dev.depth = clamp(dev.depth + 0.1 * dy / dev.mm[2]);
+    } else {
+      dev.x = clamp(dev.x + 2 * dx / r.width);
+      dev.y = clamp(dev.y - 2 * dy / r.height);
+      if (e.pointerType === "pen" && e.pressure > 0) dev.depth = clamp(e.pressure * 2 - 1);
+    }
+    moved();
     if (pressAt && Math.hypot(e.clientX - pressAt[0], e.clientY - pressAt[1]) > 6) { clearTimeout(pressTimer); pressAt = null; }
   });
-  const up = () => { dragging = false; clearTimeout(pressTimer); pressAt = null;
-                     if (!keyDown) { dev.button = false; moved(); } };
+  const up = (e) => { touches.delete(e.pointerId); if (touches.size) return;
+                      dragging = false; clearTimeout(pressTimer); pressAt = null;
+                      if (!keyDown) { dev.button = false; moved(); } };
   o.addEventListener("pointerup", up);
   o.addEventListener("pointercancel", up);
-  o.addEventListener("wheel", (e) => { e.preventDefault(); dev.depth = clamp(dev.depth + e.deltaY * 0.001); moved(); },
-                     { passive: false });
-  window.addEventListener("keydown", (e) => { if (e.code === "Space") { e.preventDefault(); keyDown = true; dev.button = true; moved(); } });
+  o.addEventListener("wheel", (e) => {
+    e.preventDefault();
+    sync();
+    const notches = e.deltaMode === 1 ? e.deltaY / 3 : e.deltaMode === 2 ? e.deltaY * 10 : e.deltaY / 100;
+    if (dev.mm[2] > 0) dev.depth = clamp(dev.depth + notches * dev.wheelMm / dev.mm[2]);
+    moved();
+  }, { passive: false });
+  window.addEventListener("keydown", (e) => {
+    if (e.code === "Space") { e.preventDefault(); sync(); keyDown = true; dev.button = true; moved(); }
+    if (e.key === "[" || e.key === "]") {
+      dev.wheelMm = Math.max(0.25, Math.min(8, e.key === "]" ? dev.wheelMm * 2 : dev.wheelMm / 2)); drawForce();
+    }
+  });
   window.addEventListener("keyup", (e) => { if (e.code === "Space") { keyDown = false; dev.button = false; moved(); } });
+  // a hidden tab lets go: no button, no poses (the server fades the force out and another page may steer)
+  document.addEventListener("visibilitychange", () => {
+    if (visible()) return;
+    dragging = false; keyDown = false; dev.button = false; dev.activeUntil = 0; dev.synced = false; touches.clear();
+  });
 }
-let keyDown = false, padButton = false;
 // gamepad: left stick moves across the view, right stick up/down and the triggers set depth, A or RB is the button;
 // the vibration follows the force
 function pollGamepad() {
   const pads = navigator.getGamepads ? navigator.getGamepads() : [];
+  padActive = false;
   for (const p of pads) {
     if (!p || !p.connected) continue;
     const dz = (v) => Math.abs(v) < 0.12 ? 0 : v, k = 0.02;
     const lx = dz(p.axes[0] || 0), ly = dz(p.axes[1] || 0), ry = dz(p.axes[3] || 0);
     const lt = p.buttons[6] ? p.buttons[6].value : 0, rt = p.buttons[7] ? p.buttons[7].value : 0;
-    if (lx || ly || ry || lt || rt) {
+    const b = !!((p.buttons[0] && p.buttons[0].pressed) || (p.buttons[5] && p.buttons[5].pressed));
+    if (lx || ly || ry || lt || rt || b) {
+      sync();
+      padActive = visible();
       dev.x = clamp(dev.x + k * lx); dev.y = clamp(dev.y - k * ly);
       dev.depth = clamp(dev.depth + k * (ry + rt - lt)); moved();
     }
-    const b = !!((p.buttons[0] && p.buttons[0].pressed) || (p.buttons[5] && p.buttons[5].pressed));
     if (b !== padButton) { padButton = b; dev.button = b; moved(); }
     const f = Math.hypot(dev.force[0], dev.force[1], dev.force[2]);
     if (p.vibrationActuator && f > 0.05 && dev.role === "control")
@@ -335,7 +425,7 @@ function pollGamepad() {
 
 frames();
 stats();
-fetch("/ws", { cache: "no-store" }).then((r) => { if (r.status !== 404) { setupInput(); connectDevice(); } }).catch(() => {});
+fetch("/ws" + location.search, { cache: "no-store" }).then((r) => { if (r.status !== 404) { deviceOn = true; setupInput(); connectDevice(); } }).catch(() => {});
 setInterval(send, 15);
 setInterval(sendLatency, 250);
 </script>

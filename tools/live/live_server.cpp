@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <sys/random.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -64,7 +65,53 @@ bool encode_png(int width, int height, const uint8_t* rgba, std::string* out) {
   return true;
 }
 
+// 16 random bytes as 32 hex digits (the kernel's generator); "" when it cannot give them
+std::string random_token() {
+  unsigned char b[16];
+  std::size_t got = 0;
+  while (got < sizeof b) {
+    const ssize_t n = ::getrandom(b + got, sizeof b - got, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return {};
+    got += static_cast<std::size_t>(n);
+  }
+  static const char* hex = "0123456789abcdef";
+  std::string t;
+  for (unsigned char c : b) {
+    t += hex[c >> 4];
+    t += hex[c & 15];
+  }
+  return t;
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+  return out;
+}
+
 }  // namespace
+
+bool host_allowed(std::string_view host, std::string_view bind_host, std::string_view machine) {
+  if (loopback_host(host)) return true;
+  if (bind_host.substr(0, 4) == "127.") return false;
+  // the name without its port
+  std::string_view name = host;
+  if (!name.empty() && name.front() == '[') {
+    const auto close = name.find(']');
+    if (close == std::string_view::npos || (close + 1 < name.size() && name[close + 1] != ':')) return false;
+    const std::string inner(name.substr(1, close - 1));
+    in6_addr a6{};
+    return inet_pton(AF_INET6, inner.c_str(), &a6) == 1;
+  }
+  if (const auto colon = name.find(':'); colon != std::string_view::npos) name = name.substr(0, colon);
+  if (name.empty()) return false;
+  in_addr a4{};
+  if (inet_pton(AF_INET, std::string(name).c_str(), &a4) == 1) return true;
+  if (machine.empty()) return false;
+  const std::string n = lower(name), m = lower(machine);
+  return n == m || n == m.substr(0, m.find('.'));
+}
 
 Result<ServeAddress> parse_serve_address(const std::string& text) {
   ServeAddress a;
@@ -86,19 +133,23 @@ Result<ServeAddress> parse_serve_address(const std::string& text) {
 }
 
 struct LiveServer::Impl {
-  Impl(LiveFeed* f, BrowserLink* link)
-      : feed(f), http([this](const HttpRequest& r, bool must) { return answer(r, must); }, [this] { tick(); },
-                      link ? kFeedback_ms : kCollect_ms) {
-    if (link) browser = std::make_unique<BrowserControl>(&http, link);
+  Impl(LiveFeed* f, BrowserLink* l)
+      : feed(f),
+        link(l), http([this](const HttpRequest& r, bool must) { return answer(r, must); }, [this] { tick(); },
+                      l ? kFeedback_ms : kCollect_ms) {
   }
 
   LiveFeed* feed;
+  BrowserLink* link;
   HttpServer http;
   std::unique_ptr<BrowserControl> browser;
   int64_t next_collect_ns = 0;
   std::string host;
   int port = 0;
   bool loopback_only = false;  // set before the loop starts: the socket's Host must name loopback (DNS rebinding)
+  std::string machine;         // this machine's name (a Host a bind beyond loopback accepts)
+  std::string token;           // a bind beyond loopback: what a page needs to steer
+  bool ended_sent = false;
 
   // everything below is the server loop's own (one thread): no locks
   // plot points taken from the feed: points [history_begin, history_begin + history.size())
@@ -117,6 +168,10 @@ struct LiveServer::Impl {
   // the loop's tick: the pages' force (every kFeedback_ms) and the feed's points (every kCollect_ms)
   void tick() {
     if (browser) browser->tick(feed->frame_index());
+    if (browser && !ended_sent && figures.finished) {
+      ended_sent = true;
+      browser->run_ended(feed->out_dir());
+    }
     const int64_t now = monotonic_ns();
     if (now < next_collect_ns) return;
     next_collect_ns = now + kCollect_ms * 1'000'000;
@@ -155,6 +210,15 @@ struct LiveServer::Impl {
   HttpReply answer(const HttpRequest& req, bool must) {
     HttpReply r;
     r.headers.emplace_back("Cache-Control", "no-store");
+    if (!req.host.empty() && !host_allowed(req.host, host, machine)) {
+      // a name of another site pointed at this machine (DNS rebinding): nothing is served to it
+      r.status = 403;
+      r.content_type = "text/plain; charset=utf-8";
+      r.body = std::make_shared<const std::string>(
+          "403 Forbidden: Host '" + req.host.substr(0, 200) + "' is not a name of this server (" +
+          (loopback_only ? std::string("localhost or 127.0.0.1") : "an IP address, localhost or " + machine) + ")\n");
+      return r;
+    }
     if (req.path == "/") {
       r.content_type = "text/html; charset=utf-8";
       r.body = page;
@@ -192,6 +256,7 @@ struct LiveServer::Impl {
     const LiveFigures& f = figures;
     j["scene"] = feed->scene();
     j["mode"] = feed->mode();
+    j["out"] = feed->out_dir();
     j["width"] = feed->width();
     j["height"] = feed->height();
     j["finished"] = f.finished;
@@ -236,16 +301,26 @@ LiveServer::~LiveServer() { stop(); }
 Status LiveServer::start(const ServeAddress& address) {
   Impl& m = *impl_;
   m.loopback_only = address.host.rfind("127.", 0) == 0;
-  if (auto st = m.http.start(address.host, address.port); !st) return st;
   m.host = address.host;
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) == 0) m.machine = name;
+  if (!m.loopback_only) {
+    m.token = random_token();
+    if (m.token.empty()) return make_error("--serve ", address.host, ": no random token for a bind beyond loopback (",
+                                           std::strerror(errno), ")");
+  }
+  if (m.link) m.browser = std::make_unique<BrowserControl>(&m.http, m.link, BrowserControlParams{m.token});
+  if (auto st = m.http.start(address.host, address.port); !st) return st;
   m.port = m.http.port();
   return Ok{};
 }
 
 std::string LiveServer::url() const {
   const std::string host = impl_->host == "0.0.0.0" ? "127.0.0.1" : impl_->host;
-  return "http://" + host + ":" + std::to_string(impl_->port) + "/";
+  return "http://" + host + ":" + std::to_string(impl_->port) + "/" + (impl_->token.empty() ? "" : "?token=" + impl_->token);
 }
+
+const std::string& LiveServer::token() const { return impl_->token; }
 
 int LiveServer::port() const { return impl_->port; }
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "core/result.h"
 #include "haptics/browser_link.h"
@@ -20,6 +21,12 @@ struct ServeAddress {
   std::string host = "127.0.0.1";
   int port = 0;
 };
+
+/// Whether a request's Host may reach a server bound to `bind_host`: on loopback, a loopback name (localhost,
+/// 127.x.x.x, [::1]); on any other bind also an IP address literal or this machine's own name (`machine`, as
+/// gethostname gives it, or its first label). Any other name is a page of another site whose name was pointed at
+/// this machine (DNS rebinding), refused on every bind.
+bool host_allowed(std::string_view host, std::string_view bind_host, std::string_view machine);
 
 /// Parses "[ADDR:]PORT" (ADDR an IPv4 address or "localhost", default 127.0.0.1; PORT 0..65535, 0 = any free
 /// port). Errors name the text and what is wrong with it.
@@ -36,10 +43,14 @@ class LiveServer {
   LiveServer(const LiveServer&) = delete;
   LiveServer& operator=(const LiveServer&) = delete;
 
-  /// Binds and starts serving; errors name the address and the cause ("address in use", ...).
+  /// Binds and starts serving; errors name the address and the cause ("address in use", ...). A bind that is not
+  /// loopback makes a random token: only a page opened with it (url()) may steer a browser device.
   Status start(const ServeAddress& address);
-  /// The page's address, e.g. "http://127.0.0.1:8080/" (valid after start()).
+  /// The page's address, e.g. "http://127.0.0.1:8080/", with "?token=..." when the server has a token (valid after
+  /// start()).
   std::string url() const;
+  /// The token a page needs to steer ("" on loopback, where any page of this server's own origin may).
+  const std::string& token() const;
   /// The port listened on (the one chosen when 0 was asked).
   int port() const;
   /// Stops listening, ends the open connections (waiting at most HttpLimits::shutdown_grace_ms for replies under

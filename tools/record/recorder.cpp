@@ -51,6 +51,9 @@ BrowserView browser_view(const Camera& cam, double aspect, double diagonal_m) {
   v.half_height_m = (cam.target_m - cam.eye_m).norm() * std::tan(0.5 * cam.fov_y_deg * M_PI / 180.0);
   v.half_width_m = v.half_height_m * aspect;
   v.half_depth_m = 0.5 * diagonal_m;
+  v.eye_m = cam.eye_m;
+  v.tan_half_fov_y = std::tan(0.5 * cam.fov_y_deg * M_PI / 180.0);
+  v.aspect = aspect;
   return v;
 }
 
@@ -141,6 +144,8 @@ class Progress {
       : quiet_(quiet), tty_(isatty(STDERR_FILENO)), name_(std::move(name)), duration_s_(duration_s),
         start_(std::chrono::steady_clock::now()) {}
   void update(double t_s, int64_t frame, int64_t frames, bool force = false) {
+    last_t_s_ = t_s;
+    last_frame_ = frame;
     if (quiet_) return;
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     if (!force && wall - last_ < (tty_ ? 0.1 : 1.0)) return;
@@ -150,7 +155,11 @@ class Progress {
                  tty_ ? "   " : "\n");
     std::fflush(stderr);
   }
-  void done() {
+  /// The run's last line: the whole scene when it ran to its end, else where it stopped (a Ctrl-C does not claim
+  /// the frames it never made).
+  void done(bool whole, int64_t frames) {
+    if (whole) update(duration_s_, frames, frames, true);
+    else update(last_t_s_, last_frame_, frames, true);
     if (!quiet_ && tty_) std::fputc('\n', stderr);
   }
 
@@ -160,6 +169,8 @@ class Progress {
   double duration_s_;
   std::chrono::steady_clock::time_point start_;
   double last_ = -1.0;
+  double last_t_s_ = 0.0;
+  int64_t last_frame_ = 0;
 };
 
 // Everything a recording opens before it runs, inputs first: a bad mesh or device leaves no output folder behind.
@@ -207,6 +218,9 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
     b->set_view(browser_view(scene_camera(scene, box),
                              static_cast<double>(scene.render.width) / scene.render.height,
                              (box.max_m - box.min_m).norm()));
+    // before a page steers, the tool waits at the scene's first key (where a scripted run starts)
+    if (!scene.trajectory.empty() && !needs_model(scene.trajectory.front()))
+      b->set_start(scene.trajectory.front().pos_m);
   }
   // a video path inside frames/ is never written (the frames folder is the recording's own)
   if (auto st = check_video_beside_frames(plan.video_path, plan.frames_dir); !st) return st.error();
@@ -358,8 +372,7 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   const Scene& scene = rec.scene;
   const RecordPlan& plan = *rec.plan;
   const int64_t frames = session.rates().frames(scene.duration_s);
-  progress.update(scene.duration_s, frames, frames, true);
-  progress.done();
+  progress.done(run.interrupted.empty() && run.aborted.empty(), frames);
   if (rec.writer) rec.writer->finish();
   Status video_status = finish_recording_video(&rec.video);
   // a realtime run's default video, from the frames just written (its encoder never ran beside the servo)
