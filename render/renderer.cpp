@@ -97,6 +97,7 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
     setup_frame(gl, /*clear=*/true);
     draw_mesh(gl, view);
   }
+  draw_drop(gl, view);
   draw_tool(gl, view);
   draw_proxy(gl, view);
   draw_blade(gl, view);

@@ -31,6 +31,10 @@ struct FrameView {
   bool show_proxy = false;                     ///< draw the proxy spring tool -> proxy
   Vec3 proxy_pos_m = Vec3::Zero();             ///< proxy (contact) point, metres
   bool tool_at_proxy = false;                  ///< draw the tool sphere at proxy_pos_m (a sphere tool resting on the surface)
+  bool show_drop = false;                      ///< a free tool's drop line straight down to the surface, and a dark
+                                               ///< disc where it lands (depth in a still frame)
+  Vec3 drop_to_m = Vec3::Zero();               ///< where the drop line meets the surface, metres
+  Vec3 drop_normal = Vec3::UnitZ();            ///< the surface's normal there (unit)
   bool show_blade = false;                     ///< draw the blade blade_tip_m -> blade_end_m (cut mode)
   Vec3 blade_tip_m = Vec3::Zero();             ///< blade tip (the tool position), metres
   Vec3 blade_end_m = Vec3::Zero();             ///< blade end toward the handle, metres
@@ -139,6 +143,7 @@ class Renderer {
   bool update_local_vertices(const FrameView& view);
   void draw_tool(const GlApi& gl, const FrameView& view) const;
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
+  void draw_drop(const GlApi& gl, const FrameView& view) const;
   void draw_blade(const GlApi& gl, const FrameView& view) const;
   bool fill_drawn() const { return style_ != RenderStyle::kWireframe; }
   bool lines_drawn() const {

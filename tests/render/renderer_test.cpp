@@ -161,6 +161,58 @@ TEST_P(RendererTest, BladeIsDrawnAsADarkLineOnlyWhenAsked) {
   }
 }
 
+// A free tool above the box's top face: its drop line runs from it down to the face, and a dark disc marks where it
+// lands; only when asked.
+TEST_P(RendererTest, DropLineAndItsDiscShowWhereAFreeToolWouldLand) {
+  FrameView view = view_;
+  view.tool_pos_m = Vec3(0.0, -0.02, 0.11);
+  view.tool_radius_m = 0.004;
+  view.drop_to_m = Vec3(0.0, -0.02, 0.06);  // on the top face, straight below
+  view.drop_normal = Vec3::UnitZ();
+  const auto hidden = render(RenderStyle::kSolid, view);
+  view.show_drop = true;
+  const auto shown = render(RenderStyle::kSolid, view);
+  EXPECT_GT(count_different(hidden, shown), 20);
+  const Eigen::Vector2d a = project(view.tool_pos_m), b = project(view.drop_to_m);
+  // the line between the tool's edge and the face: a dark grey pixel where the picture was lighter (a 1 px line:
+  // the darkest of the 3 x 3 around each point)
+  auto darkest = [](const std::vector<uint8_t>& rgba, const Eigen::Vector2d& p) {
+    int v = 255;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto px = pixel(rgba, kW, int(std::lround(p.x())) + dx, int(std::lround(p.y())) + dy);
+        v = std::min(v, std::max({px[0], px[1], px[2]}));
+      }
+    return v;
+  };
+  for (int i = 4; i < 9; ++i) {
+    const Eigen::Vector2d p = a + (i / 10.0) * (b - a);
+    EXPECT_LT(darkest(shown, p), 110) << "at " << i;
+    EXPECT_GT(darkest(hidden, p), darkest(shown, p) + 20) << "at " << i;
+  }
+  // the disc where it lands
+  const auto d = pixel(shown, kW, int(std::lround(b.x())), int(std::lround(b.y())));
+  EXPECT_LT(std::max({d[0], d[1], d[2]}), 60) << d[0] << " " << d[1] << " " << d[2];
+}
+
+// A tool pressed into the box (its centre under the top face) is hidden by the face in a solid drawing; its outline
+// is drawn through the face in the tool's colour.
+TEST_P(RendererTest, AToolInsideTheSurfaceShowsItsOutlineThroughIt) {
+  FrameView view = view_;
+  view.tool_pos_m = Vec3(0.0, -0.02, 0.05);  // 1 cm under the top face
+  view.tool_radius_m = 0.008;
+  view.in_contact = true;
+  const auto with_tool = render(RenderStyle::kSolid, view);
+  FrameView none = view_;
+  const auto without = render(RenderStyle::kSolid, none);
+  const Eigen::Vector2d t = project(view.tool_pos_m);
+  int red = 0;
+  for (int dy = -4; dy <= 4; ++dy)
+    for (int dx = -4; dx <= 4; ++dx) red += is_red(pixel(with_tool, kW, int(t.x()) + dx, int(t.y()) + dy)) ? 1 : 0;
+  EXPECT_GT(red, 5) << "no outline of the hidden tool";
+  EXPECT_GT(count_different(with_tool, without), 10);
+}
+
 TEST_P(RendererTest, SameFrameTwiceIsIdentical) {
   FrameView view = view_;
   view.tool_pos_m = Vec3(0.02, -0.05, 0.04);

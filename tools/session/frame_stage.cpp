@@ -322,6 +322,14 @@ FrameView FrameStage::current_view() const {
   view.in_contact = latest_.contact != ContactState::kFree;
   view.show_proxy = view.in_contact && latest_.contact != ContactState::kCut;
   view.proxy_pos_m = latest_.proxy_pos_m;
+  // a free tool's drop line: straight down (-z) to the first surface it would land on (the rest surface)
+  if (!view.in_contact && latest_.tool_pos_m.allFinite()) {
+    if (const auto hit = first_ray_hit(model_, latest_.tool_pos_m, -Vec3::UnitZ(), 1.0, /*front_only=*/true)) {
+      view.show_drop = true;
+      view.drop_to_m = hit->point_m;
+      view.drop_normal = hit->normal;
+    }
+  }
   // what may move (the rest comes from the renderer's cached layer), the blade
   region_->fill_view(latest_, &view);
   return view;
