@@ -7,6 +7,9 @@ cd "$(dirname "$0")/.."
 
 scripts/install_deps.sh
 build_dir=${BUILD_DIR:-build}
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DPALPATE_WERROR="${PALPATE_WERROR:-OFF}" \
+# a new build folder is made for Ninja; one configured before keeps its generator
+generator=()
+if [ ! -f "$build_dir/CMakeCache.txt" ] && command -v ninja >/dev/null 2>&1; then generator=(-G Ninja); fi
+cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DPALPATE_WERROR="${PALPATE_WERROR:-OFF}" \
   ${PALPATE_CMAKE_ARGS:-}
 cmake --build "$build_dir" -j "${JOBS:-$(nproc)}"

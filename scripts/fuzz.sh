@@ -18,8 +18,13 @@ shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(scene replay_csv shm_pose mesh_check http_head ws_frame mesh_off mesh_ply mesh_obj mesh_stl)
 
-cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DPALPATE_FUZZ=ON -DPALPATE_BUILD_TESTS=OFF -DPALPATE_BUILD_BENCH=OFF -DPALPATE_WERROR=OFF >/dev/null
+# -O1 -g1: the instrumented code compiles about a third faster than at RelWithDebInfo's -O2 -g, and a finding's stack
+# keeps its files and lines; a new build folder is made for Ninja
+generator=()
+if [ ! -f build-fuzz/CMakeCache.txt ] && command -v ninja >/dev/null 2>&1; then generator=(-G Ninja); fi
+cmake -S . -B build-fuzz "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
+  -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DPALPATE_FUZZ=ON \
+  -DPALPATE_BUILD_TESTS=OFF -DPALPATE_BUILD_BENCH=OFF -DPALPATE_WERROR=OFF >/dev/null
 cmake --build build-fuzz -j "${JOBS:-$(nproc)}" --target "${targets[@]/#/palpate_fuzz_}"
 
 mkdir -p build-fuzz/findings

@@ -4,14 +4,15 @@
 # programs are used by the tests only.
 # capsh (libcap2-bin) lets a test run the servo without the right to lock memory.
 # gnuplot-nox draws the benchmarks' --plot figures (pngcairo) from the data and script palpate writes.
-# clang builds the libFuzzer targets (scripts/fuzz.sh, CI's fuzz stage).
+# clang builds the libFuzzer targets (scripts/fuzz.sh, CI's fuzz stage). ninja-build runs the builds (a fresh build
+# folder is configured for Ninja: it keeps both cores busy across targets where make's recursion idles one).
 # libmetis-dev orders the local/global solver's sparse factor (nested dissection: shorter downdate paths).
 # cpp-httplib serves the live view (record --serve); Chromium runs its page headless in the `browser` tests.
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   libeigen3-dev libmetis-dev libassimp-dev libosmesa6-dev libegl-dev libgl-dev libpng-dev libdeflate-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
