@@ -26,8 +26,16 @@ PngWriter::PngWriter(std::string dir, int width, int height, int pool_size, cons
             static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * 4) {
   encoded_.resize(2 * static_cast<std::size_t>(std::max(pool_size, 1)));
   png_ms_.reserve(1024);
-  for (int i = 0; i < std::max(config_.threads, 1); ++i) threads_.emplace_back([this] { run(); });
-  committer_ = std::thread([this] { commit_run(); });
+  // a thread the system refuses (std::system_error: too many threads, or no memory for a stack) ends the
+  // construction with that error after the threads already running are stopped and joined, never with a running
+  // thread destroyed (std::terminate)
+  try {
+    for (int i = 0; i < std::max(config_.threads, 1); ++i) threads_.emplace_back([this] { run(); });
+    committer_ = std::thread([this] { commit_run(); });
+  } catch (...) {
+    finish();
+    throw;
+  }
 }
 
 PngWriter::~PngWriter() { finish(); }

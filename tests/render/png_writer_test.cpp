@@ -3,12 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <sys/inotify.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <system_error>
 
 #include "render/png_io.h"
 #include "render_test_util.h"
@@ -27,6 +30,45 @@ std::string frame_path(const test::ScratchDir& dir, int index) {
 
 void fill_frame(uint8_t* rgba, int index) {
   for (int i = 0; i < kW * kH * 4; ++i) rgba[i] = static_cast<uint8_t>(index * 31 + i / 4 + (i % 4) * 64);
+}
+
+// A thread the system refuses (here: no address space left for its stack) ends the construction with
+// std::system_error, the threads already started stopped and joined; it never destroys a running thread
+// (std::terminate, the process aborted). In a child process, whose address space is capped 24 MB above what it uses.
+TEST(PngWriter, AThreadTheSystemRefusesIsAnErrorNotAnAbort) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "a sanitizer's shadow memory does not fit under an address-space limit";
+#else
+  test::ScratchDir scratch("png_writer_threads");
+  const std::string dir = scratch.str();
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    long pages = 0;
+    if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+      if (std::fscanf(f, "%ld", &pages) != 1) pages = 0;
+      std::fclose(f);
+    }
+    const rlim_t cap = static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE)) + (24u << 20);
+    const rlimit lim{cap, cap};
+    if (pages == 0 || ::setrlimit(RLIMIT_AS, &lim) != 0) std::_Exit(3);
+    PngWriterConfig config;
+    config.threads = 64;  // 64 stacks of 8 MB: far past the cap
+    try {
+      PngWriter writer(dir, 1, 1, 1, config);
+      std::_Exit(2);  // every thread started: the cap did not bite
+    } catch (const std::system_error&) {
+      std::_Exit(0);
+    } catch (...) {
+      std::_Exit(4);
+    }
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child died of signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0)
+                                 << " (6: std::terminate, a running thread destroyed)";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "2: every thread started; 3: no cap set; 4: another exception";
+#endif
 }
 
 TEST(PngWriter, WritesNumberedFramesInOrder) {

@@ -15,6 +15,7 @@
 #include <memory>
 
 #include <optional>
+#include <system_error>
 
 #include "core/atomic_file.h"
 #include "core/clock.h"
@@ -492,6 +493,10 @@ Result<RecordResult> record_planned(const RecordPlan& plan, const RecordOptions&
     return record_planned_unguarded(plan, opt);
   } catch (const std::bad_alloc&) {
     return make_error("out of memory while opening or finishing the recording in '", plan.out_dir, "'");
+  } catch (const std::system_error& e) {
+    // a thread the system would not start (the writer's, the servo's): its limits on threads or memory
+    return make_error("the system refused a thread for the recording in '", plan.out_dir, "' (", e.what(),
+                      "): its limits on processes or memory (ulimit -u, ulimit -v) leave too little");
   }
 }
 
