@@ -151,6 +151,13 @@ struct Scene {
                                     ///< a run reads (--servo-rate is applied to it once, by the record plan)
 };
 
+/// A scene with every key at its default: the one owner of the defaults that other parameter blocks repeat
+/// (haptics' ServoParams starts from these). Built once.
+inline const Scene& scene_defaults() {
+  static const Scene defaults{};
+  return defaults;
+}
+
 /// Parses JSON text; `path` names the scene in errors ("scene 'x.json': lattice.level 9 out of range [1, 8]").
 Result<Scene> parse_scene(const std::string& json_text, const std::string& path);
 /// Reads and parses a scene file.

@@ -29,23 +29,27 @@ enum class ForceModel : uint8_t {
 /// cut-off was given in Hz, so recordings at 1 kHz are unchanged bit for bit.
 inline constexpr double kVelocityCutoff_hz = 56.766580404873906;
 
-/// Servo parameters, validated by the scene loader; read-only while running.
+/// Servo parameters, validated by the scene loader; read-only while running. The defaults are the scene's
+/// (core/scene.h's scene_defaults(), their one owner); the servo's own are only those no scene key sets.
 struct ServoParams {
-  InteractionMode mode = InteractionMode::kTouch;
-  double coupling_N_per_m = 300.0;        ///< k_c
-  double coupling_damping_Ns_per_m = 0.5; ///< b_c
-  double grab_radius_m = 0.01;            ///< pull: grab distance on button press
+  InteractionMode mode = scene_defaults().mode;
+  double coupling_N_per_m = scene_defaults().device.coupling_N_per_m;                  ///< k_c
+  double coupling_damping_Ns_per_m = scene_defaults().device.coupling_damping_Ns_per_m; ///< b_c
+  double grab_radius_m = scene_defaults().grab_radius_m;  ///< pull: grab distance on button press
   double velocity_cutoff_hz = kVelocityCutoff_hz;  ///< the tool velocity estimate's low-pass cut-off
-  bool passivity = true;                  ///< energy-based passivity observer/controller on
-  double ramp_s = 0.2;                    ///< force ramp-in time at start and after a reset
-  ForceModel force_model = ForceModel::kLocalModel;  ///< between-frame force
-  double blade_length_m = 0.03;           ///< cut: blade edge length from the tool tip along the tool's +z axis
-  double cut_resistance_Ns_per_m = 4.0;   ///< cut: viscous resistance to blade motion across its edge in material
+  bool passivity = scene_defaults().device.passivity;  ///< energy-based passivity observer/controller on
+  double ramp_s = scene_defaults().device.ramp_s;      ///< force ramp-in time at start and after a reset
+  ForceModel force_model = ForceModel::kLocalModel;    ///< between-frame force
+  double blade_length_m = scene_defaults().blade_length_m;  ///< cut: blade edge from the tool tip along its +z axis
+  double cut_resistance_Ns_per_m = scene_defaults().cut_resistance_Ns_per_m;  ///< cut: viscous resistance to the
+                                                                              ///< blade across its edge in material
   double tool_radius_m = 0.0;             ///< touch: > 0 makes the tool a sphere of this radius (the proxy is its
-                                          ///< centre, kept this far outside the surface); 0 = a point
+                                          ///< centre, kept this far outside the surface); 0 = a point (the
+                                          ///< scene's tool_shape decides, not its drawn radius)
   FrictionParams friction;                ///< touch: Coulomb friction in the proxy (both coefficients 0: none)
-  double jump_limit_N_per_tick = 0.0;     ///< > 0: a step at a contact event, a region change or a cut reaches the
-                                          ///< device at most this fast (haptics/jump_limit.h); 0 = no limit
+  /// > 0: a step at a contact event, a region change or a cut reaches the device at most this fast
+  /// (haptics/jump_limit.h); 0 = no limit
+  double jump_limit_N_per_tick = scene_defaults().device.jump_limit_N_per_tick;
   bool surface_blend = true;              ///< a patch with blend_s > 0 moves over its frame; false takes each frame's
                                           ///< surface at its first tick (the comparison of `palpate bench force`)
 };

@@ -31,6 +31,7 @@ TEST(Servo, LocalModelGivesTheSeriesSpringOfCouplingAndObject) {
     p.coupling_N_per_m = k_c;
     p.coupling_damping_Ns_per_m = 0;
     p.ramp_s = 0;
+    p.jump_limit_N_per_tick = 0;  // the first contact tick's force itself, not its ramp
     p.passivity = false;
     p.force_model = fm;
     const Rates rates;  // 1 kHz

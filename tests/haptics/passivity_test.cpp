@@ -39,6 +39,7 @@ WallRun run_wall(bool passivity) {
   p.coupling_damping_Ns_per_m = 0;
   p.passivity = passivity;
   p.ramp_s = 0;
+  p.jump_limit_N_per_tick = 0;
   const Rates rates;  // 1 kHz
   Servo servo(p, rates, &dev, &q, tb.get());
   WallRun r;

@@ -30,6 +30,7 @@ struct ServoRig {
     p.coupling_N_per_m = 300;
     p.coupling_damping_Ns_per_m = 0.0;
     p.ramp_s = 0.0;
+    p.jump_limit_N_per_tick = 0.0;  // the coupling's own force, tick by tick (the limit: jump_limit_test.cpp)
     servo = std::make_unique<Servo>(p, test::kTestRates, &dev, &q, tb.get());
     publish_floor(tb.get());
   }
@@ -120,6 +121,7 @@ TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
   p.coupling_damping_Ns_per_m = 0;
   p.grab_radius_m = 0.01;
   p.ramp_s = 0.0;
+  p.jump_limit_N_per_tick = 0.0;
   r.servo = std::make_unique<Servo>(p, test::kTestRates, &r.dev, &r.q, r.tb.get());
   r.dev.pos_m = Vec3(0.01, 0.02, 0.005);
   r.tick();
@@ -272,6 +274,29 @@ TEST(LatencyHistogram, WideBucketsCoverAFrameLoopsLatencies) {
   EXPECT_DOUBLE_EQ(frames.quantile_us(0.99), 103'100.0);
   EXPECT_EQ(frames.overflow(), 1);
   EXPECT_DOUBLE_EQ(frames.quantile_us(1.0), 300'000.0);
+}
+
+}  // namespace
+}  // namespace palpate
+
+namespace palpate {
+namespace {
+
+// The servo's defaults are the scene's (one owner, core/scene.h): a servo built without a scene behaves as one
+// built from a scene that sets nothing.
+TEST(ServoParams, DefaultsAreTheScenesOwn) {
+  const ServoParams p;
+  const Scene s;
+  EXPECT_EQ(p.mode, s.mode);
+  EXPECT_EQ(p.coupling_N_per_m, s.device.coupling_N_per_m);
+  EXPECT_EQ(p.coupling_damping_Ns_per_m, s.device.coupling_damping_Ns_per_m);
+  EXPECT_EQ(p.grab_radius_m, s.grab_radius_m);
+  EXPECT_EQ(p.passivity, s.device.passivity);
+  EXPECT_EQ(p.ramp_s, s.device.ramp_s);
+  EXPECT_EQ(p.blade_length_m, s.blade_length_m);
+  EXPECT_EQ(p.cut_resistance_Ns_per_m, s.cut_resistance_Ns_per_m);
+  EXPECT_EQ(p.jump_limit_N_per_tick, s.device.jump_limit_N_per_tick);
+  EXPECT_GT(p.jump_limit_N_per_tick, 0.0) << "the scene limits force steps by default; so does a servo";
 }
 
 }  // namespace

@@ -68,13 +68,14 @@ inline void publish_floor_at(TripleBuffer<LocalModel>* tb, double z_m, double fr
   tb->publish();
 }
 
-/// Servo settings that render the published surface alone: coupling k_N_per_m, no damping, no ramp, no
-/// passivity guard, no object response between frames.
+/// Servo settings that render the published surface alone: coupling k_N_per_m, no damping, no ramp, no jump
+/// limit, no passivity guard, no object response between frames.
 inline ServoParams static_surface_params(double k_N_per_m) {
   ServoParams p;
   p.coupling_N_per_m = k_N_per_m;
   p.coupling_damping_Ns_per_m = 0;
   p.ramp_s = 0;
+  p.jump_limit_N_per_tick = 0;
   p.passivity = false;
   p.force_model = ForceModel::kStaticSurface;
   return p;
