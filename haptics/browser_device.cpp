@@ -77,6 +77,7 @@ bool BrowserDevice::read(double /*t_s*/, DevicePose* out) noexcept {
       if (engaged_) buttons_ = in.buttons;
     }
     seq_ = in.seq;
+    last_in_ = in;
     last_rx_ns_ = in.received_ns;
     fb_.seq = seq_;
     fb_.input_to_force_ns = now - in.received_ns;
@@ -91,8 +92,13 @@ bool BrowserDevice::read(double /*t_s*/, DevicePose* out) noexcept {
   const bool goal = anchored_ && engaged_ && live && !stalled;
   const double step = params_.fade_s > 0.0 ? elapsed_s / params_.fade_s : 1.0;
   scale_ = goal ? std::min(1.0, scale_ + step) : std::max(0.0, scale_ - step);
-  // faded out for a page gone or silent: its next message anchors afresh (a hidden tab's odd message moves nothing)
-  if (scale_ == 0.0 && (stalled || !live)) anchored_ = false;
+  // faded out for a page gone or silent: it engages again only with a message that moves from its last one (a
+  // hidden tab's odd message, unchanged, brings nothing back); its anchor stays, so a motion sent after a pause is
+  // not lost (a page taking over anchors afresh: a new session)
+  if (scale_ == 0.0 && (stalled || !live) && engaged_) {
+    engaged_ = false;
+    anchor_ = last_in_;
+  }
   fb_.engaged = anchored_ && engaged_;
   if (!anchored_ || (!goal && scale_ == 0.0)) {
     ++counters_.silent_ticks;

@@ -6,10 +6,10 @@
 /// follows the target, so the 1 kHz force is smooth between messages. Watchdog: a page that closes, is refused or
 /// falls silent for stall_s fades the force to zero over fade_s (DevicePose::force_scale), then gives no reading.
 ///
-/// Input is relative, like a clutch: the first message of a page's control (its first ever, a page taking over, or
-/// one after the force faded out) anchors the pointer where the tool is — the scene's start before any — and moves
-/// nothing; only later messages that move the pointer or change the buttons engage the device, and only then does
-/// the force fade in. So a page that connects, reloads or takes over mid-press pushes nothing until its user moves,
+/// Input is relative, like a clutch: the first message of a page's control (its first ever, or a page taking over)
+/// anchors the pointer where the tool is — the scene's start before any — and moves nothing; only later messages
+/// that move the pointer or change the buttons engage the device, and only then does the force fade in. After the
+/// force faded out (the page fell silent) the device engages again only on a message that moves from the page's last. So a page that connects, reloads or takes over mid-press pushes nothing until its user moves,
 /// and a blade never sweeps from a default pose.
 
 #include <cstdint>
@@ -117,9 +117,11 @@ class BrowserDevice final : public Device {
   Vec3 force_N_ = Vec3::Zero();  // last force written
   uint32_t buttons_ = 0;
   Vec3 offset_m_ = Vec3::Zero(); // anchor: the tool's target is a message's world point plus this
-  BrowserInput anchor_;          // the message that anchored the page's control
+  BrowserInput anchor_;          // the message the page must move from to engage (its control's first, or its last
+                                 // before the force faded out)
+  BrowserInput last_in_;         // the newest message used
   int64_t session_ = 0;          // the page control that message belongs to
-  bool anchored_ = false;        // a page's control is anchored (false before any, and once the force faded out)
+  bool anchored_ = false;        // a page's control is anchored (false before any message)
   bool engaged_ = false;         // its pointer or buttons moved since: the force may flow
   bool started_ = false;         // set_start() placed the tool
   double scale_ = 0.0;           // the watchdog's fade

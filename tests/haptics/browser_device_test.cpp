@@ -87,6 +87,27 @@ TEST(BrowserDevice, TheFirstMessageAnchorsWhereTheToolIsNoReadingUntilThePointer
   EXPECT_TRUE(r.link.feedback().engaged);
 }
 
+// A page that falls silent (a busy browser) past the watchdog and then sends a moved pointer: the motion is not lost
+// (the tool goes where the pointer says, from the page's anchor), and the force comes back with it.
+TEST(BrowserDevice, AMotionSentAfterAPauseIsNotLost) {
+  Rig r;
+  DevicePose p;
+  r.engage();
+  for (int i = 0; i < 200; ++i) {
+    if (i % 16 == 0) r.post(0.0, 0.0);
+    ASSERT_TRUE(r.tick(&p));
+    r.dev.write_force(Vec3::Zero());
+  }
+  for (int i = 0; i < 600; ++i) r.tick(&p);  // silent: faded out
+  EXPECT_FALSE(r.tick(&p));
+  for (int i = 0; i < 1500; ++i) {
+    if (i % 16 == 0) r.post(0.2, 0.0);
+    ASSERT_TRUE(r.tick(&p)) << i;
+    r.dev.write_force(Vec3::Zero());
+  }
+  EXPECT_NEAR(p.pos_m.x(), 0.01, 1e-6) << "0.2 of the view is 1 cm: the first message after the pause moved the tool";
+}
+
 // A press held 2 cm into a floor; then a new page takes control (a reload or a takeover) and sends, without any input,
 // the pointer at the view's centre and the button down (a right press in cut mode) for a second. Returns the largest
 // force change per tick and the largest force after the takeover, and the tool's travel; then the new page moves a

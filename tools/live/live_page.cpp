@@ -395,7 +395,7 @@ function setupInput() {
   // a hidden tab lets go: no button, no poses (the server fades the force out and another page may steer)
   document.addEventListener("visibilitychange", () => {
     if (visible()) return;
-    dragging = false; keyDown = false; dev.button = false; dev.activeUntil = 0; dev.synced = false; touches.clear();
+    dragging = false; keyDown = false; dev.button = false; dev.activeUntil = 0; touches.clear();
   });
 }
 // gamepad: left stick moves across the view, right stick up/down and the triggers set depth, A or RB is the button;

@@ -34,6 +34,7 @@
 #include "tools/record/record_plan.h"
 #include "tools/session/relative_keys.h"
 #include "tools/session/session.h"
+#include "tools/record/progress.h"
 #include "tools/record/summary.h"
 #include "tools/record/video_output.h"
 
@@ -137,42 +138,6 @@ Status prepare_output(const std::string& out, bool render, std::string* frames_d
   if (!render) fs::remove(*frames_dir, ec);  // an earlier run's folder, now empty (kept if anything else is in it)
   return Ok{};
 }
-
-// A single progress line on stderr: rewritten in place on a terminal, one line a second otherwise.
-class Progress {
- public:
-  Progress(bool quiet, std::string name, double duration_s)
-      : quiet_(quiet), tty_(isatty(STDERR_FILENO)), name_(std::move(name)), duration_s_(duration_s),
-        start_(std::chrono::steady_clock::now()) {}
-  void update(double t_s, int64_t frame, int64_t frames, bool force = false) {
-    last_t_s_ = t_s;
-    last_frame_ = frame;
-    if (quiet_) return;
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    if (!force && wall - last_ < (tty_ ? 0.1 : 1.0)) return;
-    last_ = wall;
-    std::fprintf(stderr, "%srecord %s: %6.2f / %.2f s scene, frame %lld / %lld, %.1f s wall%s", tty_ ? "\r" : "",
-                 name_.c_str(), t_s, duration_s_, static_cast<long long>(frame), static_cast<long long>(frames), wall,
-                 tty_ ? "   " : "\n");
-    std::fflush(stderr);
-  }
-  /// The run's last line: the whole scene when it ran to its end, else where it stopped (a Ctrl-C does not claim
-  /// the frames it never made).
-  void done(bool whole, int64_t frames) {
-    if (whole) update(duration_s_, frames, frames, true);
-    else update(last_t_s_, last_frame_, frames, true);
-    if (!quiet_ && tty_) std::fputc('\n', stderr);
-  }
-
- private:
-  bool quiet_, tty_;
-  std::string name_;
-  double duration_s_;
-  std::chrono::steady_clock::time_point start_;
-  double last_ = -1.0;
-  double last_t_s_ = 0.0;
-  int64_t last_frame_ = 0;
-};
 
 // Everything a recording opens before it runs, inputs first: a bad mesh or device leaves no output folder behind.
 // Not movable (the log, the scene the device reads its rates from); filled in place by open_recording.
