@@ -92,6 +92,12 @@ TEST(MeshIoIsolation, ChildAndInProcessGiveTheSameMeshAndTheSameErrors) {
 
 // the child is forked while other threads of this process allocate and hold locks
 TEST(MeshIoIsolation, LoadsWhileOtherThreadsRun) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // a sanitizer's own allocator is not fork-safe: a child forked while another thread holds its lock waits for it
+  // for ever (seen under ASan at -O1: the child stopped at the reader's 60 s limit). glibc's malloc, which palpate
+  // runs with, takes its locks across fork; this test checks that, in the plain build.
+  GTEST_SKIP() << "the sanitizer's allocator is not fork-safe under threads";
+#endif
   std::atomic<bool> stop{false};
   std::mutex m;
   std::vector<std::thread> threads;
