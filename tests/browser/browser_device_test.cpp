@@ -53,13 +53,9 @@ TEST(BrowserDevice, PageSteersTheToolOntoTheBunnyASecondPageWatchesClosingFadesT
   const std::string dir = test::fresh_dir("browser_device");
   fs::create_directories(dir);
   Recording rec(dir, "scenes/bunny_touch.json", 120.0);
-  ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
-
   Browser browser;
-  ASSERT_TRUE(browser.launch(rec.url, dir));
-  ASSERT_TRUE(browser.attach(rec.url)) << read_file(dir + "/chromium.log");
+  ASSERT_EQ(test::steer_page(browser, rec, dir), "");
   const std::string first_target = browser.target();
-  ASSERT_EQ(role(browser), "control");
   const auto rect = overlay_rect(browser);
   ASSERT_EQ(rect.size(), 4u);
 

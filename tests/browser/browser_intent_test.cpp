@@ -50,11 +50,8 @@ TEST(BrowserDevice, AHiddenTabAReloadOrAWatcherTakingOverPushesNothingUntilTheHa
   const std::string dir = test::fresh_dir("browser_intent");
   fs::create_directories(dir);
   Recording rec(dir, "scenes/bunny_touch.json", 120.0);
-  ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
   Browser browser;
-  ASSERT_TRUE(browser.launch(rec.url, dir));
-  ASSERT_TRUE(browser.attach(rec.url)) << read_file(dir + "/chromium.log");
-  ASSERT_EQ(role(browser), "control");
+  ASSERT_EQ(test::steer_page(browser, rec, dir), "");
   const auto rect = overlay_rect(browser);
   ASSERT_EQ(rect.size(), 4u);
   ASSERT_GT(press_onto_bunny(browser, rect, rec), 0.3);

@@ -220,4 +220,13 @@ inline nlohmann::json next_of(WsClient& c, const std::string& t, int ms = 3000) 
 }
 
 
+// Headless Chromium opened on a recording's page, which steers: "" or what went wrong.
+inline std::string steer_page(Browser& b, const Recording& rec, const std::string& dir) {
+  if (rec.url.empty()) return "the recording printed no address: " + read_file(rec.log);
+  if (!b.launch(rec.url, dir)) return "chromium did not start";
+  if (!b.attach(rec.url)) return "no page at " + rec.url + ": " + read_file(dir + "/chromium.log");
+  const std::string r = role(b);
+  return r == "control" ? "" : "the page's role is '" + r + "', not control";
+}
+
 }  // namespace palpate::test
