@@ -31,6 +31,29 @@ Vec3 vertex_normal(const std::vector<Vec3>& vertices_m, const std::vector<std::a
   return sum;
 }
 
+Vec3 crease_normal(const std::vector<Vec3>& vertices_m, const std::vector<Vec3>& rest_m,
+                   const std::vector<std::array<int32_t, 3>>& triangles, const VertexTriangles& adjacency, int32_t tri,
+                   int corner, double cos_crease) {
+  auto face = [&](const std::vector<Vec3>& x, int32_t t) {
+    const auto& c = triangles[static_cast<std::size_t>(t)];
+    return Vec3((x[c[1]] - x[c[0]]).cross(x[c[2]] - x[c[0]]));
+  };
+  const Vec3 own = face(rest_m, tri);
+  const double own_len = own.norm();
+  const int32_t v = triangles[static_cast<std::size_t>(tri)][static_cast<std::size_t>(corner)];
+  Vec3 sum = Vec3::Zero();
+  for (int32_t k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
+    const int32_t t = adjacency.triangles[static_cast<std::size_t>(k)];
+    // which faces are one smooth surface is the rest shape's (a dent pressed into it is no crease);
+    // |f| |own| cos(turn) >= cos_crease |f| |own|; the triangle itself counts even when degenerate
+    const Vec3 f = face(rest_m, t);
+    if (t == tri || f.dot(own) >= cos_crease * f.norm() * own_len) sum += face(vertices_m, t);
+  }
+  const double len = sum.norm();
+  if (len > 0.0) sum /= len;
+  return sum;
+}
+
 void update_vertex_normals(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
                            const VertexTriangles& adjacency, const std::vector<int32_t>& vertex_ids,
                            std::vector<Vec3>* normals) {

@@ -27,6 +27,15 @@ struct VertexTriangles {
 Vec3 vertex_normal(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
                    const int32_t* ids, std::size_t count);
 
+/// The unit normal at corner `corner` (0..2) of triangle `tri` of a surface with creases, as a renderer's smoothing
+/// groups take it: the sum of the face normals (area-weighted, of vertices_m) of the triangles at that corner's vertex
+/// whose face turns from `tri`'s by less than the crease angle in the rest shape rest_m (cos_crease: its cosine; tri
+/// itself always counts). A corner on a crease gets a normal for each side; a deformation never makes one. With
+/// cos_crease <= -1 it is vertex_normal's. Zero when degenerate.
+Vec3 crease_normal(const std::vector<Vec3>& vertices_m, const std::vector<Vec3>& rest_m,
+                   const std::vector<std::array<int32_t, 3>>& triangles, const VertexTriangles& adjacency, int32_t tri,
+                   int corner, double cos_crease);
+
 /// Recomputes the normals of the listed vertices bit for bit as compute_vertex_normals computes them (same
 /// face normals, summed in the same order); other normals are untouched. O(sum of the listed vertices' degrees).
 void update_vertex_normals(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,

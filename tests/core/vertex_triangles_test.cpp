@@ -116,5 +116,37 @@ TEST(VertexTriangles, DependentsAreTheVerticesOfTrianglesWithAMovingVertex) {
   EXPECT_EQ(deps, std::vector<int32_t>(expect.begin(), expect.end()));
 }
 
+TEST(VertexTriangles, CreaseNormalsKeepSharpEdgesAndSmoothShallowOnes) {
+  // a roof: two faces meeting at a ridge along x, each turned `turn` degrees from +z, each of two triangles
+  for (double turn : {10.0, 50.0}) {
+    const double t = turn * 3.14159265358979323846 / 180.0;
+    const std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 0}, {0, -1, -std::tan(t)}, {1, -1, -std::tan(t)},
+                                 {0, 1, -std::tan(t)}, {1, 1, -std::tan(t)}};
+    const std::vector<std::array<int32_t, 3>> tris = {{0, 2, 3}, {0, 3, 1}, {0, 1, 5}, {0, 5, 4}};
+    const auto adj = VertexTriangles::build(v.size(), tris);
+    const Vec3 left = (v[2] - v[0]).cross(v[3] - v[0]).normalized();
+    // with a crease of 60 degrees the ridge's corners of a face see both faces when they turn 2 x 10 degrees
+    // (normal +z, the ridge smooth), only their own at 2 x 50 (the face's normal: the ridge stays sharp)
+    const Vec3 n = crease_normal(v, v, tris, adj, 0, 0, std::cos(60.0 * 3.14159265358979323846 / 180.0));
+    if (turn < 30.0) {
+      EXPECT_NEAR(n.dot(Vec3::UnitZ()), 1.0, 1e-12);
+    } else {
+      EXPECT_NEAR(n.dot(left), 1.0, 1e-12);
+    }
+    // a corner off the ridge has only its own face's triangles
+    EXPECT_NEAR(crease_normal(v, v, tris, adj, 0, 1, 0.5).dot(left), 1.0, 1e-12);
+    // any turn counted (cos -1): the vertex normal, bit for bit
+    const int32_t ids[] = {adj.triangles[adj.offsets[0]], adj.triangles[adj.offsets[0] + 1],
+                           adj.triangles[adj.offsets[0] + 2], adj.triangles[adj.offsets[0] + 3]};
+    EXPECT_EQ(crease_normal(v, v, tris, adj, 0, 0, -1.0), vertex_normal(v, tris, ids, 4));
+    // a press that folds the shallow roof to 2 x 50 degrees makes no crease: the rest shape says which faces are one
+    if (turn < 30.0) {
+      std::vector<Vec3> pressed = v;
+      for (int k : {2, 3, 4, 5}) pressed[k].z() = -std::tan(50.0 * 3.14159265358979323846 / 180.0);
+      EXPECT_NEAR(crease_normal(pressed, v, tris, adj, 0, 0, 0.5).dot(Vec3::UnitZ()), 1.0, 1e-12);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace palpate
