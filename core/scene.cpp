@@ -280,6 +280,7 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.boolean("passivity", &d.passivity);
   r.number("ramp_s", &d.ramp_s, 0.0, 10.0);
   r.number("jump_limit_N_per_tick", &d.jump_limit_N_per_tick, 0.0, 100.0);
+  r.number("force_shading_deg", &d.force_shading_deg, 0.0, 180.0);
   r.finish();
 
   ObjectReader h(top.object("hand"), "hand.", err);

@@ -91,6 +91,10 @@ struct DeviceSetup {
   double ramp_s = 0.2;                      ///< force ramp-in at start and after a reset
   double jump_limit_N_per_tick = 0.02;      ///< a force step at a contact's entry or release, a grab, a region change
                                             ///< or a cut reaches the hand at most this much a servo tick (0: unlimited)
+  double force_shading_deg = 0.0;           ///< touch: > 0 shades the force: faces meeting at less than this turn
+                                            ///< are felt as one smooth surface (the force follows the normals
+                                            ///< interpolated across a face), sharper edges stay edges (60 is a
+                                            ///< renderer's usual crease); 0: felt as flat facets
 };
 
 /// The scripted hand: a mass pulled toward keyframe targets by a spring-damper.

@@ -19,8 +19,13 @@ struct LocalModel {
   std::array<int32_t, kMaxTriangles> tri_ids{};           ///< mesh triangle ids
   std::array<std::array<Vec3, 3>, kMaxTriangles> tri_m{}; ///< deformed corner positions
   std::array<std::array<Vec3, 3>, kMaxTriangles> normal{};///< unit vertex normals at the corners
+  /// touch with force shading: each corner's normal over the faces that meet it at less than the crease angle in
+  /// the rest shape (core/vertex_triangles.h, crease_normal), the normal the force follows; zero: no shading
+  std::array<std::array<Vec3, 3>, kMaxTriangles> shade_normal{};
   /// the same corners as the servo last saw them (the frame before, or tri_m for a triangle new to the patch)
   std::array<std::array<Vec3, 3>, kMaxTriangles> tri_from_m{};
+  /// shade_normal as the servo last saw it (blended with the corners)
+  std::array<std::array<Vec3, 3>, kMaxTriangles> shade_normal_from{};
   double blend_s = 0.0;  ///< > 0: the servo moves each corner from tri_from_m to tri_m over this long from t_s
 
   // what the patch covers (touch): every triangle of the surface that comes within cover_radius_m of the box

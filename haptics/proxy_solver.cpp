@@ -301,4 +301,32 @@ double push_out(const LocalModel& m, double r, const Vec3& side, int rounds, Vec
   return worst;
 }
 
+bool convex_contact(const LocalModel& m, const Vec3& c, double reach, const Vec3& side, bool point) noexcept {
+  Vec3 first_q = Vec3::Zero();
+  int first = -1;
+  for (int i = 0; i < m.num_triangles; ++i) {
+    const auto& t = m.tri_m[i];
+    if (far_side(t, side)) continue;
+    Vec3 b = Vec3::Zero();
+    const Vec3 q = closest_point_on_triangle(c, t[0], t[1], t[2], &b);
+    if ((c - q).norm() > reach) continue;
+    if (first < 0) {
+      first_q = q;
+      first = i;
+      continue;
+    }
+    if (point) {
+      // faces that turn toward each other (a concave edge or corner): a vertex of one in front of the other's plane
+      const auto& f = m.tri_m[first];
+      const Vec3 fn = (f[1] - f[0]).cross(f[2] - f[0]).normalized();
+      const Vec3 tn = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
+      for (int k = 0; k < 3; ++k)
+        if ((t[k] - f[0]).dot(fn) > 1e-9 || (f[k] - t[0]).dot(tn) > 1e-9) return false;
+    } else if ((q - first_q).norm() > 1e-3 * reach) {
+      return false;  // a sphere touching two places
+    }
+  }
+  return true;
+}
+
 }  // namespace palpate

@@ -26,4 +26,10 @@ Vec3 god_object_move(const LocalModel& m, const Vec3& from, const Vec3& goal, do
 /// deepest first, up to `rounds` times. Returns the largest overlap left (m).
 double push_out(const LocalModel& m, double r, const Vec3& side, int rounds, Vec3* c) noexcept;
 
+/// Whether the god-object at c touches the surface at one convex spot: a sphere touching one place (a face, a convex
+/// edge or corner), or a point (a sphere of vanishing radius) whose faces within `reach` never turn toward each other
+/// — not a crease, a concave corner or a dent the tool fills. Faces turned from `side` by more than 120 degrees are
+/// never taken.
+bool convex_contact(const LocalModel& m, const Vec3& c, double reach, const Vec3& side, bool point) noexcept;
+
 }  // namespace palpate

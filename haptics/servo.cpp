@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "haptics/force_limit.h"
 #include "haptics/proxy_solver.h"
@@ -20,6 +21,10 @@ constexpr double kReturnReach_m = 0.005;
 // tick beyond the device's step: pressed d into the surface, a point held at the edge would otherwise snap onto the
 // next face by about d sin(turn) in one tick (0.15 N at 1 mm and 25 degrees), a sphere wider than its depth never does
 constexpr double kPointRoll_N_per_tick = 0.02;
+// force shading turns the spring's force by at most this much a tick (N): a turn is felt as a step of |F| times its
+// angle (following a smooth surface it turns by |F| v / R a second, 0.3 mN a tick at 1 N and 30 mm/s on a 10 cm
+// radius)
+constexpr double kShadeStep_N = 0.005;
 
 // whether a sphere of radius r centred at c lies where the patch is whole (LocalModel::cover_radius_m); a sphere wider
 // than half what the patch covers is not judged (its reach is more surface than the patch can hold; the patch is
@@ -33,7 +38,14 @@ bool covered(const LocalModel& m, const Vec3& c, double r) noexcept {
 
 Servo::Servo(const ServoParams& params, const Rates& rates, Device* device, SpscQueue<HapticSample>* samples,
              TripleBuffer<LocalModel>* model)
-    : params_(params), rates_(rates), device_(device), samples_(samples), model_(model) {}
+    : params_(params), rates_(rates), device_(device), samples_(samples), model_(model) {
+  // force shading: the smooth normal in full up to a quarter of the crease angle from the facets' push, none from half
+  const double crease_rad = std::clamp(params.force_shading_deg, 0.0, 180.0) * std::numbers::pi / 180.0;
+  if (crease_rad > 0.0) {
+    shade_full_cos_ = std::cos(0.25 * crease_rad);
+    shade_none_cos_ = std::cos(0.5 * crease_rad);
+  }
+}
 
 bool Servo::closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
                              const Vec3* side) const noexcept {
@@ -72,9 +84,14 @@ const LocalModel& Servo::surface_at(const LocalModel& src, double t_s) noexcept 
   const double span_s = std::max(period_s, src.blend_s - period_s);
   const double a = std::clamp((t_s - surface_start_s_ + period_s) / span_s, 0.0, 1.0);
   if (a != surface_alpha_) {
+    const bool shading = shade_full_cos_ < 1.0;
     for (int i = 0; i < src.num_triangles; ++i)
-      for (int c = 0; c < 3; ++c)
+      for (int c = 0; c < 3; ++c) {
         surface_.tri_m[i][c] = src.tri_from_m[i][c] + a * (src.tri_m[i][c] - src.tri_from_m[i][c]);
+        if (shading)
+          surface_.shade_normal[i][c] =
+              src.shade_normal_from[i][c] + a * (src.shade_normal[i][c] - src.shade_normal_from[i][c]);
+      }
     surface_moved_ = true;
     surface_.contact_f0_N = from_f0_N_ + a * (src.contact_f0_N - from_f0_N_);
     surface_.compliance_m_per_N = from_compliance_m_per_N_ + a * (src.compliance_m_per_N - from_compliance_m_per_N_);
@@ -190,11 +207,17 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     // the god-object starts where the tool was, outside
     contact_ = ContactState::kTouch;
     god_m_ = from;
+    shade_ = Quat::Identity();
+    shade_n_ = shade_push_ = Vec3::Zero();
+    shade_free_m_ = from;
   } else if (surface_moved_) {
     // the surface moved under the held proxy (a new frame, or the blend toward it): it goes with the material
     // point under it
     Vec3 p = Vec3::Zero();
-    if (material_point(m, tri_, bary_, &p)) god_m_ += p - contact_frame_m_;
+    if (material_point(m, tri_, bary_, &p)) {
+      god_m_ += p - contact_frame_m_;
+      shade_free_m_ += p - contact_frame_m_;
+    }
   }
   // from where it was (out of any overlap the surface's move made), toward the device as far as the surface lets it
   Vec3 held = god_m_;
@@ -244,6 +267,71 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   bary_ = b;
   proxy_m_ = sphere ? c : q;
   contact_point_m_ = q;
+  if (shade_full_cos_ < 1.0) update_shading(m, c, tool, r, path_m);
+}
+
+void Servo::update_shading(const LocalModel& m, const Vec3& c, const Vec3& tool, double r, double path_m) noexcept {
+  // the facets' push: from the device to the proxy they alone would hold, bounded as the proxy is (with friction, a
+  // companion god-object without it, so the friction's pull across the surface is not taken for the surface's turn)
+  Vec3 at = c;
+  if (params_.friction.on()) {
+    Vec3 from = shade_free_m_;
+    push_out(m, r, contact_normal_, 4, &from);
+    int a = 0;
+    at = shade_free_m_ = god_object_move(m, from, tool, r, contact_normal_, &a, path_m);
+  }
+  // the force follows its target by at most kShadeStep_N a tick: where the contact stops being one convex spot, or
+  // the push changes face while the proxy lags the device, the target turns at once and the force does not.
+  // Frictionless, the spring is the push and the force's direction is what follows its target (a point rolling
+  // over a facet edge turns the spring in a few bounded steps; the rotation onto the smooth normal turns back as
+  // fast, and the force stays on it); with friction, the rotation itself (the push may jump where the spring,
+  // held by friction, does not: a companion that leaves the surface, or rolls over a thin part's edge)
+  const Vec3 push = (at - tool).normalized();
+  const Vec3 target = push.allFinite() ? shaded_normal(m, at, tool, r) : push;
+  const double step_rad = kShadeStep_N / std::max(params_.coupling_N_per_m * (c - tool).norm(), 1e-9);
+  if (!params_.friction.on()) {
+    if (push.allFinite() && target.allFinite()) {
+      if (!(shade_n_.squaredNorm() > 0.0)) shade_n_ = shade_push_ = push;
+      // as far again as the push itself turned (the turn the facets alone would give the force: round a sharp edge
+      // the target is the push, and the force follows it at once)
+      const double angle = std::acos(std::clamp(shade_n_.dot(target), -1.0, 1.0));
+      const double most = step_rad + std::acos(std::clamp(shade_push_.dot(push), -1.0, 1.0));
+      shade_push_ = push;
+      const Vec3 across = target - shade_n_.dot(target) * shade_n_;
+      shade_n_ = angle > most && across.squaredNorm() > 0.0
+                     ? Vec3(std::cos(most) * shade_n_ + std::sin(most) * across.normalized())
+                     : target;
+      shade_ = Quat::FromTwoVectors(push, shade_n_);
+    }
+  } else {
+    const Quat aim = push.allFinite() && target.allFinite() ? Quat::FromTwoVectors(push, target) : Quat::Identity();
+    const double angle = shade_.angularDistance(aim);
+    shade_ = angle > step_rad ? shade_.slerp(step_rad / angle, aim) : aim;
+  }
+  if (!shade_.coeffs().allFinite()) shade_ = Quat::Identity();
+}
+
+Vec3 Servo::shaded_normal(const LocalModel& m, const Vec3& at, const Vec3& tool, double r) const noexcept {
+  const Vec3 push = (at - tool).normalized();
+  int slot = -1;
+  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
+  if (!push.allFinite() || !closest_on_patch(m, at, &slot, &q, &b, &contact_normal_)) return push;
+  const auto& n = m.shade_normal[slot];
+  const Vec3 smooth = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
+  if (!(smooth.squaredNorm() > 0.0)) return push;  // (a patch without shading normals)
+  const Vec3 ns = smooth.normalized();
+  // a crease or a dent the tool fills is felt as its faces hold it: the contact point's smooth normal is one of
+  // several there (and flips between them as the nearest face does). (A point rolls round an edge in bounded steps,
+  // lagging the device: the faces within a step's reach of it hold it.)
+  const bool point = !(params_.tool_radius_m > 0.0);
+  const double reach = point && params_.coupling_N_per_m > 0.0 ? r + kPointRoll_N_per_tick / params_.coupling_N_per_m
+                                                               : r * (1.0 + 1e-6) + 1e-10;
+  if (!convex_contact(m, at, reach, contact_normal_, point)) return push;
+  // in full while the two are close; not at all from half the crease angle, where the contact point may lie on either
+  // side of a crease (a sharp edge the proxy rolls round), whose smooth normals differ
+  const double w = std::clamp((push.dot(ns) - shade_none_cos_) / (shade_full_cos_ - shade_none_cos_), 0.0, 1.0);
+  const Vec3 out = (push + w * (ns - push)).normalized();
+  return out.allFinite() ? out : push;
 }
 
 void Servo::update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept {
@@ -396,7 +484,9 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     if (params_.force_model == ForceModel::kHoldFrame && held_frame_ == m.frame) {
       force = held_force_N_;
     } else {
-      force = params_.coupling_N_per_m * (proxy_m_ - tool) - params_.coupling_damping_Ns_per_m * tool_vel_m_per_s_;
+      // (force shading turns the spring about the device; the proxy stays where the facets hold it)
+      const Vec3 spring = contact_ == ContactState::kTouch ? Vec3(shade_ * (proxy_m_ - tool)) : Vec3(proxy_m_ - tool);
+      force = params_.coupling_N_per_m * spring - params_.coupling_damping_Ns_per_m * tool_vel_m_per_s_;
       held_force_N_ = force;
       held_frame_ = m.frame;
     }

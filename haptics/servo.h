@@ -50,6 +50,10 @@ struct ServoParams {
   /// > 0: a step at a contact event, a region change or a cut reaches the device at most this fast
   /// (haptics/jump_limit.h); 0 = no limit
   double jump_limit_N_per_tick = scene_defaults().device.jump_limit_N_per_tick;
+  /// touch: the force follows the patch's interpolated normals across a face (LocalModel::normal, which the sim
+  /// takes over faces meeting at less than this crease angle), so a faceted surface is felt as the smooth one it
+  /// stands for; 0: felt as its facets
+  double force_shading_deg = scene_defaults().device.force_shading_deg;
   bool surface_blend = true;              ///< a patch with blend_s > 0 moves over its frame; false takes each frame's
                                           ///< surface at its first tick (the comparison of `palpate bench force`)
 };
@@ -97,6 +101,15 @@ class Servo {
   // the smooth normal there
   bool outside_of(const LocalModel& m, int slot, const Vec3& b, const Vec3& q, const Vec3& tool, double r,
                   Vec3* normal_out) const noexcept;
+  // force shading: this tick's turn of the coupling's spring (shade_) for the god-object at c, its path bounded by
+  // path_m as the proxy's was (0: unbounded)
+  void update_shading(const LocalModel& m, const Vec3& c, const Vec3& tool, double r, double path_m) noexcept;
+  // force shading: the normal the coupling's force should follow where the facets alone hold the proxy at `at`: the
+  // smooth normal at its contact point, faded out where it differs from the facets' push (from the device to `at`) by
+  // more than a quarter of the crease angle and gone from half of it, or where the contact is not one convex spot
+  // (then the push itself). The force is turned about the device from the push toward it; the god-object stays where
+  // the facets hold it
+  Vec3 shaded_normal(const LocalModel& m, const Vec3& at, const Vec3& tool, double r) const noexcept;
   // whether the tool's move from `from` starts a touch (sets the side it came from)
   bool touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept;
   // a free tool: the surface point nearest it, remembered so the next tick can carry its path with the surface, and
@@ -142,6 +155,12 @@ class Servo {
   Vec3 contact_point_m_ = Vec3::Zero();  // touch: the surface point under the proxy (== proxy_m_ for a point tool)
   Vec3 god_m_sample_ = Vec3::Zero();     // this tick's god-object before the prediction (HapticSample::god_pos_m)
   Vec3 contact_normal_ = Vec3::UnitZ();  // touch: surface normal at the proxy (which side we are on)
+  double shade_full_cos_ = 1.0;          // force shading: cosines of a quarter and half the crease angle (1: off)
+  double shade_none_cos_ = 1.0;
+  Quat shade_ = Quat::Identity();        // touch: this tick's force shading (applied to the coupling)
+  Vec3 shade_n_ = Vec3::Zero();          // touch: the shaded normal the force follows (zero: none yet this touch)
+  Vec3 shade_push_ = Vec3::Zero();       // touch: the facets' push it was shaded from, last tick
+  Vec3 shade_free_m_ = Vec3::Zero();     // touch with friction: the god-object as the facets alone would hold it
   Vec3 cut_force_N_ = Vec3::Zero();      // cut: blade resistance this tick
   Vec3 god_m_ = Vec3::Zero();            // touch: the god-object's centre on the latest frame's surface
   Vec3 contact_frame_m_ = Vec3::Zero();  // touch: the surface point under it on that surface (before prediction)

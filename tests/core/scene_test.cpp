@@ -113,6 +113,20 @@ TEST(Scene, FrictionAndJumpLimitKeys) {
                    "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.jump_limit_N_per_tick");
 }
 
+TEST(Scene, ForceShadingIsOffUnlessAskedAndACreaseAngle) {
+  auto plain = parse_scene(kMinimal, "s.json");
+  ASSERT_TRUE(plain) << plain.error().message;
+  EXPECT_EQ(plain.value().device.force_shading_deg, 0.0);
+  auto on = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "device": {"force_shading_deg": 60},
+                            "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(on) << on.error().message;
+  EXPECT_EQ(on.value().device.force_shading_deg, 60.0);
+  for (const char* bad : {"-1", "181", "\"yes\""})
+    expect_error(std::string(R"({"mesh": {"box_m": [1,1,1]}, "device": {"force_shading_deg": )") + bad +
+                     R"(}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+                 "device.force_shading_deg");
+}
+
 TEST(Scene, RefineIsOffUnlessAskedAndNamesWhatItNeeds) {
   auto plain = parse_scene(kMinimal, "s.json");
   ASSERT_TRUE(plain) << plain.error().message;

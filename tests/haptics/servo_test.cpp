@@ -186,25 +186,34 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     m.model_radius_m = 1.0;
     m.blend_s = 1.0 / 60.0;
     m.tri_from_m = m.tri_m;
+    // shading normals tilted from the floor's, so force shading turns the force (and its blend runs)
+    for (int t = 0; t < m.num_triangles; ++t)
+      for (int c = 0; c < 3; ++c) m.shade_normal[t][c] = Vec3(0.1, 0.0, 1.0).normalized();
+    m.shade_normal_from = m.shade_normal;
     tb->publish();
   }
   // the frames published while it runs (copied from here: a copy allocates nothing)
   auto frame = std::make_unique<LocalModel>(tb->read());
   // touch with a point tool, with a 5 mm sphere, pull, cut; then touch with friction and every mode with the
-  // jump limit; last touch with each frame's surface taken at once (no blend)
+  // jump limit; touch with each frame's surface taken at once (no blend); last touch with force shading, a point and a
+  // sphere, with and without friction
   struct RunSpec {
     InteractionMode mode;
     double radius, friction, jump_limit;
     bool blend = true;
+    double shading_deg = 0.0;
   };
   const RunSpec runs[] = {{InteractionMode::kTouch, 0.0, 0.0, 0.0},  {InteractionMode::kTouch, 0.005, 0.0, 0.0},
                           {InteractionMode::kPull, 0.0, 0.0, 0.0},   {InteractionMode::kCut, 0.0, 0.0, 0.0},
                           {InteractionMode::kTouch, 0.0, 0.5, 0.02}, {InteractionMode::kTouch, 0.005, 0.5, 0.02},
                           {InteractionMode::kPull, 0.0, 0.0, 0.02},  {InteractionMode::kCut, 0.0, 0.0, 0.02},
-                          {InteractionMode::kTouch, 0.0, 0.5, 0.02, false}};
+                          {InteractionMode::kTouch, 0.0, 0.5, 0.02, false},
+                          {InteractionMode::kTouch, 0.0, 0.0, 0.02, true, 60.0},
+                          {InteractionMode::kTouch, 0.005, 0.5, 0.02, true, 60.0}};
   for (const RunSpec& run : runs) {
-    const auto [mode, radius, mu, jump, blend] = run;
+    const auto [mode, radius, mu, jump, blend, shading] = run;
     ServoParams p;
+    p.force_shading_deg = shading;
     p.surface_blend = blend;
     p.mode = mode;
     p.tool_radius_m = radius;
@@ -237,7 +246,7 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
       allocs = guard.count();
     }
     EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode) << ", tool radius " << radius << ", friction " << mu
-                         << ", jump limit " << jump << ", blend " << blend;
+                         << ", jump limit " << jump << ", blend " << blend << ", shading " << shading;
     EXPECT_EQ(servo.counters().ticks, 10000);
   }
 }

@@ -3,7 +3,11 @@
 // device's motion does not explain; the same seed makes the same hands.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
 #include <map>
 #include <set>
 #include <string>
@@ -11,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/types.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
@@ -80,6 +85,73 @@ TEST(HandFuzz, RandomHandsOnModelsTheProjectDidNotMakeKeepTheSurface) {
   }
   EXPECT_GE(kinds.size(), 2u);
   EXPECT_GE(touched, 8);
+}
+
+// the force's angle from the radius at the device over the contact ticks of haptic.csv, sorted (a ball centred at the
+// origin)
+std::vector<double> angles_from_radius(const std::string& csv) {
+  std::stringstream in(test::read_file(csv));
+  std::vector<double> out;
+  std::string line;
+  std::getline(in, line);  // the header
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::string cell;
+    for (std::stringstream row(line); std::getline(row, cell, ',');) v.push_back(std::atof(cell.c_str()));
+    if (v.size() < 12 || v[11] != 1.0) continue;  // tick,t,tool xyz,proxy xyz,force xyz,contact
+    const Vec3 tool(v[2], v[3], v[4]), force(v[8], v[9], v[10]);
+    if (force.norm() < 0.05) continue;
+    out.push_back(std::acos(std::clamp(force.normalized().dot(tool.normalized()), -1.0, 1.0)) * 180.0 / 3.14159265358979323846);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(HandFuzz, AShadedCoarseBallIsFeltAsItsSphere) {
+  // the 80-facet ball (25 mm, stiff), a point stroked round it 1 mm under its facets' centres: with force shading
+  // the force follows the ball's radius at the device; without it, each facet's normal (up to ~10 degrees off)
+  const std::string ball = tmp("shaded_ball.off");
+  test::write_text(ball, coarse_ball_off());
+  nlohmann::json s = {
+      {"name", "shaded_ball"},
+      {"mesh", {{"file", ball}, {"size_m", 0.05}}},
+      {"grid", {{"levels", 5}}},
+      {"lattice", {{"level", 3}, {"radius_cells", 2}, {"fix_floor", true}, {"integrator", "implicit_euler"}}},
+      {"material", {{"young_modulus_Pa", 1e7}, {"poisson_ratio", 0.25}, {"density_kg_per_m3", 1000}}},
+      {"device", {{"driver", "scripted"}, {"max_force_N", 3.3}, {"coupling_N_per_m", 300}}},
+      {"interaction", {{"mode", "touch"}}},
+      {"run_mode", "lockstep"}};
+  nlohmann::json keys = nlohmann::json::array();
+  keys.push_back({{"t_s", 0.0}, {"pos_m", {0.0, 0.0, 0.035}}});
+  for (int k = 0; k <= 20; ++k) {
+    // down onto the top, then round the ball in the x-z plane to 60 degrees, 21.5 mm from the centre
+    const double th = 1.05 * k / 20.0, rad = 0.0215;
+    keys.push_back({{"t_s", 0.4 + 0.1 * k}, {"pos_m", {rad * std::sin(th), 0.003, rad * std::cos(th)}}});
+  }
+  s["trajectory"] = keys;
+  s["duration_s"] = 2.5;
+  std::vector<double> p95;
+  for (double deg : {0.0, 60.0}) {
+    s["device"]["force_shading_deg"] = deg;
+    const std::string dir = tmp("shaded_ball_" + std::to_string(static_cast<int>(deg)));
+    test::write_text(dir + ".json", s.dump());
+    const CliRun r = palpate("record " + dir + ".json --no-render -q -o " + dir);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const std::vector<double> a = angles_from_radius(dir + "/haptic.csv");
+    ASSERT_GT(a.size(), 1000u) << deg;
+    p95.push_back(a[static_cast<std::size_t>(0.95 * static_cast<double>(a.size() - 1))]);
+  }
+  std::printf("force's angle from the ball's radius, p95: facets %.2f deg, shaded %.2f deg\n", p95[0], p95[1]);
+  EXPECT_GT(p95[0], 5.0);
+  EXPECT_LT(p95[1], 0.5 * p95[0]) << "facets " << p95[0] << " deg, shaded " << p95[1] << " deg";
+  // and the random hands on it shaded (bench feel --force-shading) keep the surface and send no wild step
+  const std::string json = tmp("shaded_hands.json");
+  const CliRun h = palpate("bench feel --hands 4 --seed 20 --force-shading 60 " + ball + " --json " + json);
+  ASSERT_EQ(h.code, 0) << h.out;
+  for (const auto& hand : nlohmann::json::parse(test::read_file(json))["hands"]) {
+    EXPECT_EQ(hand["proxy_inside_ticks"].get<int64_t>(), 0) << hand.dump();
+    EXPECT_EQ(hand["wild_steps"].get<int64_t>(), 0) << hand.dump();
+  }
 }
 
 TEST(HandFuzz, TheSameSeedMakesTheSameHandsAndAMissingModelIsNamed) {

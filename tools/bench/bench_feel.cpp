@@ -22,6 +22,7 @@ namespace {
 Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
   auto scene = load_scene(path);
   if (!scene) return scene.error();
+  if (o.force_shading_deg >= 0.0) scene.value().device.force_shading_deg = o.force_shading_deg;
   auto model = load_model(scene.value());
   if (!model) return model.error();
   return run_feel(scene.value(), model.value(), o);

@@ -23,6 +23,7 @@ struct BenchFeelOptions {
   double excess_threshold_N = 0.02; ///< steps beyond the explained part counted above this
   std::string device = "scripted";  ///< the hand: scripted, or replay:PATH (a recorded haptic.csv or its folder)
   double duration_s = 0.0;          ///< scene seconds run; 0: the scene's, or the replayed log's whole length
+  double force_shading_deg = -1.0;  ///< >= 0: every scene's device.force_shading_deg instead of its own
 };
 
 /// One scene's lockstep run as `bench feel` takes it: every tick kept, its figures, and what the frame stage counted.

@@ -107,6 +107,10 @@ void add_feel(CLI::App* bench, BenchArgs& a) {
                 "strokes at 1-200 mm/s, lift-offs, pulls shaken sideways, blade passes; point and sphere tools, soft "
                 "and stiff materials. Reports proxy crossings, wild steps, flips, buzz, energy, NaN per hand and model")
       ->check(CLI::Range(1, 100000));
+  c->add_option("--force-shading", a.feel.force_shading_deg,
+                "Every scene's or hand's device.force_shading_deg: faces meeting at less than this many degrees are "
+                "felt as one smooth surface (0: as facets)")
+      ->check(finite_range(0.0, 180.0));
   c->add_option("--seed", a.hands.seed, "With --hands: the first hand's seed (hand i is seed + i)")->capture_default_str();
   c->add_option("--keep", a.hands.keep_dir, "With --hands: write the scene of every hand that fails into this folder");
 }
@@ -273,6 +277,7 @@ int run_bench(BenchArgs& a) {
     a.hands.models = a.feel.scenes;
     a.hands.json_path = a.feel.json_path;
     a.hands.step_threshold_N = a.feel.step_threshold_N;
+    a.hands.force_shading_deg = a.feel.force_shading_deg;
     return run_hand_fuzz(a.hands);
   }
   if (*a.feel_cmd) {

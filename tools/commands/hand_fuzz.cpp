@@ -369,6 +369,7 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
     for (int i = 0; i < o.hands; ++i) {
       const uint64_t seed = o.seed + static_cast<uint64_t>(i);
       Hand hand = make_hand(base.value(), seed);
+      if (o.force_shading_deg >= 0.0) hand.scene["device"]["force_shading_deg"] = o.force_shading_deg;
       HandResult r;
       r.model = name;
       r.kind = hand.kind;

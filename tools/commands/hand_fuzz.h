@@ -22,6 +22,7 @@ struct HandFuzzOptions {
   std::string keep_dir;             ///< write the scene of every hand that fails here when set
   double step_threshold_N = 0.1;    ///< a wild step: above this
   double excess_threshold_N = 0.02; ///< and beyond the device's motion by more than this
+  double force_shading_deg = -1.0;  ///< >= 0: every hand's device.force_shading_deg (else the scene default)
 };
 
 /// Runs the hands, prints a line per hand that fails, a table per model and overall; returns the exit code (0 when

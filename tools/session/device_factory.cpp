@@ -206,6 +206,7 @@ ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device) {
   sp.friction.static_coefficient = scene.static_friction;
   sp.friction.dynamic_coefficient = scene.dynamic_friction;
   sp.jump_limit_N_per_tick = scene.device.jump_limit_N_per_tick;
+  sp.force_shading_deg = scene.device.force_shading_deg;
   // after breakaway the friction force comes down to the sliding level no faster than the jump limit
   if (sp.coupling_N_per_m > 0.0) sp.friction.trail_drop_m = sp.jump_limit_N_per_tick / sp.coupling_N_per_m;
   return sp;

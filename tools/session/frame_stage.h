@@ -142,7 +142,10 @@ class FrameStage {
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
   std::vector<Vec3> part_f_ext_N_;   // zero forces on the stepped part of the lattice, when not all of it (n_part)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
-  std::unordered_map<int32_t, std::array<Vec3, 3>> published_;  // the last patch's corners by triangle id
+  struct PublishedCorners {
+    std::array<Vec3, 3> corners, normals;
+  };
+  std::unordered_map<int32_t, PublishedCorners> published_;  // the last patch's corners and shading normals by id
   std::vector<Vec3> normals_;        // per vertex (n_v)
   std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
   std::optional<MeshLod> lod_;       // what frames are drawn with when the mesh is finer than the image

@@ -2,6 +2,7 @@
 // near than a patch holds, with what the patch covers and the corners it blends from (LocalModel).
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "tools/session/frame_stage.h"
 
@@ -77,13 +78,23 @@ void FrameStage::publish_patch() {
   // the servo moves the surface from the last patch to this one over the frame, so the hand never feels the
   // frame's step (a cut renumbers triangles: its patches are not blended)
   const bool blend = scene_.mode != InteractionMode::kCut;
+  // force shading: each corner's normal over the faces at it within the crease angle (a touch surface keeps the rest
+  // mesh's triangles, whose adjacency the model holds)
+  const bool crease = touch && scene_.device.force_shading_deg > 0.0 && tris.size() == model_.rest.triangles.size() &&
+                      model_.adjacency.num_vertices() == vertices_m_.size();
+  const double cos_crease = std::cos(scene_.device.force_shading_deg * std::numbers::pi / 180.0);
   auto put = [&](int32_t t) {
     const auto& tr = tris[static_cast<std::size_t>(t)];
     m.tri_ids[n] = t;
     m.tri_m[n] = {vertices_m_[tr[0]], vertices_m_[tr[1]], vertices_m_[tr[2]]};
     m.normal[n] = {normals_[tr[0]], normals_[tr[1]], normals_[tr[2]]};
+    for (int c = 0; c < 3; ++c)
+      m.shade_normal[n][c] = crease ? crease_normal(vertices_m_, model_.rest.vertices_m, tris, model_.adjacency, t, c,
+                                                    cos_crease)
+                                    : Vec3::Zero();
     const auto it = blend ? published_.find(t) : published_.end();
-    m.tri_from_m[n] = it != published_.end() ? it->second : m.tri_m[n];
+    m.tri_from_m[n] = it != published_.end() ? it->second.corners : m.tri_m[n];
+    m.shade_normal_from[n] = it != published_.end() ? it->second.normals : m.shade_normal[n];
     ++n;
   };
   if (held >= 0) put(held);
@@ -92,7 +103,7 @@ void FrameStage::publish_patch() {
   m.num_triangles = n;
   m.blend_s = blend ? scene_.rates.frame_period_s() : 0.0;
   published_.clear();
-  for (int i = 0; i < n; ++i) published_[m.tri_ids[i]] = m.tri_m[i];
+  for (int i = 0; i < n; ++i) published_[m.tri_ids[i]] = {m.tri_m[i], m.shade_normal[i]};
   m.frame = stats_.frames;
   m.t_s = t_s_;
   fill_contact_model(&m);
