@@ -202,6 +202,28 @@ TEST(Record, CtrlCEndsARealtimeRecordingWithItsLogAndSummary) {
   }
 }
 
+// ... and one that lands after the run's last frame, while the video is made from the frames, is a stop too: the
+// encode ends between frames (no half-made MP4), exit 130, summary.json says so, every frame and tick is kept
+TEST(Record, CtrlCWhileTheVideoIsMadeAfterTheRunIsAStopThatKeepsTheFrames) {
+  const char* bin_env = std::getenv("PALPATE_BIN_DIR");
+  const std::string bin = bin_env ? bin_env : "build/bin";
+  const std::string out = fresh_dir("signal_video");
+  const test::CliRun r = test::shell(
+      "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --duration 4 -q -o " + out +
+      " & p=$!; n=0; while ! ls " + out + "/recording.mp4.* >/dev/null 2>&1 && [ $n -lt 3000 ]; do sleep 0.01; "
+      "n=$((n+1)); done; kill -INT $p; wait $p; echo \"exit $?\")");
+  EXPECT_NE(r.out.find("exit 130"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("after the run's last frame"), std::string::npos) << r.out;
+  const auto summary = read_json(out + "/summary.json");
+  EXPECT_NE(summary.value("interrupted", "").find("after the run's last frame"), std::string::npos) << summary.dump();
+  EXPECT_FALSE(fs::exists(out + "/recording.mp4"));
+  EXPECT_EQ(summary["haptic_rows"].get<int>(), csv_rows(fs::path(out) / "haptic.csv"));
+  int pngs = 0;
+  for (const auto& e : fs::directory_iterator(out + "/frames")) pngs += e.path().extension() == ".png";
+  EXPECT_GT(pngs, 200);  // 240 scene frames, a few of them skipped by a loaded machine
+  for (const auto& e : fs::directory_iterator(out)) EXPECT_EQ(e.path().filename().string().find(".mp4."), std::string::npos);
+}
+
 }  // namespace
 }  // namespace palpate
 

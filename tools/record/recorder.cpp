@@ -342,9 +342,15 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   if (rec.writer) rec.writer->finish();
   Status video_status = finish_recording_video(&rec.video);
   // a realtime run's default video, from the frames just written (its encoder never ran beside the servo)
-  if (plan.video == VideoPolicy::kAfterRun && rec.writer && rec.writer->write_errors() == 0)
+  if (plan.video == VideoPolicy::kAfterRun && rec.writer && rec.writer->write_errors() == 0 && !stop_requested(opt))
     make_video_after_run(plan.video_path, rec.frames_dir, rec.writer->frames_written(),
-                         session.stage().stats().written_frames, scene.rates.video_fps(), &rec.video);
+                         session.stage().stats().written_frames, scene.rates.video_fps(), &rec.video, opt.stop);
+  // a stop requested after the run's last frame (while the frames or the video were finished) is a stop all the
+  // same: said in summary.json and by the exit status, with everything the run made kept
+  RunFigures ran = run;
+  if (ran.interrupted.empty() && ran.aborted.empty() && stop_requested(opt))
+    ran.interrupted = "stopped on request after the run's last frame, while its outputs were finished" +
+                      std::string(rec.video.error.empty() ? "" : " (" + rec.video.error + ")");
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const Status log_status = rec.log.close();
   const Status events_status = write_device_events(*rec.device, plan.out_dir, opt.quiet);
@@ -359,7 +365,7 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   in.model = &*rec.model;
   in.session = &session;
   in.device = rec.device.get();
-  in.run = &run;
+  in.run = &ran;
   in.lockstep = plan.lockstep;
   in.rate_given = plan.rate_given;
   in.startup_s = rec.startup_s;
@@ -414,11 +420,11 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   // says when there is no summary
   if (!summary_status && log_status && !(rec.writer && rec.writer->write_errors() > 0)) return summary_status.error();
   const std::string no_summary = summary_status ? "" : " (and no summary: " + summary_status.error().message + ")";
-  if (!run.aborted.empty())
-    return make_error(run.aborted, ": ", std::to_string(res.frames_written), " frame(s), ", std::to_string(in.haptic_rows),
+  if (!ran.aborted.empty())
+    return make_error(ran.aborted, ": ", std::to_string(res.frames_written), " frame(s), ", std::to_string(in.haptic_rows),
                       " haptic row(s)", summary_status ? " and summary.json kept in '" + plan.out_dir + "'" : no_summary);
-  if (!run.interrupted.empty())
-    res.interrupted = run.interrupted + ": " + std::to_string(res.frames_written) + " frame(s), " +
+  if (!ran.interrupted.empty())
+    res.interrupted = ran.interrupted + ": " + std::to_string(res.frames_written) + " frame(s), " +
                       std::to_string(in.haptic_rows) + " haptic row(s) and summary.json kept in '" + plan.out_dir + "'";
   if (rec.writer && rec.writer->write_errors() > 0)
     return make_error(std::to_string(rec.writer->write_errors()), " frame(s) could not be written: ",

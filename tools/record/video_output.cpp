@@ -52,7 +52,7 @@ Status finish_recording_video(RecordingVideo* video) {
 }
 
 Result<FramesVideo> encode_png_frames(const std::vector<std::string>& files, const std::vector<int64_t>& scene_index,
-                                     const std::string& out_path, int frame_rate_hz) {
+                                     const std::string& out_path, int frame_rate_hz, const std::atomic<bool>* stop) {
   if (files.empty()) return make_error("video '", out_path, "': no frames to encode");
   // the size from each file's header before anything is decoded: a frame the renderer could not have made (a
   // few bytes can claim 32767 x 32767, a small file can inflate to gigabytes) is refused unread
@@ -80,6 +80,10 @@ Result<FramesVideo> encode_png_frames(const std::vector<std::string>& files, con
   if (!enc_r) return enc_r.error();
   VideoEncoder& enc = *enc_r.value();
   for (std::size_t i = 0; i < files.size(); ++i) {
+    // a stop request ends the encode between frames; the unfinished file is removed with the encoder
+    if (stop && stop->load(std::memory_order_relaxed))
+      return make_error("video '", out_path, "': stopped on request after ", std::to_string(i), " of ",
+                        std::to_string(files.size()), " frames");
     auto img = i == 0 ? std::move(first) : read_png(files[i]);
     if (!img) return img.error();
     if (img.value().width != w || img.value().height != h)
@@ -94,7 +98,8 @@ Result<FramesVideo> encode_png_frames(const std::vector<std::string>& files, con
 }
 
 void make_video_after_run(const std::string& path, const std::string& frames_dir, int count,
-                          const std::vector<int64_t>& scene_index, int frame_rate_hz, RecordingVideo* video) {
+                          const std::vector<int64_t>& scene_index, int frame_rate_hz, RecordingVideo* video,
+                          const std::atomic<bool>* stop) {
   video->path = path;
   video->optional = true;
   if (count <= 0) {
@@ -108,7 +113,7 @@ void make_video_after_run(const std::string& path, const std::string& frames_dir
     files.push_back((std::filesystem::path(frames_dir) / name).string());
   }
   const std::vector<int64_t> index(scene_index.begin(), scene_index.begin() + count);
-  auto made = encode_png_frames(files, index, path, frame_rate_hz);
+  auto made = encode_png_frames(files, index, path, frame_rate_hz, stop);
   if (!made) {
     video->error = made.error().message;
     std::fprintf(stderr, "palpate: warning: no video: %s\n", video->error.c_str());

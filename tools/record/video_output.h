@@ -2,6 +2,7 @@
 /// The video beside a recording: opened before the first frame, finished after the last, reported in
 /// summary.json's "video" object.
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -33,14 +34,18 @@ struct FramesVideo {
 
 /// Encodes the PNG files `files` (all of one size, in order) into out_path at frame_rate_hz, file i shown from
 /// scene frame scene_index[i] on (empty: frame i), so skipped frames hold the previous one. Errors name the file.
+/// A set `stop` ends it between frames with an error saying how far it got, and no file.
 Result<FramesVideo> encode_png_frames(const std::vector<std::string>& files, const std::vector<int64_t>& scene_index,
-                                     const std::string& out_path, int frame_rate_hz);
+                                     const std::string& out_path, int frame_rate_hz,
+                                     const std::atomic<bool>* stop = nullptr);
 
 /// A realtime run's default video, made after the run from frames_dir/frame_00000.png.. (`count` files, file i
 /// showing scene frame scene_index[i]) at frame_rate_hz: fills video->path and made_after_run, or on failure prints
-/// a warning and keeps it in video->error (the default video is optional).
+/// a warning and keeps it in video->error (the default video is optional). A set `stop` ends the encode between
+/// frames (no video; the error says so).
 void make_video_after_run(const std::string& path, const std::string& frames_dir, int count,
-                          const std::vector<int64_t>& scene_index, int frame_rate_hz, RecordingVideo* video);
+                          const std::vector<int64_t>& scene_index, int frame_rate_hz, RecordingVideo* video,
+                          const std::atomic<bool>* stop = nullptr);
 
 /// Frame copies the encoder may fall behind by before a realtime recording drops video frames.
 inline constexpr int kVideoQueueFrames = 8;
