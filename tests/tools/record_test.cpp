@@ -178,12 +178,13 @@ TEST(Record, AStopRequestEndsTheRunWithEveryOutputWhole) {
 }
 
 // ... and through the command: SIGINT to a realtime recording of ten minutes ends it, exit 130, outputs whole, the
-// progress line ending where it stopped; SIGHUP (the SSH session the run was started from dropped) the same
+// progress line ending where it stopped; SIGHUP (the SSH session the run was started from dropped) the same; a
+// second Ctrl-C within the second (an impatient hand, or `timeout` passing the signal on) is the same request
 TEST(Record, CtrlCEndsARealtimeRecordingWithItsLogAndSummary) {
   const char* bin_env = std::getenv("PALPATE_BIN_DIR");
   const std::string bin = bin_env ? bin_env : "build/bin";
-  for (const std::string sig : {"INT", "HUP"}) {
-    const std::string out = fresh_dir("signal_" + sig);
+  for (const std::string sig : {"INT", "HUP", "INT; sleep 0.2; kill -INT $p"}) {
+    const std::string out = fresh_dir("signal_" + std::to_string(sig.size()));
     // the signal goes once the log is open (the handler is in place before it is); timeout passes it on, and ends a
     // run that ignores it in 2 minutes instead of 10
     const test::CliRun r = test::shell(
