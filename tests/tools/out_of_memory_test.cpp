@@ -132,6 +132,15 @@ TEST(OutOfMemory, AnywhereInARecordingEndsWithALineAndKeepsWhatWasWritten) {
     }
     EXPECT_EQ(frames, j["frames_written"].get<int>());
     EXPECT_TRUE(fs::exists(fs::path(out) / "haptic.csv") || fs::exists(fs::path(out) / "haptic.csv.partial"));
+    // the session was finished: every tick the servo ran reached the log (a stop that left the queued ticks behind
+    // keeps a log short of the run), and the summary counts the rows the file holds
+    const fs::path csv = fs::exists(fs::path(out) / "haptic.csv") ? fs::path(out) / "haptic.csv"
+                                                                  : fs::path(out) / "haptic.csv.partial";
+    std::ifstream log(csv);
+    int64_t rows = -1;  // (the header)
+    for (std::string line; std::getline(log, line);) ++rows;
+    EXPECT_EQ(rows, j["haptic_rows"].get<int64_t>()) << csv;
+    EXPECT_EQ(rows, j["servo_ticks"].get<int64_t>()) << csv;
   }
   // most allocations of a recording are its frames': the sweep must have stopped some runs there
   EXPECT_GE(in_run, 3);
