@@ -165,5 +165,58 @@ TEST(Friction, StrokedOutOfADentTheProxyTrailsWithoutJumps) {
   }
 }
 
+TEST(Friction, BreakawayFollowsTheNormalForceOnATiltedFaceInAnyDirection) {
+  // a face turned 20 degrees off the axes, pressed 1 and 3 mm deep, then pulled slowly across it in three directions
+  // of its plane: the proxy holds until the force across it reaches mu_s times the force along its normal, measured
+  // in the face's own frame, whatever the depth and the direction
+  const Vec3 n = Vec3(0.25, -0.2, 1.0).normalized();
+  const Vec3 e1 = n.cross(Vec3::UnitX()).normalized(), e2 = n.cross(e1);
+  for (double depth : {0.001, 0.003}) {
+    for (double dir_deg : {0.0, 130.0, 250.0}) {
+      SCOPED_TRACE("depth " + std::to_string(depth) + " m, direction " + std::to_string(dir_deg) + " deg");
+      const double a = dir_deg * 3.14159265358979323846 / 180.0;
+      const Vec3 u = std::cos(a) * e1 + std::sin(a) * e2;
+      test::FixedDevice dev;
+      dev.specs_.max_force_N = 100;
+      SpscQueue<HapticSample> q(4096);
+      auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+      LocalModel& m = tb->write_buffer();
+      m.num_triangles = 0;
+      const double h = 0.05;
+      test::add_quad(&m, -h * e1 - h * e2, h * e1 - h * e2, h * e1 + h * e2, -h * e1 + h * e2);
+      m.frame = 0;
+      tb->publish();
+      ServoParams p = test::static_surface_params(kK);
+      p.friction.static_coefficient = kMuS;
+      p.friction.dynamic_coefficient = kMuD;
+      Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+      HapticSample sink, prev;
+      double breakaway = 0.0, normal = 0.0;
+      bool slipped = false;
+      for (int i = 0; i < 700 && !slipped; ++i) {
+        const double in = 0.002 - std::min(1.0, i / 100.0) * (0.002 + depth);
+        const double across = i < 200 ? 0.0 : 1e-5 * (i - 200);  // 10 mm/s
+        dev.pos_m = in * n + across * u;
+        servo.tick(i, i * 1e-3);
+        while (q.try_pop(&sink)) {
+        }
+        const HapticSample& now = servo.last_sample();
+        if (i >= 200) {
+          if ((now.proxy_pos_m - prev.proxy_pos_m).norm() > 1e-12) {
+            slipped = true;
+          } else {
+            breakaway = std::max(breakaway, (now.force_N - now.force_N.dot(n) * n).norm());
+            normal = now.force_N.dot(n);
+          }
+        }
+        prev = now;
+      }
+      ASSERT_TRUE(slipped);
+      EXPECT_NEAR(normal, kK * depth, 1e-6);
+      EXPECT_NEAR(breakaway, kMuS * normal, 0.03 * kMuS * normal);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace palpate
