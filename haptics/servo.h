@@ -130,6 +130,12 @@ class Servo {
   // position of the material point (tri, bary) in the latest patch (false when its triangle is not in it)
   static bool material_point(const LocalModel& m, int32_t tri, const Vec3& bary, Vec3* point) noexcept;
 
+  // with no jump limit a point tool still rolls over a convex facet edge at most this much of the coupling's force a
+  // tick beyond the device's step: pressed d into the surface, a point held at the edge would otherwise snap onto
+  // the next face by about d sin(turn) in one tick (0.15 N at 1 mm and 25 degrees); a sphere wider than its depth
+  // never does
+  static constexpr double kPointRoll_N_per_tick = 0.02;
+
   ServoParams params_;
   const Rates& rates_;
   Device* device_;
