@@ -296,6 +296,26 @@ TEST(BrowserDevice, ASilentPageFadesTheForceOutWithinTheWatchdog) {
   EXPECT_EQ(s[watchdog_ms], -1.0) << "zero force at the watchdog time";
 }
 
+// The silent page's fade, tick by tick: full force until stall_s, then down in even steps of one fade_s-th a tick,
+// never up, never a larger step (a click), and no reading from the watchdog time on.
+TEST(BrowserDevice, ASilentPagesFadeIsARampNeverAStep) {
+  const BrowserParams params;
+  const auto s = fade_after(false);
+  const int stall_ms = static_cast<int>(params.stall_s * 1e3), watchdog_ms = static_cast<int>(params.watchdog_s() * 1e3);
+  const double step = 1e-3 / params.fade_s;  // the scale's change a 1 ms tick
+  int fading = 0;
+  for (int i = 1; i < watchdog_ms; ++i) {
+    if (s[i] < 0.0) break;  // faded out: no reading
+    EXPECT_LE(s[i], s[i - 1]) << i;
+    EXPECT_LE(s[i - 1] - s[i], step + 1e-9) << i;
+    fading += s[i] < 1.0;
+  }
+  EXPECT_GE(fading, static_cast<int>(params.fade_s * 1e3) - 2) << "the fade took fade_s";
+  EXPECT_LE(fading, static_cast<int>(params.fade_s * 1e3));
+  for (int i = watchdog_ms; i < static_cast<int>(s.size()); ++i) EXPECT_EQ(s[i], -1.0) << i;
+  EXPECT_EQ(s[stall_ms - 2], 1.0);
+}
+
 // A servo pressing the pointer 2 cm into a floor: a force while the page is live, exactly zero from the watchdog time
 // after its close on, and no allocation in 10,000 ticks with messages arriving.
 TEST(BrowserDevice, ServoForceEndsAtTheWatchdogAndAllocatesNothing) {
