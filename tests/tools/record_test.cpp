@@ -225,6 +225,23 @@ TEST(Record, CtrlCWhileTheVideoIsMadeAfterTheRunIsAStopThatKeepsTheFrames) {
   for (const auto& e : fs::directory_iterator(out)) EXPECT_EQ(e.path().filename().string().find(".mp4."), std::string::npos);
 }
 
+// ... while a run that Ctrl-C ends before its last frame still gets its whole video, made from the frames it kept
+TEST(Record, CtrlCDuringARealtimeRunStillMakesItsVideoFromTheFramesKept) {
+  const char* bin_env = std::getenv("PALPATE_BIN_DIR");
+  const std::string bin = bin_env ? bin_env : "build/bin";
+  const std::string out = fresh_dir("signal_run_video");
+  const test::CliRun r = test::shell(
+      "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --duration 600 -q -o " + out +
+      " & p=$!; n=0; while [ ! -e " + out + "/haptic.csv.partial ] && [ $n -lt 300 ]; do sleep 0.1; n=$((n+1)); "
+      "done; sleep 1; kill -INT $p; wait $p; echo \"exit $?\")");
+  EXPECT_NE(r.out.find("exit 130"), std::string::npos) << r.out;
+  const auto summary = read_json(out + "/summary.json");
+  EXPECT_TRUE(summary.contains("interrupted")) << summary.dump();
+  ASSERT_TRUE(summary["video"].value("enabled", false)) << summary["video"].dump();
+  EXPECT_EQ(summary["video"]["frames"].get<int64_t>(), summary["frames_written"].get<int64_t>());
+  EXPECT_TRUE(fs::exists(out + "/recording.mp4"));
+}
+
 }  // namespace
 }  // namespace palpate
 

@@ -342,9 +342,11 @@ Result<RecordResult> finish_recording(Recording& rec, const Session& session, co
   if (rec.writer) rec.writer->finish();
   Status video_status = finish_recording_video(&rec.video);
   // a realtime run's default video, from the frames just written (its encoder never ran beside the servo)
-  if (plan.video == VideoPolicy::kAfterRun && rec.writer && rec.writer->write_errors() == 0 && !stop_requested(opt))
+  // (a run the request already ended gets its whole video; a request that comes while the video is made ends it)
+  if (plan.video == VideoPolicy::kAfterRun && rec.writer && rec.writer->write_errors() == 0)
     make_video_after_run(plan.video_path, rec.frames_dir, rec.writer->frames_written(),
-                         session.stage().stats().written_frames, scene.rates.video_fps(), &rec.video, opt.stop);
+                         session.stage().stats().written_frames, scene.rates.video_fps(), &rec.video,
+                         stop_requested(opt) ? nullptr : opt.stop);
   // a stop requested after the run's last frame (while the frames or the video were finished) is a stop all the
   // same: said in summary.json and by the exit status, with everything the run made kept
   RunFigures ran = run;
