@@ -259,7 +259,7 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   bary_ = b;
   proxy_m_ = sphere ? c : q;
   contact_point_m_ = q;
-  if (shade_full_cos_ < 1.0) update_shading(m, c, tool, r, path_m);
+  if (shade_full_cos_ < 1.0) update_shading(m, c, slot, b, tool, r, path_m);
 }
 
 void Servo::update_pull(const LocalModel& m, const Vec3& tool, bool button) noexcept {

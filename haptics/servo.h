@@ -101,15 +101,18 @@ class Servo {
   // the smooth normal there
   bool outside_of(const LocalModel& m, int slot, const Vec3& b, const Vec3& q, const Vec3& tool, double r,
                   Vec3* normal_out) const noexcept;
-  // force shading: this tick's turn of the coupling's spring (shade_) for the god-object at c, its path bounded by
-  // path_m as the proxy's was (0: unbounded)
-  void update_shading(const LocalModel& m, const Vec3& c, const Vec3& tool, double r, double path_m) noexcept;
+  // force shading: this tick's turn of the coupling's spring (shade_) for the god-object at c (its contact point in
+  // patch slot `slot` at barycentric `bary`), its path bounded by path_m as the proxy's was (0: unbounded)
+  void update_shading(const LocalModel& m, const Vec3& c, int slot, const Vec3& bary, const Vec3& tool, double r,
+                      double path_m) noexcept;
   // force shading: the normal the coupling's force should follow where the facets alone hold the proxy at `at`: the
   // smooth normal at its contact point, faded out where it differs from the facets' push (from the device to `at`) by
   // more than a quarter of the crease angle and gone from half of it, or where the contact is not one convex spot
   // (then the push itself). The force is turned about the device from the push toward it; the god-object stays where
   // the facets hold it
-  Vec3 shaded_normal(const LocalModel& m, const Vec3& at, const Vec3& tool, double r) const noexcept;
+  // (slot, bary: at's contact point when known, else slot -1)
+  Vec3 shaded_normal(const LocalModel& m, const Vec3& at, int slot, const Vec3& bary, const Vec3& tool,
+                     double r) const noexcept;
   // whether the tool's move from `from` starts a touch (sets the side it came from)
   bool touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept;
   // a free tool: the surface point nearest it, remembered so the next tick can carry its path with the surface, and

@@ -16,7 +16,8 @@ constexpr double kShadeStep_N = 0.005;
 
 }  // namespace
 
-void Servo::update_shading(const LocalModel& m, const Vec3& c, const Vec3& tool, double r, double path_m) noexcept {
+void Servo::update_shading(const LocalModel& m, const Vec3& c, int slot, const Vec3& bary, const Vec3& tool, double r,
+                           double path_m) noexcept {
   // the facets' push: from the device to the proxy they alone would hold, bounded as the proxy is (with friction, a
   // companion god-object without it, so the friction's pull across the surface is not taken for the surface's turn)
   Vec3 at = c;
@@ -25,6 +26,7 @@ void Servo::update_shading(const LocalModel& m, const Vec3& c, const Vec3& tool,
     push_out(m, r, contact_normal_, 4, &from);
     int a = 0;
     at = shade_free_m_ = god_object_move(m, from, tool, r, contact_normal_, &a, path_m);
+    slot = -1;  // (its contact point is not the proxy's)
   }
   // the force follows its target by at most kShadeStep_N a tick: where the contact stops being one convex spot, or
   // the push changes face while the proxy lags the device, the target turns at once and the force does not.
@@ -33,7 +35,7 @@ void Servo::update_shading(const LocalModel& m, const Vec3& c, const Vec3& tool,
   // fast, and the force stays on it); with friction, the rotation itself (the push may jump where the spring,
   // held by friction, does not: a companion that leaves the surface, or rolls over a thin part's edge)
   const Vec3 push = (at - tool).normalized();
-  const Vec3 target = push.allFinite() ? shaded_normal(m, at, tool, r) : push;
+  const Vec3 target = push.allFinite() ? shaded_normal(m, at, slot, bary, tool, r) : push;
   const double step_rad = kShadeStep_N / std::max(params_.coupling_N_per_m * (c - tool).norm(), 1e-9);
   if (!params_.friction.on()) {
     if (push.allFinite() && target.allFinite()) {
@@ -57,11 +59,15 @@ void Servo::update_shading(const LocalModel& m, const Vec3& c, const Vec3& tool,
   if (!shade_.coeffs().allFinite()) shade_ = Quat::Identity();
 }
 
-Vec3 Servo::shaded_normal(const LocalModel& m, const Vec3& at, const Vec3& tool, double r) const noexcept {
+Vec3 Servo::shaded_normal(const LocalModel& m, const Vec3& at, int slot, const Vec3& bary, const Vec3& tool,
+                          double r) const noexcept {
   const Vec3 push = (at - tool).normalized();
-  int slot = -1;
-  Vec3 q = Vec3::Zero(), b = Vec3::Zero();
-  if (!push.allFinite() || !closest_on_patch(m, at, &slot, &q, &b, &contact_normal_)) return push;
+  if (!push.allFinite()) return push;
+  Vec3 b = bary;
+  if (slot < 0) {
+    Vec3 q = Vec3::Zero();
+    if (!closest_on_patch(m, at, &slot, &q, &b, &contact_normal_)) return push;
+  }
   const auto& n = m.shade_normal[slot];
   const Vec3 smooth = b[0] * n[0] + b[1] * n[1] + b[2] * n[2];
   if (!(smooth.squaredNorm() > 0.0)) return push;  // (a patch without shading normals)

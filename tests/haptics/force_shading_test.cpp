@@ -65,6 +65,7 @@ void publish(const Surface& s, double crease_deg, TripleBuffer<LocalModel>* tb) 
   const double cos_crease = std::cos(crease_deg * kPi / 180.0);
   LocalModel& m = tb->write_buffer();
   m.num_triangles = 0;
+  ASSERT_LE(s.t.size(), static_cast<std::size_t>(LocalModel::kMaxTriangles));
   for (int i = 0; i < static_cast<int>(s.t.size()); ++i) {
     const auto& t = s.t[i];
     m.tri_ids[m.num_triangles] = i;
@@ -187,6 +188,84 @@ TEST(ForceShading, ACubesFacesStayFlatAndItsEdgesSharp) {
     const Stroke shaded = stroke(s, 60.0, radius, at, normal, Vec3(1, 0, 0), 1700);
     EXPECT_LT(shaded.max_angle_deg, 1e-6);
   }
+}
+
+// the servo's samples over `ticks` with the device at path(i); the surface published with crease normals of 60 degrees
+template <typename Path>
+std::vector<HapticSample> run(const Surface& s, const ServoParams& p, Path path, int ticks) {
+  test::FixedDevice dev;
+  dev.specs_.max_force_N = 100;
+  SpscQueue<HapticSample> q(4096);
+  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  publish(s, 60.0, tb.get());
+  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  std::vector<HapticSample> out;
+  HapticSample sink;
+  for (int i = 0; i < ticks; ++i) {
+    dev.pos_m = path(i);
+    servo.tick(i, i * 1e-3);
+    while (q.try_pop(&sink)) {
+    }
+    out.push_back(servo.last_sample());
+  }
+  return out;
+}
+
+TEST(ForceShading, RoundASharpEdgeTheForceTurnsWithTheFacetsPush) {
+  // a 4 mm sphere pressed 1 mm onto a cube's 90-degree edge and rolled round it from the top face to the side in
+  // 30 ms: past the crease the shaded normal is the facets' push, and the force follows it as fast as it turns (a
+  // force that turned at its 5 mN a tick instead lagged the push by tens of degrees, pushing the hand the wrong way)
+  const double h = 0.02, r = 0.004, arm = r - 0.001;
+  const Surface s = cube(h);
+  ServoParams p = test::static_surface_params(kK);
+  p.tool_radius_m = r;
+  p.force_shading_deg = 60.0;
+  auto path = [&](int i) {
+    const Vec3 edge(h, 0.003, h);
+    if (i < 300) return Vec3(edge + Vec3(-0.006 * (1.0 - i / 299.0), 0.0, arm + 0.003 * std::max(0.0, 1.0 - i / 100.0)));
+    const double phi = 0.5 * kPi * std::min(1.0, (i - 300) / 30.0);
+    return Vec3(edge + arm * Vec3(std::sin(phi), 0.0, std::cos(phi)));
+  };
+  const auto samples = run(s, p, path, 450);
+  double worst_deg = 0.0;
+  for (std::size_t i = 320; i < samples.size(); ++i) {
+    const HapticSample& x = samples[i];
+    ASSERT_EQ(x.contact, ContactState::kTouch) << i;
+    const Vec3 push = (x.proxy_pos_m - x.tool_pos_m).normalized();
+    worst_deg = std::max(worst_deg, std::acos(std::clamp(x.force_N.normalized().dot(push), -1.0, 1.0)) * 180.0 / kPi);
+  }
+  EXPECT_LT(worst_deg, 3.0);  // (66 degrees when it turned at 5 mN a tick)
+}
+
+TEST(ForceShading, FrictionKeepsItsCoefficientsWhenShaded) {
+  // friction on a shaded face: the force across it at breakaway is mu_s times the force along its normal, as on
+  // facets (the shading is taken from a companion proxy without friction: from the held proxy itself, the friction's
+  // pull across read as the surface's tilt and was turned away)
+  Surface s;
+  const double h = 0.05;
+  s.v = {{-h, -h, 0.0}, {h, -h, 0.0}, {h, h, 0.0}, {-h, h, 0.0}};
+  s.t = {{0, 1, 2}, {0, 2, 3}};
+  ServoParams p = test::static_surface_params(kK);
+  p.force_shading_deg = 60.0;
+  p.friction.static_coefficient = 0.6;
+  p.friction.dynamic_coefficient = 0.4;
+  auto path = [](int i) {  // pressed 2 mm, then pulled across at 10 mm/s
+    return Vec3(i < 300 ? 0.0 : 1e-5 * (i - 300), 0.001, 0.002 - std::min(1.0, i / 100.0) * 0.004);
+  };
+  const auto samples = run(s, p, path, 900);
+  double breakaway = 0.0;
+  std::size_t slip = 0;
+  for (std::size_t i = 300; i < samples.size() && slip == 0; ++i) {
+    if ((samples[i].proxy_pos_m - samples[i - 1].proxy_pos_m).norm() > 1e-12) slip = i;
+    else breakaway = std::max(breakaway, -samples[i].force_N.x());
+  }
+  ASSERT_GT(slip, 0u);
+  const double normal = samples[299].force_N.z();
+  EXPECT_NEAR(normal, kK * 0.002, 1e-6);
+  EXPECT_NEAR(breakaway, 0.6 * normal, 0.03 * 0.6 * normal);
+  // and sliding, mu_d times the normal force in the face's frame
+  for (std::size_t i = slip + 100; i < samples.size(); ++i)
+    EXPECT_NEAR(-samples[i].force_N.x() / samples[i].force_N.z(), 0.4, 0.02) << i;
 }
 
 }  // namespace
