@@ -24,6 +24,11 @@ struct Rates {
   double servo_period_s() const { return 1.0 / servo_hz; }
   /// Frame period, seconds.
   double frame_period_s() const { return 1.0 / frame_hz; }
+  /// Scene time of servo tick i: the one formula every driver uses (lockstep, realtime, a replay), so the servo
+  /// sees the same times, to the bit, whichever drove it.
+  double tick_time_s(int64_t i) const { return static_cast<double>(i) / servo_hz; }
+  /// Scene time of frame f (as tick_time_s, one formula for every driver).
+  double frame_time_s(int64_t f) const { return static_cast<double>(f) / frame_hz; }
   /// Servo ticks in duration_s.
   int64_t ticks(double duration_s) const { return std::llround(duration_s * servo_hz); }
   /// Frames in duration_s (a frame at each frame boundary before the end).

@@ -47,6 +47,16 @@ class SpscQueue {
     return true;
   }
 
+  /// The oldest item, left in the queue (valid until the next try_pop); null when empty. Thread: consumer.
+  [[nodiscard]] const T* front() noexcept {
+    const std::size_t r = read_.load(std::memory_order_relaxed);
+    if (r == write_cached_) {
+      write_cached_ = write_.load(std::memory_order_acquire);
+      if (r == write_cached_) return nullptr;
+    }
+    return &slots_[r];
+  }
+
   /// Number of items the queue can hold.
   std::size_t capacity() const noexcept { return slots_.size() - 1; }
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/rates.h"
+#include "core/run_schedule.h"
 #include "core/types.h"
 
 namespace palpate {
@@ -48,6 +49,9 @@ class Device {
   virtual const class DeviceEventLog* link_events() const noexcept { return nullptr; }
   /// The link's name for messages about its events (empty without a link).
   virtual std::string link_name() const { return {}; }
+  /// A driver that plays a recorded run back: the order its ticks and frames met, which a session follows instead
+  /// of its own clock (core/run_schedule.h); null for every other driver.
+  virtual const RunSchedule* schedule() const noexcept { return nullptr; }
 };
 
 }  // namespace palpate

@@ -26,6 +26,9 @@ struct HapticSample {
   uint8_t input_rejected = 0;          ///< 1 when the device reading was rejected this tick
   Vec3 blade_axis = Vec3::UnitZ();     ///< cut: unit direction of the blade edge from the tip (tool_pos_m) to the handle
   float wake_latency_us = 0.0f;        ///< realtime: how late the servo thread woke for this tick (0 on a virtual clock)
+  double force_scale = 1.0;            ///< the driver's fade the force was scaled by (DevicePose::force_scale)
+  int64_t model_frame = -1;            ///< the sim frame whose surface patch this tick felt (-1: none yet)
+  int64_t drain_frame = -1;            ///< set by the sim thread: the frame that took this sample (-1: after the last)
 };
 
 }  // namespace palpate

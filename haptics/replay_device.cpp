@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 namespace palpate {
 namespace {
@@ -28,6 +29,13 @@ bool to_double(const std::string& s, double* v) {
   errno = 0;
   *v = std::strtod(s.c_str(), &end);
   return errno == 0 && end == s.c_str() + s.size();
+}
+
+std::vector<ScheduledTick> schedule_ticks(const std::vector<ReplayRow>& rows) {
+  std::vector<ScheduledTick> t;
+  t.reserve(rows.size());
+  for (const ReplayRow& r : rows) t.push_back({r.tick, r.frame, r.model_frame});
+  return t;
 }
 
 }  // namespace
@@ -51,6 +59,9 @@ Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text_in, cons
   };
   const int ct = col("t_s"), cx = col("tool_x_m"), cy = col("tool_y_m"), cz = col("tool_z_m"), cb = col("buttons");
   const int cr = col("rejected");
+  const int cs = col("force_scale");
+  const int ctick = col("tick"), cf = col("frame"), cmf = col("model_frame");
+  const bool scheduled = ctick >= 0 && cf >= 0 && cmf >= 0;
   for (const auto& [c, name] : {std::pair{ct, "t_s"}, {cx, "tool_x_m"}, {cy, "tool_y_m"}, {cz, "tool_z_m"}, {cb, "buttons"}})
     if (c < 0) return make_error("replay '", path, "': line 1: no column '", name, "'");
 
@@ -78,12 +89,35 @@ Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text_in, cons
                         cells[static_cast<std::size_t>(cb)], "' is not a 32-bit mask");
     r.buttons = static_cast<uint32_t>(v[4]);
     r.rejected = cr >= 0 && cells[static_cast<std::size_t>(cr)] == "1";
+    if (cs >= 0) {
+      const std::string& cell = cells[static_cast<std::size_t>(cs)];
+      if (!to_double(cell, &r.force_scale) || !(r.force_scale >= 0.0 && r.force_scale <= 1.0))
+        return make_error("replay '", path, "': line ", std::to_string(line_no), ": column 'force_scale': '", cell,
+                          "' is not a number from 0 to 1");
+    }
+    if (scheduled) {
+      r.scheduled = true;
+      for (const auto& [c, out, low] : {std::tuple{ctick, &r.tick, int64_t{0}}, {cf, &r.frame, int64_t{-1}},
+                                        {cmf, &r.model_frame, int64_t{-1}}}) {
+        const std::string& cell = cells[static_cast<std::size_t>(c)];
+        char* end = nullptr;
+        errno = 0;
+        const long long n = std::strtoll(cell.c_str(), &end, 10);
+        if (cell.empty() || errno != 0 || end != cell.c_str() + cell.size() || n < low)
+          return make_error("replay '", path, "': line ", std::to_string(line_no), ": column '",
+                            head[static_cast<std::size_t>(c)], "': '", cell, "' is not a whole number of at least ",
+                            std::to_string(low));
+        *out = n;
+      }
+    }
     if (!rows.empty() && !(r.t_s > rows.back().t_s))
       return make_error("replay '", path, "': line ", std::to_string(line_no), ": t_s ", cells[static_cast<std::size_t>(ct)],
                         " does not increase");
     rows.push_back(r);
   }
   if (rows.empty()) return make_error("replay '", path, "': no rows");
+  if (scheduled)
+    if (auto sch = make_run_schedule(schedule_ticks(rows), {}, "replay '" + path + "'"); !sch) return sch.error();
   return rows;
 }
 
@@ -97,7 +131,29 @@ Result<std::vector<ReplayRow>> load_haptic_csv(const std::string& path_in) {
   return parse_haptic_csv(text.value(), path);
 }
 
-ReplayDevice::ReplayDevice(const DeviceSpecs& specs, std::vector<ReplayRow> rows) : specs_(specs), rows_(std::move(rows)) {}
+std::vector<int64_t> read_skipped_frames(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path dir =
+      std::filesystem::is_directory(path, ec) ? std::filesystem::path(path) : std::filesystem::path(path).parent_path();
+  auto text = read_input_file((dir / "summary.json").string(), "summary", kMaxReplayFileBytes);
+  if (!text) return {};
+  const auto j = nlohmann::json::parse(text.value(), nullptr, false);
+  std::vector<int64_t> out;
+  if (!j.is_object() || !j.contains("sim") || !j["sim"].is_object()) return out;
+  const auto& s = j["sim"].value("skipped_frames", nlohmann::json::array());
+  if (!s.is_array()) return out;
+  for (const auto& f : s)
+    if (f.is_number_integer()) out.push_back(f.get<int64_t>());
+  return out;
+}
+
+ReplayDevice::ReplayDevice(const DeviceSpecs& specs, std::vector<ReplayRow> rows, bool follow_schedule,
+                           const std::vector<int64_t>& skipped_frames)
+    : specs_(specs), rows_(std::move(rows)) {
+  if (follow_schedule && rows_.front().scheduled)
+    if (auto sch = make_run_schedule(schedule_ticks(rows_), skipped_frames, "replay"); sch)
+      schedule_ = std::move(sch).value();
+}
 
 bool ReplayDevice::read(double t_s, DevicePose* out) noexcept {
   // rows are at tick times printed to 1 us: a row belongs to t_s when within half a microsecond
@@ -108,6 +164,7 @@ bool ReplayDevice::read(double t_s, DevicePose* out) noexcept {
   out->pos_m = r.pos_m;
   out->orientation = Quat::Identity();
   out->buttons = r.buttons;
+  out->force_scale = r.force_scale;  // the recorded driver's fade, as it scaled that tick's force
   return !r.rejected;
 }
 

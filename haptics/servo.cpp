@@ -438,8 +438,8 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     force = jump_.apply(force, params_.jump_limit_N_per_tick);
   }
   // a driver fading its link out (browser watchdog) scales the force; anything but 0..1 counts as 0 or 1
-  if (!rejected && pose.force_scale != 1.0)
-    force *= pose.force_scale > 0.0 ? std::min(pose.force_scale, 1.0) : 0.0;
+  const double scale = rejected ? 1.0 : pose.force_scale > 0.0 ? std::min(pose.force_scale, 1.0) : 0.0;
+  if (scale != 1.0) force *= scale;
   force = limit_force(force, device_->specs().max_force_N);
   guard_.sent(force);
   device_->write_force(force);
@@ -458,6 +458,8 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   s.input_rejected = rejected ? 1 : 0;
   s.blade_axis = axis;
   s.wake_latency_us = wake_latency_us_;
+  s.model_frame = m.frame;
+  s.force_scale = scale;
   if (!samples_->try_push(s)) ++counters_.dropped_samples;
   last_ = s;
   counters_.max_force_N = std::max(counters_.max_force_N, force.norm());

@@ -108,7 +108,7 @@ void ServoRunner::run() noexcept {
     const int64_t wake_latency_ns = woke_ns - next_ns;
     timing_.wake_latency.add(wake_latency_ns);
     servo_->set_wake_latency_ns(wake_latency_ns);
-    servo_->tick(tick, static_cast<double>(tick) * static_cast<double>(period_ns) * 1e-9);
+    servo_->tick(tick, rates_.tick_time_s(tick));
     done_ns = monotonic_ns();
     timing_.compute.add(done_ns - woke_ns);
     ticks_.store(tick + 1, std::memory_order_relaxed);

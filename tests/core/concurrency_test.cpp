@@ -29,6 +29,23 @@ TEST(SpscQueue, FifoAndCapacity) {
   EXPECT_FALSE(q.try_pop(&v));
 }
 
+// front() shows the oldest item without taking it (a frame that takes samples only up to a tick looks first)
+TEST(SpscQueue, FrontShowsTheOldestItemAndLeavesIt) {
+  SpscQueue<int> q(2);
+  EXPECT_EQ(q.front(), nullptr);
+  ASSERT_TRUE(q.try_push(7));
+  ASSERT_TRUE(q.try_push(8));
+  ASSERT_NE(q.front(), nullptr);
+  EXPECT_EQ(*q.front(), 7);
+  EXPECT_EQ(*q.front(), 7);
+  int v = 0;
+  ASSERT_TRUE(q.try_pop(&v));
+  EXPECT_EQ(v, 7);
+  EXPECT_EQ(*q.front(), 8);
+  ASSERT_TRUE(q.try_pop(&v));
+  EXPECT_EQ(q.front(), nullptr);
+}
+
 TEST(SpscQueue, TwoThreadsPassEveryItemInOrder) {
   SpscQueue<int64_t> q(64);
   constexpr int64_t kN = 1'000'000;

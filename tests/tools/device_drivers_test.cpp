@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 
 #include "haptics/shim/palpate_shim.h"
 #include "tools/device_process.h"
@@ -55,6 +56,62 @@ TEST(ReplayDriver, LockstepReplayOfARecordingReproducesItsStateHash) {
   EXPECT_EQ(nlohmann::json::parse(test::read_file(b + "/summary.json"))["device"]["driver"], "replay");
   // and the replayed log equals the original, row for row
   EXPECT_EQ(test::read_file(a + "/haptic.csv"), test::read_file(b + "/haptic.csv"));
+}
+
+// haptic.csv's rows (the header left out), split at commas.
+std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(test::read_file(path));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::istringstream l(line);
+    for (std::string c; std::getline(l, c, ',');) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// A realtime run follows the wall clock: its frames take what the servo queued by then, and its ticks feel a frame's
+// patch from whenever it was published (rendering in between, on a shared machine). Replayed in lockstep, the
+// recorded order of ticks and frames (haptic.csv's frame and model_frame) is followed, so the replay is the session:
+// every tick's force as it was, not a fresh run of the same hand on a virtual clock.
+TEST(ReplayDriver, ARealtimeRecordingReplaysTickForTick) {
+  const std::string a = out_dir("replay_rt_src"), b = out_dir("replay_rt_dst");
+  // a grab and pull with frames drawn (no video): several ticks pass while each frame computes and draws
+  CmdRun r1 = palpate({"record", "scenes/bunny_pull.json", "--duration", "4", "--mode", "realtime", "--no-video", "-q",
+                       "--out", a},
+                      "rt1");
+  ASSERT_EQ(r1.code, 0) << r1.out;
+  CmdRun r2 = palpate({"record", "scenes/bunny_pull.json", "--no-render", "-q", "--out", b, "--device", "replay:" + a},
+                      "rt2");
+  ASSERT_EQ(r2.code, 0) << r2.out;
+  const auto live = csv_rows(a + "/haptic.csv"), replay = csv_rows(b + "/haptic.csv");
+  ASSERT_GT(live.size(), 3000u);
+  ASSERT_EQ(replay.size(), live.size()) << "the replay makes the recorded ticks, no more, no fewer";
+  // how unlike a lockstep run the realtime one was: ticks that felt a patch older than the frame due at their time
+  int64_t late_patch = 0, grab = 0, differing = 0;
+  double worst_N = 0.0;
+  for (std::size_t i = 0; i < live.size(); ++i) {
+    ASSERT_EQ(live[i].size(), 17u);
+    ASSERT_EQ(replay[i][0], live[i][0]) << "row " << i;
+    const int64_t tick = std::stoll(live[i][0]), felt = std::stoll(live[i][15]);
+    late_patch += felt >= 0 && felt < tick * 60 / 1000;
+    grab += live[i][11] == "2";
+    double d = 0.0;
+    for (int c = 8; c <= 10; ++c) d = std::max(d, std::abs(std::stod(replay[i][c]) - std::stod(live[i][c])));
+    worst_N = std::max(worst_N, d);
+    differing += replay[i] != live[i];
+  }
+  std::printf("[ figures ] %zu ticks, %lld in a grab, %lld felt a patch older than a lockstep run's; the replay's "
+              "largest force difference %.3g N, rows that differ %lld\n",
+              live.size(), static_cast<long long>(grab), static_cast<long long>(late_patch), worst_N,
+              static_cast<long long>(differing));
+  EXPECT_GT(grab, 1000) << "the pull never grabbed";
+  EXPECT_GT(late_patch, 100) << "the realtime run went as a lockstep run would: nothing to follow";
+  EXPECT_LE(worst_N, 0.02);
+  EXPECT_EQ(differing, 0) << "the replay is the session, row for row";
 }
 
 // A replay made from another scene is allowed (the same hand against another object) but said; from its own scene

@@ -309,6 +309,7 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
     // a frame a whole period late is skipped (counted), so the loop catches up with the wall clock
     if (late > static_cast<int64_t>(frame_ns)) {
       ++run.frames_late;
+      run.skipped_frames.push_back(f);
       if (opt.live) opt.live->frame_skipped();
       continue;
     }

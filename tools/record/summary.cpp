@@ -161,6 +161,7 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
               {"divergence_events", fst.divergence_events},
               {"frame_latency_us", hist_json(in.run->frame_latency)},
               {"frames_late", in.run->frames_late},
+              {"skipped_frames", in.run->skipped_frames},
               {"profile", profile_json(fst.profile)}};
   // where the push went: solved under the tool's tip, or by formula (device.contact; a solved one falls back to the
   // formula until the lattice's stiffness is factored, and on a refined lattice)

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +26,7 @@ struct RunFigures {
   ServoTiming timing;                         ///< realtime: the servo thread's; lockstep: compute time only
   LatencyHistogram frame_latency{100'000};    ///< realtime: frame start - frame deadline, 100 us buckets to 200 ms
   int64_t frames_late = 0;                    ///< realtime: frames skipped a whole period late
+  std::vector<int64_t> skipped_frames;        ///< realtime: their indices (a replay of the run skips them too)
   bool memory_locked = false;                 ///< realtime: mlockall succeeded
   std::string aborted;                        ///< why the run ended before its duration (out of memory), else empty
   std::string interrupted;                    ///< a stop asked for (SIGINT, SIGTERM, SIGHUP): where the run ended, else empty

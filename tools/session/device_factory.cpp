@@ -1,6 +1,7 @@
 #include "tools/session/device_factory.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <cstdio>
 #include <filesystem>
@@ -138,7 +139,15 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
       if (!from.empty() && !same_scene(from, scene.path))
         std::fprintf(stderr, "palpate: warning: replay '%s' was recorded from scene '%s', this run is '%s': the hand "
                      "follows the other scene's poses\n", target.c_str(), from.c_str(), scene.path.c_str());
-      return std::unique_ptr<Device>(std::make_unique<ReplayDevice>(specs, std::move(rows).value()));
+      // the recorded order of ticks and frames is followed only at the rate its ticks were made at
+      const ReplayRow& last = rows.value().back();
+      const bool same_rate = last.scheduled && std::abs(last.t_s - scene.rates.tick_time_s(last.tick)) < 1e-6;
+      if (last.scheduled && !same_rate)
+        std::fprintf(stderr, "palpate: warning: replay '%s' was recorded at another servo rate than this scene's "
+                     "%g Hz: replayed by time, not in the order its ticks and frames ran\n", target.c_str(),
+                     scene.rates.servo_hz);
+      return std::unique_ptr<Device>(
+          std::make_unique<ReplayDevice>(specs, std::move(rows).value(), same_rate, read_skipped_frames(target)));
     }
   }
   return make_error("device '", name, "': unknown driver");

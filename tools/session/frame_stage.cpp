@@ -79,10 +79,12 @@ void FrameStage::use_budget(BudgetClock* clock) {
   region_->limit_springs_cut_per_frame(kBudgetSpringsPerFrame);
 }
 
-void FrameStage::drain() {
+void FrameStage::drain(int64_t frame, int64_t drain_to_tick) {
   through_still_m_ = 0.0;  // the reach may have changed with the last step: every frame asks afresh
   HapticSample s;
-  while (samples_->try_pop(&s)) {
+  for (const HapticSample* next; (next = samples_->front()) != nullptr && next->tick <= drain_to_tick;) {
+    if (!samples_->try_pop(&s)) break;
+    s.drain_frame = frame;
     if (log_) log_->append(s);
     if (live_) live_->add_sample(s);
     ++stats_.samples;
@@ -114,7 +116,7 @@ void FrameStage::check_through(const HapticSample& s) {
   if (stats_.through_first_t_s < 0.0) stats_.through_first_t_s = s.t_s;
 }
 
-void FrameStage::drain_remaining() { drain(); }
+void FrameStage::drain_remaining() { drain(-1, INT64_MAX); }
 
 void FrameStage::region_changed() {
   resting_ = false;
@@ -395,7 +397,7 @@ void FrameStage::lap(FramePart part) {
   lap_cpu_ms_ = cpu;
 }
 
-void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
+void FrameStage::frame(int64_t index, double t_s, bool block_on_writer, int64_t drain_to_tick) {
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_clock_.now_ms();
   const ThreadSwitches sw0 = this_thread_switches();
@@ -409,7 +411,8 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer) {
   solved_this_frame_ = false;
   force_sum_N_.setZero();
   frame_samples_ = 0;
-  drain();
+  frame_index_ = index;
+  drain(index, drain_to_tick);
   lap(FramePart::kDrain);
   const int64_t cut_before = stats_.springs_cut;
   if (region_->begin_frame({&vertices_m_, &normals_})) resting_ = false;

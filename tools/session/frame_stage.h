@@ -3,6 +3,7 @@
 /// publish the surface patch for the servo, render and queue the PNG.
 
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -46,8 +47,9 @@ class FrameStage {
              TripleBuffer<LocalModel>* local_model, Renderer* renderer, PngWriter* writer, HapticLog* log);
 
   /// Processes frame `index` at scene time t_s; block_on_writer waits for a free PNG buffer (lockstep)
-  /// instead of dropping the frame (realtime).
-  void frame(int64_t index, double t_s, bool block_on_writer);
+  /// instead of dropping the frame (realtime). The frame takes the servo's samples up to tick drain_to_tick (a
+  /// replay of a realtime run takes what that run's frame took; by default all there are).
+  void frame(int64_t index, double t_s, bool block_on_writer, int64_t drain_to_tick = INT64_MAX);
   /// Also encodes every rendered frame into `video` (may be null; must outlive the stage); it gets the same
   /// pixels as the PNG writer, waiting for the encoder when frame() blocks on the writer, else dropping.
   void set_video(VideoWriter* video) { video_ = video; }
@@ -89,7 +91,8 @@ class FrameStage {
   FrameView current_view() const;
 
  private:
-  void drain();
+  // takes the queued samples up to tick drain_to_tick, marked as taken by `frame`, into the log and the region
+  void drain(int64_t frame, int64_t drain_to_tick);
   // places the region at this frame's first contact
   void place_region();
   // moves the region when this frame's contact left it (state carried over)
@@ -160,6 +163,7 @@ class FrameStage {
   bool compliance_next_frame_ = false;  // the region was placed or moved this frame: no contact model until the next
   Vec3 frame_force_obj_N_ = Vec3::Zero();  // force pushed on the object during the last step
   double t_s_ = 0.0;                 // scene time of the current frame
+  int64_t frame_index_ = -1;         // index of the current frame (the patch it publishes carries it)
   HapticSample latest_;              // newest sample drained
   HapticSample contact_;             // newest sample in contact this frame
   bool contact_this_frame_ = false;

@@ -104,7 +104,7 @@ void FrameStage::publish_patch() {
   m.blend_s = blend ? scene_.rates.frame_period_s() : 0.0;
   published_.clear();
   for (int i = 0; i < n; ++i) published_[m.tri_ids[i]] = {m.tri_m[i], m.shade_normal[i]};
-  m.frame = stats_.frames;
+  m.frame = frame_index_;
   m.t_s = t_s_;
   fill_contact_model(&m);
   local_model_->publish();

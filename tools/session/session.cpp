@@ -10,6 +10,7 @@ Session::Session(const Scene& scene, const Model& model, Device* device, const S
 Session::Session(const Scene& scene, const Model& model, Device* device, const ServoParams& params,
                  const SessionOutputs& outputs)
     : scene_(scene),
+      device_(device),
       params_(params),
       samples_(kSessionSampleQueue),
       local_model_(std::make_unique<TripleBuffer<LocalModel>>()),

@@ -59,7 +59,8 @@ class Session {
   Session& operator=(const Session&) = delete;
 
   /// Runs the session on a virtual clock for duration_s (see palpate::run_lockstep): every frame blocks on the
-  /// writers, so the run is reproducible bit for bit. after_frame(index, t_s) is called after each frame and
+  /// writers, so the run is reproducible bit for bit. A device that replays a recorded run with its schedule
+  /// (Device::schedule) is run in that run's order instead (palpate::run_scheduled), whatever duration_s. after_frame(index, t_s) is called after each frame and
   /// after_tick(index, t_s) after each servo tick; the servo's compute time goes to lockstep_compute().
   /// Ends with finish().
   template <class AfterFrame, class AfterTick>
@@ -80,7 +81,7 @@ class Session {
   /// Draws the current state once, written nowhere (FrameStage::warm_up): before a realtime clock starts.
   void warm_up() { stage_.warm_up(); }
   /// Scene time of frame `index`.
-  double frame_time_s(int64_t index) const { return static_cast<double>(index) * rates().frame_period_s(); }
+  double frame_time_s(int64_t index) const { return rates().frame_time_s(index); }
   /// Drains and logs the samples left after the last frame (the servo must have stopped).
   void finish() { stage_.drain_remaining(); }
 
@@ -98,6 +99,7 @@ class Session {
 
  private:
   const Scene& scene_;
+  Device* device_;
   ServoParams params_;
   SpscQueue<HapticSample> samples_;
   std::unique_ptr<TripleBuffer<LocalModel>> local_model_;  // large: on the heap
@@ -108,18 +110,30 @@ class Session {
 
 template <class AfterFrame, class AfterTick>
 void Session::run_lockstep(double duration_s, AfterFrame&& after_frame, AfterTick&& after_tick) {
-  palpate::run_lockstep(
-      rates(), duration_s,
-      [&](int64_t f, double t) {
-        stage_.frame(f, t, true);
-        after_frame(f, t);
-      },
-      [&](int64_t i, double t) {
-        const int64_t c0 = monotonic_ns();
-        servo_.tick(i, t);
-        compute_.add(monotonic_ns() - c0);
-        after_tick(i, t);
-      });
+  auto on_tick = [&](int64_t i, double t) {
+    const int64_t c0 = monotonic_ns();
+    servo_.tick(i, t);
+    compute_.add(monotonic_ns() - c0);
+    after_tick(i, t);
+  };
+  if (const RunSchedule* schedule = device_->schedule()) {
+    // a replayed run: its ticks and frames in the order they ran (duration_s is the log's)
+    palpate::run_scheduled(
+        rates(), *schedule,
+        [&](int64_t f, double t, int64_t drain_to_tick) {
+          stage_.frame(f, t, true, drain_to_tick);
+          after_frame(f, t);
+        },
+        on_tick);
+  } else {
+    palpate::run_lockstep(
+        rates(), duration_s,
+        [&](int64_t f, double t) {
+          stage_.frame(f, t, true);
+          after_frame(f, t);
+        },
+        on_tick);
+  }
   finish();
 }
 
