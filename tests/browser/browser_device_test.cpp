@@ -230,20 +230,9 @@ TEST(BrowserDevice, MouseAndSpaceGrabAndPullInPullModeARightDragCutsInCutMode) {
     ASSERT_EQ(rect.size(), 4u);
     // in pull mode the tool passes freely until a press grabs the surface within the grab radius; first the tool to
     // the top of the view in the plane through the bunny's middle (input is relative)
-    ASSERT_TRUE(tool_to(browser, rect, 0.0, 0.7, 0.0)) << browser.eval("live.device.hv").dump();
-    double y = 0.7;
-    mouse(browser, rect, "mousePressed", 0.0, y, true);
-    bool grabbed = false, key_down = false;
-    nlohmann::json last;
-    for (int step = 0; y > -0.6 && !grabbed; ++step, y -= 0.01) {
-      mouse(browser, rect, "mouseMoved", 0.0, y, true);
-      if ((step % 4 < 2) != key_down) space(browser, key_down = !key_down);
-      std::this_thread::sleep_for(std::chrono::milliseconds(16));
-      const auto st = rec.stats();
-      if (st.is_object() && st.contains("browser")) last = st["browser"];
-      grabbed = key_down && last.is_object() && norm(last["force_N"]) > 0.05;
-    }
-    ASSERT_TRUE(grabbed) << "Space never grabbed the bunny; last: " << last.dump() << read_file(rec.log);
+    double y = 0.0;
+    const auto grabbed = test::grab_bunny(browser, rect, rec, &y);
+    ASSERT_TRUE(grabbed.is_object()) << "Space never grabbed the bunny" << read_file(rec.log);
     // held, then up by 0.24 of the view (about 15 mm) and held until the run ends
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
     for (int step = 0; step < 60; ++step) {

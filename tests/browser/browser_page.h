@@ -181,6 +181,30 @@ inline double press_onto_bunny(Browser& b, const std::vector<double>& rect, cons
   }
   return f;
 }
+// Grabs the bunny's back in pull mode as a person does: the tool to the top of the view in the plane through the
+// bunny's middle, a left drag down with Space pressed and let go on the way, until a press with Space down holds the
+// surface (a force above 0.05 N). The button and Space stay down; *y_out: where the drag is. The last browser stats
+// (empty when it never grabbed).
+inline nlohmann::json grab_bunny(Browser& b, const std::vector<double>& rect, const Recording& rec, double* y_out) {
+  if (!tool_to(b, rect, 0.0, 0.7, 0.0)) return nullptr;
+  double y = 0.7;
+  mouse(b, rect, "mousePressed", 0.0, y, true);
+  bool key_down = false;
+  nlohmann::json last;
+  for (int step = 0; y > -0.6; ++step, y -= 0.01) {
+    mouse(b, rect, "mouseMoved", 0.0, y, true);
+    if ((step % 4 < 2) != key_down) space(b, key_down = !key_down);
+    std::this_thread::sleep_for(std::chrono::milliseconds(16));
+    const auto st = rec.stats();
+    if (st.is_object() && st.contains("browser")) last = st["browser"];
+    if (key_down && last.is_object() && norm(last["force_N"]) > 0.05) {
+      *y_out = y;
+      return last;
+    }
+  }
+  return nullptr;
+}
+
 // What the device did over `seconds` with no input: the largest force from `settle_s` on (the press before fades out
 // over the watchdog), and how far the handle went from where it was at settle_s.
 struct Quiet {

@@ -116,6 +116,18 @@ void FrameStage::check_through(const HapticSample& s) {
   if (stats_.through_first_t_s < 0.0) stats_.through_first_t_s = s.t_s;
 }
 
+void FrameStage::keep_contact_through_silence() {
+  if (frame_samples_ > 0) {
+    last_mean_force_N_ = force_sum_N_ / static_cast<double>(frame_samples_);
+    return;
+  }
+  // the servo sent nothing since the last frame (it stalled): the hand is where it last was, holding what it held
+  if (latest_.contact == ContactState::kFree || latest_.contact_tri < 0) return;
+  contact_this_frame_ = true;
+  force_sum_N_ = last_mean_force_N_;
+  frame_samples_ = 1;
+}
+
 void FrameStage::drain_remaining() { drain(-1, INT64_MAX); }
 
 void FrameStage::region_changed() {
@@ -413,6 +425,7 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer, int64_t 
   frame_samples_ = 0;
   frame_index_ = index;
   drain(index, drain_to_tick);
+  keep_contact_through_silence();
   lap(FramePart::kDrain);
   const int64_t cut_before = stats_.springs_cut;
   if (region_->begin_frame({&vertices_m_, &normals_})) resting_ = false;

@@ -93,6 +93,10 @@ class FrameStage {
  private:
   // takes the queued samples up to tick drain_to_tick, marked as taken by `frame`, into the log and the region
   void drain(int64_t frame, int64_t drain_to_tick);
+  // a frame the servo sent nothing to (a realtime servo stalled) keeps the last frame's contact and mean force, rather
+  // than letting go of the surface for the frame (a pull shaken through the browser sprang back during a 100 ms
+  // servo stall, and the hand met it with a 0.6 N step when the servo came back)
+  void keep_contact_through_silence();
   // places the region at this frame's first contact
   void place_region();
   // moves the region when this frame's contact left it (state carried over)
@@ -169,6 +173,7 @@ class FrameStage {
   bool contact_this_frame_ = false;
   Vec3 force_sum_N_ = Vec3::Zero();  // sum of device forces over the frame's samples
   int64_t frame_samples_ = 0;
+  Vec3 last_mean_force_N_ = Vec3::Zero();  // the mean device force of the last frame that had samples
   double lattice_moved_m_ = 0.0;  // the lattice's largest node displacement after the last step (check_through)
   Vec3 through_at_m_ = Vec3::Zero();  // where check_through last asked, and how far from it its answer still holds
   double through_still_m_ = 0.0;
