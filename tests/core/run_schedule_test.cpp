@@ -89,6 +89,14 @@ TEST(RunSchedule, ALogThatContradictsItselfIsRefusedNamingTheTick) {
     EXPECT_NE(s.error().message.find("frame 1 took tick 16"), std::string::npos) << s.error().message;
   }
   {
+    // a frame index no run of these ticks could have reached is refused at once, not walked to
+    auto s = make_run_schedule({{0, 1000000000000, -1}, {1, 1000000000000, -1}}, {}, "log");
+    ASSERT_FALSE(s);
+    EXPECT_NE(s.error().message.find("frame 1000000000000 is more frames than its 2 ticks could have met"),
+              std::string::npos)
+        << s.error().message;
+  }
+  {
     auto t = realtime_run();
     t[20].frame = -1;  // taken after the last frame, then a frame takes more
     auto s = make_run_schedule(t, {2}, "log");
