@@ -403,10 +403,8 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     force = cut_force_N_;
     if (params_.ramp_s > 0.0) force *= std::clamp((t_s - ramp_start_s_) / params_.ramp_s, 0.0, 1.0);
   } else if (contact_ != ContactState::kFree && !rejected) {
-    // (a grab holds the material point where the frame's blended surface has it: the object's static response,
-    // predicted between frames, is no model of a held lattice that swings under a person's shaking hand — it made
-    // steps of 2-4 N and gave the hand energy it never put in, on a bunny_pull shaken at 5 Hz through the browser)
-    if (params_.force_model == ForceModel::kLocalModel && contact_ != ContactState::kGrab) {
+    // (a grab takes it only on a lattice that settles within a frame: ServoParams::predict_grab)
+    if (params_.force_model == ForceModel::kLocalModel && (contact_ != ContactState::kGrab || params_.predict_grab)) {
       const Vec3 before = proxy_m_;
       proxy_m_ = predicted_proxy(m, tool, t_s);
       contact_point_m_ += proxy_m_ - before;

@@ -58,13 +58,13 @@ PY
 for section in "${sections[@]}"; do
   case "$section" in
     record)
-      run record "$bin/palpate" record scenes/bunny_pull.json -q --out "$out/bunny_pull_lockstep"
-      stages "$out/bunny_pull_lockstep/summary.json" ;;
+      run record "$bin/palpate" record scenes/bunny_pull_springs.json -q --out "$out/bunny_pull_springs_lockstep"
+      stages "$out/bunny_pull_springs_lockstep/summary.json" ;;
     realtime)
-      run realtime "$bin/palpate" record scenes/bunny_pull.json --mode realtime -q --out "$out/bunny_pull_realtime"
-      stages "$out/bunny_pull_realtime/summary.json" ;;
+      run realtime "$bin/palpate" record scenes/bunny_pull_springs.json --mode realtime -q --out "$out/bunny_pull_springs_realtime"
+      stages "$out/bunny_pull_springs_realtime/summary.json" ;;
     scale)
-      run scale "$bin/palpate" bench scale scenes/bunny_pull.json --max-subdivisions 4 --json "$out/scale.json" \
+      run scale "$bin/palpate" bench scale scenes/bunny_pull_springs.json --max-subdivisions 4 --json "$out/scale.json" \
         --plot "$out/bench_scale.png" ;;
     loop)
       run loop "$bin/palpate" bench loop --load record --json "$out/loop.json" --plot "$out/bench_loop_record.png"
@@ -72,11 +72,11 @@ for section in "${sections[@]}"; do
     force)
       run force "$bin/palpate" bench force --json "$out/force.json" ;;
     sim)
-      run sim "$bin/palpate" bench sim scenes/bunny_pull.json --levels 4,5 --substeps 0,2,4 --iterations 0,3 \
+      run sim "$bin/palpate" bench sim scenes/bunny_pull_springs.json --levels 4,5 --substeps 0,2,4 --iterations 0,3 \
         --json "$out/sim.json" --plot "$out/bench_sim_bunny_pull.png"
       run sim_explicit "$bin/palpate" bench sim scenes/bunny_pull_explicit.json --substeps 0,2 ;;
     box)
-      run box "$bin/palpate" bench sim scenes/bunny_pull.json --box 4,8,16 --integrators symplectic_euler,implicit_euler \
+      run box "$bin/palpate" bench sim scenes/bunny_pull_springs.json --box 4,8,16 --integrators symplectic_euler,implicit_euler \
         --json "$out/box.json" ;;
     model)
       run model "$bin/palpate" bench model --json "$out/model.json" --plot "$out/bench_model.png" ;;

@@ -80,11 +80,11 @@ std::vector<std::vector<std::string>> csv_rows(const std::string& path) {
 TEST(ReplayDriver, ARealtimeRecordingReplaysTickForTick) {
   const std::string a = out_dir("replay_rt_src"), b = out_dir("replay_rt_dst");
   // a grab and pull with frames drawn (no video): several ticks pass while each frame computes and draws
-  CmdRun r1 = palpate({"record", "scenes/bunny_pull.json", "--duration", "4", "--mode", "realtime", "--no-video", "-q",
+  CmdRun r1 = palpate({"record", "scenes/bunny_pull_springs.json", "--duration", "4", "--mode", "realtime", "--no-video", "-q",
                        "--out", a},
                       "rt1");
   ASSERT_EQ(r1.code, 0) << r1.out;
-  CmdRun r2 = palpate({"record", "scenes/bunny_pull.json", "--no-render", "-q", "--out", b, "--device", "replay:" + a},
+  CmdRun r2 = palpate({"record", "scenes/bunny_pull_springs.json", "--no-render", "-q", "--out", b, "--device", "replay:" + a},
                       "rt2");
   ASSERT_EQ(r2.code, 0) << r2.out;
   const auto live = csv_rows(a + "/haptic.csv"), replay = csv_rows(b + "/haptic.csv");

@@ -128,11 +128,11 @@ FramesDiff compare_frames(const Recording& a, const Recording& b, int64_t frames
   return d;
 }
 
-// bunny_pull on the bunny subdivided twice (58 784 triangles) at 320 x 240: its median edge is about a pixel,
+// bunny_pull_springs on the bunny subdivided twice (58 784 triangles) at 320 x 240: its median edge is about a pixel,
 // so its frames are drawn clustered (render.lod_min_edge_px, 1.5 px). The layered frames still equal a full
 // redraw's (of the same clustered triangles). Drawn unclustered the frames differ, by a fraction of a level.
 TEST(LayeredRecordLod, AMeshFinerThanTheImageIsDrawnClusteredAndTheLayerStillEqualsAFullRedraw) {
-  Scene scene = load_scene(test::source_path("scenes/bunny_pull.json")).value();
+  Scene scene = load_scene(test::source_path("scenes/bunny_pull_springs.json")).value();
   scene.mesh.subdivisions = 2;
   scene.render.width = 320;
   scene.render.height = 240;

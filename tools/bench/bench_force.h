@@ -10,7 +10,7 @@ namespace palpate {
 
 /// What to run.
 struct BenchForceOptions {
-  std::vector<std::string> scenes{"scenes/bunny_touch_springs.json", "scenes/bunny_pull.json"};  ///< lockstep scenes
+  std::vector<std::string> scenes{"scenes/bunny_touch_springs.json", "scenes/bunny_pull_springs.json"};  ///< lockstep scenes
   std::string json_path;  ///< write JSON here when set
 };
 

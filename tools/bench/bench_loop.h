@@ -8,7 +8,7 @@ namespace palpate {
 
 /// What to run.
 struct BenchLoopOptions {
-  std::string scene = "scenes/bunny_pull.json";  ///< scene whose device, model and pipeline are used
+  std::string scene = "scenes/bunny_pull_springs.json";  ///< scene whose device, model and pipeline are used
   double rate_hz = 0.0;                          ///< servo rate; 0 = the scene's (Scene::rates)
   double seconds = 5.0;                          ///< run length per rate
   std::string load = "none";                     ///< none | sim | record

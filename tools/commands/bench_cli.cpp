@@ -37,7 +37,7 @@ struct BenchArgs {
   HandFuzzOptions hands;
   std::string sim_scene;
   BenchSimOptions sim;
-  std::string scale_scene = "scenes/bunny_pull.json";
+  std::string scale_scene = "scenes/bunny_pull_springs.json";
   BenchScaleOptions scale;
   bool scale_no_full = false;
   BenchModelOptions model;

@@ -216,6 +216,9 @@ ServoParams servo_params_for(const Scene& scene, const DeviceSpecs& device) {
   sp.friction.dynamic_coefficient = scene.dynamic_friction;
   sp.jump_limit_N_per_tick = scene.device.jump_limit_N_per_tick;
   sp.force_shading_deg = scene.device.force_shading_deg;
+  // a grab is predicted between frames only where the lattice settles within one (ServoParams::predict_grab)
+  sp.predict_grab = scene.lattice.integrator == IntegratorKind::kImplicitEuler ||
+                    scene.lattice.integrator == IntegratorKind::kLocalGlobal;
   // after breakaway the friction force comes down to the sliding level no faster than the jump limit
   if (sp.coupling_N_per_m > 0.0) sp.friction.trail_drop_m = sp.jump_limit_N_per_tick / sp.coupling_N_per_m;
   return sp;
