@@ -39,7 +39,10 @@ class ImplicitEulerSolver {
   /// For the substeps step() cannot take (a squashed cell's indefinite tangent breaks its conjugate gradients
   /// at any split): the result is the minimum of the same potential, not an explicit guess. Returns the iterations
   /// taken, or -1 when the potential was not finite at the start or a solve went non-finite (the lattice unchanged).
-  int projected_step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations);
+  /// deadline_ns > 0 (core/clock.h, monotonic_ns): past it, after the first step, the lattice takes the last iterate
+  /// and *out_of_time (when given) is set.
+  int projected_step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations,
+                     int64_t deadline_ns = 0, bool* out_of_time = nullptr);
 
   /// Conjugate gradient iterations of the last Newton solve (for benchmarks and tests).
   int last_cg_iterations() const { return last_cg_iterations_; }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/clock.h"
 #include "sim/forces.h"
 #include "sim/hanging.h"
 #include "sim/implicit_euler.h"
@@ -35,7 +36,8 @@ double ImplicitEulerSolver::incremental_potential(const Lattice& lat, double h_s
   return e + elastic_energy_J(lat, trial_x_);
 }
 
-int ImplicitEulerSolver::projected_step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations) {
+int ImplicitEulerSolver::projected_step(Lattice* lat, double h_s, const std::vector<Vec3>& f_ext_N, int max_iterations,
+                                        int64_t deadline_ns, bool* out_of_time) {
   begin_step(lat);
   const std::size_t n = lat->num_nodes();
   const double tol_m_per_s = 1e-6 * lat->cell_m / h_s;
@@ -45,6 +47,11 @@ int ImplicitEulerSolver::projected_step(Lattice* lat, double h_s, const std::vec
   int it = 0;
   step_cg_iterations_ = 0;
   while (it < std::max(1, max_iterations)) {
+    // past the deadline the step keeps the last iterate (each accepted one lowered the potential)
+    if (it > 0 && deadline_ns > 0 && monotonic_ns() > deadline_ns) {
+      if (out_of_time) *out_of_time = true;
+      break;
+    }
     residual(*lat, h_s, f_ext_N);
     assemble(*lat, h_s, x_m_);
     std::fill(delta_.begin(), delta_.end(), Vec3::Zero());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/clock.h"
 #include "sim/forces.h"
 #include "sim/hanging.h"
 #include "sim/implicit_euler.h"
@@ -21,16 +22,27 @@ constexpr int kMaxImplicitSplit = 64;
 // Most Newton steps of the projected step that takes a substep no split could (ImplicitEulerSolver::projected_step)
 constexpr int kProjectedNewtonIterations = 20;
 
+// What implicit_split and implicit_substep return when the step's deadline passed in their retries
+constexpr int kOutOfTime = -2;
+
+bool past(const StepOptions& opts) { return opts.deadline_ns > 0 && monotonic_ns() > opts.deadline_ns; }
+
 // An implicit Euler substep h taken again in 2, 4, ... kMaxImplicitSplit pieces after the whole one failed (the
-// solver leaves the lattice as it was): the iterations, or -1 when every split failed (the lattice back where it was)
-int implicit_split(Lattice* lat, double h, const std::vector<Vec3>& f_ext, int newton, IntegratorWorkspace* ws,
-                   int* cg_iterations) {
+// solver leaves the lattice as it was): the iterations, or -1 when every split failed, or kOutOfTime when the deadline
+// passed first (either way the lattice back where it was)
+int implicit_split(Lattice* lat, double h, const std::vector<Vec3>& f_ext, int newton, const StepOptions& opts,
+                   IntegratorWorkspace* ws, int* cg_iterations) {
   ws->x0_m = lat->x_m;
   ws->v0_m_per_s = lat->v_m_per_s;
   for (int split = 2; split <= kMaxImplicitSplit; split *= 2) {
     int total = 0;
     bool ok = true;
     for (int k = 0; k < split && ok; ++k) {
+      if (past(opts)) {
+        lat->x_m = ws->x0_m;
+        lat->v_m_per_s = ws->v0_m_per_s;
+        return kOutOfTime;
+      }
       const int it = ws->implicit->step(lat, h / split, f_ext, newton);
       *cg_iterations += ws->implicit->step_cg_iterations();
       ok = it >= 0;
@@ -55,7 +67,9 @@ bool sound(const Lattice& lat) {
 // in 2, 4, ... pieces; when every split breaks down too, or the step solved but landed where the lattice would be
 // reset (its linearisation far from the material's answer, as at a cell squashed past its tangent's reach), the
 // substep again from its start by projected Newton: the minimum of its potential, on a tangent kept positive. The
-// iterations, or -1 when that failed too (the lattice back at the substep's start).
+// iterations, or -1 when that failed too (the lattice back at the substep's start). Past opts.deadline_ns the retries
+// are cut short (kOutOfTime): the splits stop, and projected Newton takes its first step and then stops, the lattice
+// keeping that iterate (every accepted step lowers the substep's incremental potential).
 int implicit_substep(Lattice* lat, double h, const std::vector<Vec3>& f_ext, const StepOptions& opts,
                      IntegratorWorkspace* ws, StepReport* rep) {
   if (!ws->implicit) ws->implicit = std::make_unique<ImplicitEulerSolver>();
@@ -66,15 +80,19 @@ int implicit_substep(Lattice* lat, double h, const std::vector<Vec3>& f_ext, con
   rep->cg_iterations += ws->implicit->step_cg_iterations();
   if (iters < 0) {
     ++rep->implicit_splits;
-    iters = implicit_split(lat, h, f_ext, newton, ws, &rep->cg_iterations);  // from ws->x0_m, the same start
+    iters = implicit_split(lat, h, f_ext, newton, opts, ws, &rep->cg_iterations);  // from ws->x0_m, the same start
   }
   if (iters >= 0 && sound(*lat)) return iters;
+  // (out of time in the splits, the lattice is back at the substep's start: projected Newton still takes its first
+  // step, so the substep moves on, at the cost of one more solve)
+  bool out_of_time = iters == kOutOfTime;
   lat->x_m = ws->x0_m;
   lat->v_m_per_s = ws->v0_m_per_s;
-  iters = ws->implicit->projected_step(lat, h, f_ext, kProjectedNewtonIterations);
+  iters = ws->implicit->projected_step(lat, h, f_ext, kProjectedNewtonIterations,
+                                       past(opts) ? 1 : opts.deadline_ns, &out_of_time);
   rep->cg_iterations += ws->implicit->step_cg_iterations();
   if (iters >= 0) ++rep->projected_steps;
-  return iters;
+  return out_of_time && iters >= 0 ? kOutOfTime : iters;
 }
 
 // One explicit (eq. 8) or symplectic Euler substep.
@@ -202,6 +220,12 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
                                        opts.iterations > 0 ? opts.iterations : kDefaultLocalGlobalIterations);
         break;
     }
+    if (iters == kOutOfTime) {
+      // the frame's deadline passed while a failed substep was retried: the step ends here, the lattice where it got
+      rep.out_of_time = true;
+      rep.substeps = s + 1;
+      break;
+    }
     if (iters < 0) {
       // a failed solve: take the substep with a stable explicit scheme rather than stall
       rep.solver_ok = false;
@@ -215,7 +239,7 @@ StepReport step_lattice(Lattice* lat, const StepOptions& opts, double dt_s, cons
     }
     if (opts.strain_limit > 0.0) limit_strain(lat, opts.strain_limit, kStrainLimitSweeps);
   }
-  rep.substeps = steps;
+  if (!rep.out_of_time) rep.substeps = steps;
   for (std::size_t i = 0; i < lat->num_nodes() && rep.finite; ++i)
     rep.finite = lat->x_m[i].allFinite() && lat->v_m_per_s[i].allFinite();
   rep.max_strain = rep.finite ? max_strain(*lat) : INFINITY;

@@ -3,6 +3,7 @@
 /// symplectic Euler and RK4 with automatic substeps, implicit Euler (Newton, matrix-free conjugate gradients) and a
 /// Liu-2013-style local/global solver with a prefactored system matrix.
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -22,6 +23,10 @@ struct StepOptions {
   int max_substeps = 256;  ///< cap on automatic substeps
   int iterations = 0;      ///< Newton / local-global iterations per substep; 0 = default (1 Newton, 10 local-global)
   double strain_limit = 0.0;  ///< > 0: after each substep springs are projected into rest * [1 - s, 1 + s]
+  /// > 0: a monotonic time (core/clock.h, monotonic_ns) past which an implicit substep that failed whole is not
+  /// retried further (its splits, its projected Newton steps): the step ends there, the lattice keeping the state it
+  /// reached (a realtime frame's deadline; 0 in lockstep, where every step is taken whatever it costs)
+  int64_t deadline_ns = 0;
 };
 
 /// The step options a scene asks for.
@@ -38,6 +43,7 @@ struct StepReport {
   int projected_steps = 0;  ///< implicit Euler substeps that failed in every split too and were taken by projected Newton
   bool solver_ok = true;    ///< false when a linear solve or factorisation failed (implicit Euler: in every split and the projected Newton step too; the step then fell back to symplectic Euler)
   double max_strain = 0.0;  ///< largest |l - l0| / l0 after the step
+  bool out_of_time = false; ///< StepOptions::deadline_ns passed in a substep's retries: the step ended early
 };
 
 /// Local/global iterations per substep when StepOptions::iterations is 0.

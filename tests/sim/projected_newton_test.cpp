@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "sim/implicit_euler.h"
+#include "sim/integrator.h"
 #include "sim/neo_hookean_term.h"
 #include "sim/reference_cases.h"
 #include "sim/volume_term.h"
@@ -101,6 +102,40 @@ TEST(ProjectedNewton, WhereNothingNeedsProjectingItIsConvergedBackwardEuler) {
   double worst = 0.0;
   for (std::size_t i = 0; i < lat.num_nodes(); ++i) worst = std::max(worst, (newton.x_m[i] - projected.x_m[i]).norm());
   EXPECT_LT(worst, 1e-6 * lat.cell_m);
+}
+
+// A realtime frame's deadline (StepOptions::deadline_ns) already past: a block whose top face was pushed below its
+// bottom (every cell inverted) fails the whole implicit step; the retries are cut short — no split is finished, and
+// projected Newton takes its first step and stops — and the step ends there, out of time, the lattice finite and
+// lower in its substep's potential than where it started. Without a deadline the same step takes its retries in full.
+TEST(ProjectedNewton, PastTheDeadlineAFailedStepTakesOneProjectedStepAndEnds) {
+  Lattice squashed = box_lattice(tissue(0.45), 0.02, 4, {2, 2, 2}).value();
+  for (std::size_t i = 0; i < squashed.num_nodes(); ++i) {
+    if (squashed.rest_m[i].z() < 1e-9) squashed.fixed[i] = 1;
+    else squashed.x_m[i].z() -= 1.3 * squashed.rest_m[i].z();
+  }
+  StepOptions opts;
+  opts.kind = IntegratorKind::kImplicitEuler;
+  opts.substeps = 1;
+  const std::vector<Vec3> load;
+  Lattice late = squashed, free = squashed;
+  IntegratorWorkspace ws_late, ws_free;
+  StepOptions past = opts;
+  past.deadline_ns = 1;  // long gone
+  const StepReport a = step_lattice(&late, past, 1.0 / 60.0, load, &ws_late);
+  const StepReport b = step_lattice(&free, opts, 1.0 / 60.0, load, &ws_free);
+  ASSERT_EQ(b.implicit_splits + b.projected_steps > 0, true) << "the case needs the retries";
+  EXPECT_TRUE(a.out_of_time);
+  EXPECT_FALSE(b.out_of_time);
+  EXPECT_TRUE(a.finite);
+  EXPECT_TRUE(a.solver_ok) << "out of time is not a failed solver: no explicit fallback";
+  EXPECT_EQ(a.projected_steps, 1);
+  EXPECT_LT(a.cg_iterations, b.cg_iterations);
+  double moved = 0.0;
+  for (std::size_t i = 0; i < late.num_nodes(); ++i) moved = std::max(moved, (late.x_m[i] - squashed.x_m[i]).norm());
+  EXPECT_GT(moved, 0.0) << "the step made no progress";
+  std::printf("[ figures ] out of time: %d CG iterations, %d projected; in full: %d CG iterations, %d splits, %d projected\n",
+              a.cg_iterations, a.projected_steps, b.cg_iterations, b.implicit_splits, b.projected_steps);
 }
 
 }  // namespace

@@ -274,6 +274,7 @@ RunFigures drive_realtime(Session& session, double duration_s, const RecordOptio
   const Rates& rates = session.rates();
   WallClock budget_clock;  // realtime frames keep lattice.budget_ms in wall time (lockstep ones have no deadline)
   session.stage().use_budget(&budget_clock);
+  session.stage().keep_deadlines();  // a frame's step ends a frame period after it starts, whatever the solver
   RunFigures run;
   std::string mem_refused;
   const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);

@@ -145,6 +145,7 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
               // stepped explicitly
               {"implicit_splits", fst.implicit_splits},
               {"projected_steps", fst.projected_steps},
+              {"steps_out_of_time", fst.steps_out_of_time},
               {"solver_fallbacks", fst.solver_fallbacks},
               {"max_strain", fst.max_strain},
               {"nodes", fst.lattice_nodes},

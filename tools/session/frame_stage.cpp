@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/clock.h"
 #include "core/state_hash.h"
 #include "haptics/cpu_steal.h"
 #include "sim/compliance_estimate.h"
@@ -179,8 +180,10 @@ bool FrameStage::step_lattice_frame() {
   // budget knows what the frame has spent before choosing the iterations, and the profile tells the two apart
   prepare_step(lat, frame_opts_ ? *frame_opts_ : step_opts_, scene_.rates.frame_period_s(), &ws_);
   lap(FramePart::kFactor);
-  const StepOptions& opts = budget_ ? budget_->step_begin() : step_opts_;
+  StepOptions opts = budget_ ? budget_->step_begin() : step_opts_;
+  if (deadlines_) opts.deadline_ns = frame_start_ns_ + static_cast<int64_t>(1e9 * scene_.rates.frame_period_s());
   const StepReport rep = step_lattice(&lat, opts, scene_.rates.frame_period_s(), f_ext, &ws_);
+  stats_.steps_out_of_time += rep.out_of_time ? 1 : 0;
   if (budget_) budget_->step_end();
   stats_.step_cpu_ms.push_back(cpu_clock_.now_ms() - c0);
   stats_.step_ms.push_back(ms_since(t0));
@@ -415,6 +418,7 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer, int64_t 
   const ThreadSwitches sw0 = this_thread_switches();
   profile_ = FrameProfile{};
   profile_.frame = index;
+  frame_start_ns_ = monotonic_ns();
   lap_wall_ = t0;
   lap_cpu_ms_ = c0;
   frame_opts_ = budget_ ? &budget_->begin_frame() : nullptr;

@@ -60,6 +60,10 @@ class FrameStage {
   /// each frame steps at the most accurate setting of the ladder predicted to hold the budget. No effect when
   /// the scene sets no budget or its integrator has nothing to trade.
   void use_budget(BudgetClock* clock);
+  /// Realtime: every frame's lattice step has a deadline a frame period after the frame starts (on the monotonic
+  /// clock): an implicit substep that failed whole is retried (splits, projected Newton) only until then, and the
+  /// frame goes on with the state the step reached (StepOptions::deadline_ns). Lockstep frames have none.
+  void keep_deadlines() { deadlines_ = true; }
   /// The budget controller, when one runs.
   const FrameBudget* budget() const { return budget_ ? &*budget_ : nullptr; }
   /// What a realtime run does before its clock starts, so the first frame's deadline does not pay for one-time
@@ -157,6 +161,8 @@ class FrameStage {
   std::vector<uint8_t> warm_rgba_;   // warm_up()'s frame, never written (w * h * 4)
   std::optional<MeshLod> lod_;       // what frames are drawn with when the mesh is finer than the image
   bool dry_stepped_ = false;         // warm_up() seeded the budget
+  bool deadlines_ = false;           // keep_deadlines(): realtime frames' steps end at a deadline
+  int64_t frame_start_ns_ = 0;       // when the current frame started (monotonic)
   std::vector<int32_t> near_tris_;   // scratch for the patch query
   std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch
   ContactCompliance compliance_;     // static condensation of the lattice at the contact

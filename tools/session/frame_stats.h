@@ -84,6 +84,7 @@ struct FrameStats {
   double solved_contact_radius_m = 0.0;   ///< the last solved contact's radius
   int64_t substeps_total = 0;       ///< integrator substeps over all stepped frames
   int64_t implicit_splits = 0;      ///< implicit Euler substeps that failed whole and were split (StepReport)
+  int64_t steps_out_of_time = 0;    ///< realtime: frames whose step ended at the frame's deadline (StepReport::out_of_time)
   int64_t projected_steps = 0;      ///< implicit Euler substeps no split could take, taken by projected Newton (StepReport)
   int64_t solver_fallbacks = 0;     ///< substeps whose solver failed (in every split and projected too): stepped explicitly
   // cut mode
