@@ -19,6 +19,7 @@
 #include "core/scene.h"
 #include "support/alloc_counter.h"
 #include "support/fixtures.h"
+#include "support/read_file.h"
 #include "tools/record/memory_reserve.h"
 #include "tools/record/recorder.h"
 
@@ -34,19 +35,31 @@ struct ChildReport {
   std::string error;
 };
 
-RecordOptions options(const std::string& out) {
+RecordOptions options(const std::string& out, bool realtime) {
   RecordOptions opt;
   opt.out_dir = out;
   opt.duration_s = 0.25;
   opt.quiet = true;
   opt.video_path = out + "/recording.mp4";
+  if (realtime) {
+    // the servo on its own thread at 1 kHz, the frames on the wall clock; no frames drawn, so the recording's
+    // allocations are its frame loop's (no encoder threads), and no real-time privileges asked for in a test child
+    opt.override_mode = true;
+    opt.mode = RunMode::kRealtime;
+    opt.duration_s = 1.0;
+    opt.render = false;
+    opt.video_path.clear();
+    opt.fifo_priority = 0;
+    opt.lock_memory = false;
+  }
   return opt;
 }
 
 // Runs the recording in a child; fail_at > 0 makes that allocation (counted over every thread) throw once.
 // Returns the report; `signalled` says whether the child died of a signal (an abort); an exception that left
 // the recorder fails the test here.
-ChildReport run_child(const Scene& scene, const std::string& out, long long fail_at, bool* signalled) {
+ChildReport run_child(const Scene& scene, const std::string& out, long long fail_at, bool* signalled,
+                      bool realtime = false) {
   int fds[2];
   EXPECT_EQ(::pipe(fds), 0);
   const pid_t pid = ::fork();
@@ -58,7 +71,7 @@ ChildReport run_child(const Scene& scene, const std::string& out, long long fail
       test::AllThreadsAllocationGuard count;
       std::optional<test::AllocationFault> fault;
       if (fail_at > 0) fault.emplace(fail_at);
-      auto r = record_scene(scene, options(out));
+      auto r = record_scene(scene, options(out, realtime));
       rep.ok = static_cast<bool>(r);
       if (!r) rep.error = r.error().message;
       rep.fired = fault && fault->fired();
@@ -144,6 +157,41 @@ TEST(OutOfMemory, AnywhereInARecordingEndsWithALineAndKeepsWhatWasWritten) {
   }
   // most allocations of a recording are its frames': the sweep must have stopped some runs there
   EXPECT_GE(in_run, 3);
+}
+
+// A realtime run stopped by out of memory in its frame loop: the servo thread ran on while the frame failed, and the
+// ticks it queued after the last frame took its samples reach haptic.csv all the same (the session is finished after
+// the servo stops), so the log holds every tick the servo made and the summary says why the run ended.
+TEST(OutOfMemory, ARealtimeRunStoppedInItsFrameLoopLogsEveryTickTheServoMade) {
+  const Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
+  bool signalled = false;
+  const ChildReport clean = run_child(scene, test::fresh_dir("oom_rt_clean"), 0, &signalled, true);
+  ASSERT_FALSE(signalled);
+  ASSERT_TRUE(clean.ok) << clean.error;
+  ASSERT_GT(clean.allocations, 100);
+  int in_frame = 0;
+  for (int k = 3; k <= 7; k += 2) {
+    // (a realtime run's allocations vary from run to run: a point in the middle lands in the frame loop)
+    const long long at = clean.allocations * k / 10;
+    const std::string out = test::fresh_dir("oom_rt_" + std::to_string(k));
+    const ChildReport rep = run_child(scene, out, at, &signalled, true);
+    SCOPED_TRACE("allocation " + std::to_string(at) + " of " + std::to_string(clean.allocations));
+    ASSERT_FALSE(signalled) << "the recording aborted";
+    if (rep.ok || rep.error.find("in frame") == std::string::npos) continue;
+    ++in_frame;
+    const auto j = nlohmann::json::parse(test::read_file(out + "/summary.json"), nullptr, false);
+    ASSERT_TRUE(j.is_object()) << "no whole summary.json";
+    EXPECT_NE(j.value("aborted", "").find("out of memory"), std::string::npos) << j.dump();
+    std::ifstream log(fs::exists(fs::path(out) / "haptic.csv") ? fs::path(out) / "haptic.csv"
+                                                               : fs::path(out) / "haptic.csv.partial");
+    int64_t rows = -1;  // (the header)
+    for (std::string line; std::getline(log, line);) ++rows;
+    EXPECT_GT(rows, 0);
+    EXPECT_EQ(rows, j["servo_ticks"].get<int64_t>()) << "ticks the servo made that never reached the log";
+    EXPECT_EQ(rows, j["haptic_rows"].get<int64_t>());
+  }
+  std::printf("[ figures ] %d of 3 points stopped the realtime run in its frame loop\n", in_frame);
+  EXPECT_GE(in_frame, 1) << "no point landed in the frame loop";
 }
 
 // With the recording's reserve alive, an allocation that fails where it cannot throw (a noexcept function, a
