@@ -3,6 +3,8 @@
 // device's motion does not explain; the same seed makes the same hands.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -220,6 +222,19 @@ TEST(HandFuzz, TheSameSeedMakesTheSameHandsAndAMissingModelIsNamed) {
   const CliRun missing = palpate("bench feel --hands 2 " + tmp("no_such_model.obj"));
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.out.find("no_such_model.obj"), std::string::npos) << missing.out;
+  // one model that cannot be used among others (a flat one, before the bunny) is named and skipped; the bunny's hands
+  // still run, and the exit status says a model was skipped
+  const std::string flat = tmp("flat.obj");
+  {
+    std::ofstream f(flat);
+    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
+  }
+  const CliRun mixed = palpate("bench feel --hands 1 --seed 3 " + flat + " " + bunny);
+  EXPECT_EQ(mixed.code, 1) << mixed.out;
+  EXPECT_NE(mixed.out.find("skipped: "), std::string::npos) << mixed.out;
+  EXPECT_NE(mixed.out.find("flat on axis z"), std::string::npos) << mixed.out;
+  EXPECT_NE(mixed.out.find("bunny.obj "), std::string::npos) << "the bunny's row is missing: " << mixed.out;
+  EXPECT_NE(mixed.out.find("skipped 1 model(s) that could not be used: " + flat), std::string::npos) << mixed.out;
   // the scripted runs' options are refused with hands, and the hands' options without them
   const CliRun plot = palpate("bench feel --hands 2 " + bunny + " --plot " + tmp("p.png"));
   EXPECT_EQ(plot.code, 2);

@@ -355,11 +355,15 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
   fo.excess_threshold_N = o.excess_threshold_N;
   std::vector<HandResult> results;
   std::vector<std::pair<std::string, Totals>> per_model;
+  // a model that cannot be used (missing, broken, flat) is named and skipped: the others' hands still run, and the
+  // exit status says one was skipped
+  std::vector<std::string> skipped;
   for (const std::string& path : o.models) {
     auto base = model_base(path);
     if (!base) {
-      std::fprintf(stderr, "palpate: bench feel --hands: %s\n", base.error().message.c_str());
-      return 1;
+      std::fprintf(stderr, "palpate: bench feel --hands: skipped: %s\n", base.error().message.c_str());
+      skipped.push_back(path);
+      continue;
     }
     const std::string name = fs::path(path).filename().string();
     Totals totals;
@@ -442,7 +446,12 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
       return 1;
     }
   }
-  return all.errors > 0 ? 1 : 0;
+  if (!skipped.empty()) {
+    std::printf("skipped %zu model(s) that could not be used:", skipped.size());
+    for (const std::string& s : skipped) std::printf(" %s", s.c_str());
+    std::printf("\n");
+  }
+  return all.errors > 0 || !skipped.empty() ? 1 : 0;
 }
 
 }  // namespace palpate
