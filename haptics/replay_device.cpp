@@ -116,8 +116,7 @@ Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text_in, cons
     rows.push_back(r);
   }
   if (rows.empty()) return make_error("replay '", path, "': no rows");
-  if (scheduled)
-    if (auto sch = make_run_schedule(schedule_ticks(rows), {}, "replay '" + path + "'"); !sch) return sch.error();
+  if (auto sch = replay_schedule(rows, {}, path); !sch) return sch.error();
   return rows;
 }
 
@@ -147,13 +146,16 @@ std::vector<int64_t> read_skipped_frames(const std::string& path) {
   return out;
 }
 
-ReplayDevice::ReplayDevice(const DeviceSpecs& specs, std::vector<ReplayRow> rows, bool follow_schedule,
-                           const std::vector<int64_t>& skipped_frames)
-    : specs_(specs), rows_(std::move(rows)) {
-  if (follow_schedule && rows_.front().scheduled)
-    if (auto sch = make_run_schedule(schedule_ticks(rows_), skipped_frames, "replay"); sch)
-      schedule_ = std::move(sch).value();
+Result<std::optional<RunSchedule>> replay_schedule(const std::vector<ReplayRow>& rows, const std::vector<int64_t>& skipped,
+                                                   const std::string& path) {
+  if (rows.empty() || !rows.front().scheduled) return std::optional<RunSchedule>();
+  auto sch = make_run_schedule(schedule_ticks(rows), skipped, "replay '" + path + "'");
+  if (!sch) return sch.error();
+  return std::optional<RunSchedule>(std::move(sch).value());
 }
+
+ReplayDevice::ReplayDevice(const DeviceSpecs& specs, std::vector<ReplayRow> rows, std::optional<RunSchedule> schedule)
+    : specs_(specs), rows_(std::move(rows)), schedule_(std::move(schedule)) {}
 
 bool ReplayDevice::read(double t_s, DevicePose* out) noexcept {
   // rows are at tick times printed to 1 us: a row belongs to t_s when within half a microsecond

@@ -42,14 +42,17 @@ Result<std::vector<ReplayRow>> load_haptic_csv(const std::string& path);
 /// folder, or its haptic.csv: the summary beside it); empty when there is no summary or it says none.
 std::vector<int64_t> read_skipped_frames(const std::string& path);
 
+/// The order of ticks and frames the rows record (core/run_schedule.h), without the frames the recording skipped;
+/// nullopt when the log has no such columns; an error naming `path` when they contradict each other or `skipped`.
+Result<std::optional<RunSchedule>> replay_schedule(const std::vector<ReplayRow>& rows, const std::vector<int64_t>& skipped,
+                                                   const std::string& path);
+
 /// The replay driver. Copyable. Thread: servo (read/write_force).
 class ReplayDevice final : public Device {
  public:
-  /// rows: non-empty, times increasing (load_haptic_csv guarantees it). follow_schedule: when the rows carry one,
-  /// the run follows the recording's order of ticks and frames (schedule()), without the frames the recording
-  /// skipped (summary.json's sim.skipped_frames, read_skipped_frames()).
-  ReplayDevice(const DeviceSpecs& specs, std::vector<ReplayRow> rows, bool follow_schedule = true,
-               const std::vector<int64_t>& skipped_frames = {});
+  /// rows: non-empty, times increasing (load_haptic_csv guarantees it). schedule: the recording's order of ticks and
+  /// frames for a session to follow (replay_schedule()); none: the rows are played by time.
+  ReplayDevice(const DeviceSpecs& specs, std::vector<ReplayRow> rows, std::optional<RunSchedule> schedule = std::nullopt);
 
   const DeviceSpecs& specs() const noexcept override { return specs_; }
   /// The last row at or before t_s (the first before it starts, the last after it ends); false on a row the

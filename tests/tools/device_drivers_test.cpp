@@ -145,6 +145,23 @@ TEST(ReplayDriver, MalformedLogNamesTheLine) {
   EXPECT_NE(r.out.find("line 3: column 'tool_y_m': 'zz' is not a finite number"), std::string::npos) << r.out;
 }
 
+// A recording whose summary says a frame was skipped that its log names (an edited or mismatched summary) is refused
+// with a line naming the log and the frame, before any output is made.
+TEST(ReplayDriver, ASkippedFrameTheLogNamesIsRefusedNamingIt) {
+  const std::string a = out_dir("replay_skip_src"), b = out_dir("replay_skip_dst");
+  CmdRun r1 = palpate({"record", "scenes/cube_press.json", "--duration", "0.3", "--no-render", "-q", "--out", a}, "s1");
+  ASSERT_EQ(r1.code, 0) << r1.out;
+  auto summary = nlohmann::json::parse(test::read_file(a + "/summary.json"));
+  summary["sim"]["skipped_frames"] = {5};
+  std::ofstream(a + "/summary.json") << summary.dump(1);
+  CmdRun r2 = palpate({"record", "scenes/cube_press.json", "--duration", "0.3", "--no-render", "-q", "--out", b,
+                       "--device", "replay:" + a},
+                      "s2");
+  EXPECT_EQ(r2.code, 1);
+  EXPECT_NE(r2.out.find("replay '" + a + "': frame 5 is named in the log but was skipped"), std::string::npos) << r2.out;
+  EXPECT_FALSE(fs::exists(b)) << "an output made for a replay that was refused";
+}
+
 TEST(PluginDriver, EmulatedPluginReproducesTheScriptedRecording) {
   ASSERT_TRUE(fs::exists(plugin_path())) << plugin_path();
   const std::string a = out_dir("plug_ref"), b = out_dir("plug_run");

@@ -146,8 +146,14 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
         std::fprintf(stderr, "palpate: warning: replay '%s' was recorded at another servo rate than this scene's "
                      "%g Hz: replayed by time, not in the order its ticks and frames ran\n", target.c_str(),
                      scene.rates.servo_hz);
-      return std::unique_ptr<Device>(
-          std::make_unique<ReplayDevice>(specs, std::move(rows).value(), same_rate, read_skipped_frames(target)));
+      std::optional<RunSchedule> schedule;
+      if (same_rate) {
+        // the frames the recording skipped, from its summary: a log that names one of them is refused, naming it
+        auto sch = replay_schedule(rows.value(), read_skipped_frames(target), target);
+        if (!sch) return sch.error();
+        schedule = std::move(sch).value();
+      }
+      return std::unique_ptr<Device>(std::make_unique<ReplayDevice>(specs, std::move(rows).value(), std::move(schedule)));
     }
   }
   return make_error("device '", name, "': unknown driver");
