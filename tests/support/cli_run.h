@@ -28,10 +28,13 @@ inline CliRun shell(const std::string& cmd) {
   return r;
 }
 
-/// Runs `palpate ARGS` from the build's bin folder ($PALPATE_BIN_DIR, set by ctest; else build/bin).
-inline CliRun palpate(const std::string& args) {
+/// The palpate program in the build's bin folder ($PALPATE_BIN_DIR, set by ctest; else build/bin).
+inline std::string palpate_path() {
   const char* bin = std::getenv("PALPATE_BIN_DIR");
-  return shell(std::string(bin ? bin : "build/bin") + "/palpate " + args);
+  return std::string(bin ? bin : "build/bin") + "/palpate";
 }
+
+/// Runs `palpate ARGS` (palpate_path()).
+inline CliRun palpate(const std::string& args) { return shell(palpate_path() + " " + args); }
 
 }  // namespace palpate::test

@@ -181,14 +181,12 @@ TEST(Record, AStopRequestEndsTheRunWithEveryOutputWhole) {
 // progress line ending where it stopped; SIGHUP (the SSH session the run was started from dropped) the same; a
 // second Ctrl-C within the second (an impatient hand, or `timeout` passing the signal on) is the same request
 TEST(Record, CtrlCEndsARealtimeRecordingWithItsLogAndSummary) {
-  const char* bin_env = std::getenv("PALPATE_BIN_DIR");
-  const std::string bin = bin_env ? bin_env : "build/bin";
   for (const std::string sig : {"INT", "HUP", "INT; sleep 0.2; kill -INT $p"}) {
     const std::string out = fresh_dir("signal_" + std::to_string(sig.size()));
     // the signal goes once the log is open (the handler is in place before it is); timeout passes it on, and ends a
     // run that ignores it in 2 minutes instead of 10
     const test::CliRun r = test::shell(
-        "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --no-render --duration 600 -o " +
+        "(timeout 120 " + test::palpate_path() + " record scenes/cube_press.json --mode realtime --no-render --duration 600 -o " +
         out + " & p=$!; n=0; while [ ! -e " + out + "/haptic.csv.partial ] && [ $n -lt 300 ]; do sleep 0.1; n=$((n+1)); "
         "done; sleep 0.5; kill -" + sig + " $p; wait $p; echo \"exit $?\")");
     EXPECT_NE(r.out.find("exit 130"), std::string::npos) << sig << ": " << r.out;
@@ -206,11 +204,9 @@ TEST(Record, CtrlCEndsARealtimeRecordingWithItsLogAndSummary) {
 // ... and one that lands after the run's last frame, while the video is made from the frames, is a stop too: the
 // encode ends between frames (no half-made MP4), exit 130, summary.json says so, every frame and tick is kept
 TEST(Record, CtrlCWhileTheVideoIsMadeAfterTheRunIsAStopThatKeepsTheFrames) {
-  const char* bin_env = std::getenv("PALPATE_BIN_DIR");
-  const std::string bin = bin_env ? bin_env : "build/bin";
   const std::string out = fresh_dir("signal_video");
   const test::CliRun r = test::shell(
-      "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --duration 4 -q -o " + out +
+      "(timeout 120 " + test::palpate_path() + " record scenes/cube_press.json --mode realtime --duration 4 -q -o " + out +
       " & p=$!; n=0; while ! ls " + out + "/recording.mp4.* >/dev/null 2>&1 && [ $n -lt 3000 ]; do sleep 0.01; "
       "n=$((n+1)); done; kill -INT $p; wait $p; echo \"exit $?\")");
   EXPECT_NE(r.out.find("exit 130"), std::string::npos) << r.out;
@@ -227,11 +223,9 @@ TEST(Record, CtrlCWhileTheVideoIsMadeAfterTheRunIsAStopThatKeepsTheFrames) {
 
 // ... while a run that Ctrl-C ends before its last frame still gets its whole video, made from the frames it kept
 TEST(Record, CtrlCDuringARealtimeRunStillMakesItsVideoFromTheFramesKept) {
-  const char* bin_env = std::getenv("PALPATE_BIN_DIR");
-  const std::string bin = bin_env ? bin_env : "build/bin";
   const std::string out = fresh_dir("signal_run_video");
   const test::CliRun r = test::shell(
-      "(timeout 120 " + bin + "/palpate record scenes/cube_press.json --mode realtime --duration 600 -q -o " + out +
+      "(timeout 120 " + test::palpate_path() + " record scenes/cube_press.json --mode realtime --duration 600 -q -o " + out +
       " & p=$!; n=0; while [ ! -e " + out + "/haptic.csv.partial ] && [ $n -lt 300 ]; do sleep 0.1; n=$((n+1)); "
       "done; sleep 1; kill -INT $p; wait $p; echo \"exit $?\")");
   EXPECT_NE(r.out.find("exit 130"), std::string::npos) << r.out;
