@@ -193,6 +193,13 @@ class Servo {
   int64_t seen_frame_ = -1;        // the frame the last tick read
   double surface_start_s_ = 0.0;   // the first tick that saw surface_'s frame
   double surface_alpha_ = -1.0;    // its corners' share of the way from tri_from_m to tri_m
+  // where each corner of surface_ starts its way: tri_from_m, or, for a triangle the servo was still moving when the
+  // frame came (a realtime frame early, the last one's way not done), where the servo had it
+  std::array<std::array<Vec3, 3>, LocalModel::kMaxTriangles> from_corners_{};
+  // the last patch's triangle ids by slot, for that lookup: an open-addressed table (id + 1, 0 empty; slot)
+  static constexpr int kIdTable = 2 * LocalModel::kMaxTriangles;
+  std::array<int32_t, kIdTable> id_key_{};
+  std::array<int16_t, kIdTable> id_slot_{};
   Vec3 from_f0_N_ = Vec3::Zero();  // the contact model's force and compliance at the frame before
   Mat3 from_compliance_m_per_N_ = Mat3::Zero();
 

@@ -177,9 +177,10 @@ TEST(BrowserPull, APersonShakingTheGelBunnysGrabStaysPassiveSettlesAndReplaysTic
 // point 10 mm off for a few ticks each frame: steps of 2-4 N, 11.8-18.9 mJ given to the hand).
 TEST(BrowserPull, APersonShakingTheSpringBunnysGrabStaysPassiveSettlesAndReplaysTickForTick) {
   // (the swinging pull, predicted between frames: 7.6 % of its force above 100 Hz)
-  // (its largest step beyond the hand's motion is printed, not judged: single steps of 0.39 and 0.52 N showed in two of
-  // nine runs, not yet looked at; the energy and buzz bounds catch the prediction's 4.2 N steps)
-  person_pull("scenes/bunny_pull_springs.json", "springs", 0.01, 0.0);
+  // (single steps of 0.2-0.52 N beyond the hand's motion, in some runs: a realtime frame that came before the last
+  // one's blend was done made the held point jump the rest of that way at once; the servo now goes on from where the
+  // surface is, and six runs gave 0.032-0.051 N)
+  person_pull("scenes/bunny_pull_springs.json", "springs", 0.01, 0.2);
 }
 
 }  // namespace

@@ -54,5 +54,31 @@ TEST(SurfaceBlend, AFrameThatMovesTheSurfaceReachesAStillDeviceInTicksShares) {
   }
 }
 
+// A realtime frame that comes before the last one's way is done (the sim late by a frame, then on time): the floor
+// drops 1 mm at tick 100 and, 5 ticks into that frame's way, a frame drops it 1 mm more. The surface goes on from
+// where the hand felt it, never jumping to where the last frame would have put it.
+TEST(SurfaceBlend, AFrameThatComesEarlyGoesOnFromWhereTheSurfaceIs) {
+  ServoParams p = test::static_surface_params(kK);
+  test::FloorRig rig(p, true);
+  double largest_N = 0.0;
+  Vec3 prev = Vec3::Zero();
+  for (int i = 0; i < 140; ++i) {
+    rig.dev.pos_m = Vec3(0.001, 0.002, -std::min(1.0, i / 50.0) * 0.003);  // a still device 3 mm under z = 0
+    if (i == 100) test::publish_floor_at(rig.tb.get(), -0.001, 0.0, 1, i * 1e-3, true);
+    if (i == 105) test::publish_floor_at(rig.tb.get(), -0.002, -0.001, 2, i * 1e-3, true);
+    rig.tick(i);
+    if (i >= 100) largest_N = std::max(largest_N, (rig.dev.force_N - prev).norm());
+    if (i == 135) {
+      EXPECT_NEAR(rig.dev.force_N.z(), kK * 0.001, 1e-9);  // the second frame's floor, 1 mm over the device
+    }
+    prev = rig.dev.force_N;
+  }
+  // the way left (1.7 mm) over the new frame's ticks, each a share of it; from the last frame's corners instead, the
+  // first tick took the 0.7 mm the first frame had not yet gone at once (0.2 N)
+  const double share = kK * 0.002 * test::kTestRates.servo_period_s() /
+                       (test::kTestRates.frame_period_s() - test::kTestRates.servo_period_s());
+  EXPECT_LE(largest_N, share + 1e-9) << "the surface jumped when the early frame came";
+}
+
 }  // namespace
 }  // namespace palpate
