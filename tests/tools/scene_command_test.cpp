@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -66,6 +67,30 @@ TEST(SceneCommand, TouchScenesMakeContactOnTheBunnyAndAssimpTestModels) {
     EXPECT_EQ(j["nan_events"].get<int>(), 0);
     EXPECT_EQ(j["mode"], "lockstep");
   }
+}
+
+// docs/using.md's own-model walkthrough shows what `palpate scene` says for its model, line for line (it showed the
+// bunny's lines for the Wuson once), and names the folder the recording is written to.
+TEST(SceneCommand, TheOwnModelWalkthroughShowsWhatTheCommandSaysForItsModel) {
+  const std::string wuson = "/usr/share/assimp/models/PLY/Wuson.ply";
+  if (!fs::exists(wuson)) GTEST_SKIP() << "assimp-testmodels missing (scripts/install_deps.sh installs it)";
+  const std::string doc = test::read_file(test::source_path("docs/using.md"));
+  ASSERT_NE(doc.find("palpate scene " + wuson + " --mode touch --out out/wuson_touch.json"), std::string::npos);
+  const std::string dir = test::fresh_dir("scene_walkthrough");
+  fs::create_directories(dir);
+  const CliRun r = palpate("scene " + wuson + " --mode touch --out " + dir + "/wuson_touch.json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  int lines = 0;
+  std::istringstream said(r.out);
+  for (std::string line; std::getline(said, line);) {
+    if (line.rfind("palpate scene: ", 0) != 0) continue;
+    ++lines;
+    EXPECT_NE(doc.find("\n" + line + "\n"), std::string::npos) << "docs/using.md does not show: " << line;
+  }
+  EXPECT_EQ(lines, 3) << r.out;
+  // the recording's folder is the scene's name
+  const std::string name = read_json(dir + "/wuson_touch.json")["name"].get<std::string>();
+  EXPECT_NE(doc.find("out/" + name + "/frames/"), std::string::npos) << name;
 }
 
 TEST(SceneCommand, PullAndCutScenesMakeContactOnTheBunny) {
@@ -222,6 +247,14 @@ TEST(SceneCommand, BadOptionsAndOutputsAreRefusedNamingThem) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
   EXPECT_EQ(files, 1);
+  // a folder that is not there yet is made (the README's `--out out/x.json` in a fresh clone); one that cannot be
+  // made (under a regular file) is named
+  r = palpate("scene " + bunny + " --out " + dir + "/new/deeper/s.json");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(load_scene(dir + "/new/deeper/s.json")) << r.out;
+  r = palpate("scene " + bunny + " --out " + dir + "/s.json/under/x.json");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("cannot make its folder '" + dir + "/s.json/under'"), std::string::npos) << r.out;
 }
 
 TEST(SceneCommand, TheScenesNameIsOneTheReaderTakesAndTheMeshIsNeverOverwritten) {

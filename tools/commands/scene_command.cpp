@@ -429,6 +429,15 @@ int run_scene(SceneRequest rq, const std::string& out_path) {
     return 1;
   }
   for (const std::string& n : g.value().notes) std::fprintf(stderr, "palpate scene: %s\n", n.c_str());
+  // a folder the scene goes in is made, as `record -o` makes its own (`--out out/x.json` in a fresh clone)
+  if (const fs::path folder = fs::path(out).parent_path(); !folder.empty() && !fs::is_directory(folder, ec)) {
+    fs::create_directories(folder, ec);
+    if (ec) {
+      std::fprintf(stderr, "palpate: scene '%s': cannot make its folder '%s': %s\n", out.c_str(), folder.c_str(),
+                   ec.message().c_str());
+      return 1;
+    }
+  }
   if (auto st = write_file_atomic(out, scene_text(g.value().json), "scene"); !st) {
     std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
     return 1;
