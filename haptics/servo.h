@@ -54,13 +54,13 @@ struct ServoParams {
   /// takes over faces meeting at less than this crease angle), so a faceted surface is felt as the smooth one it
   /// stands for; 0: felt as its facets
   double force_shading_deg = scene_defaults().device.force_shading_deg;
-  /// A grab takes the local model's prediction between frames (kLocalModel). Right for a lattice stepped implicitly,
-  /// which settles within a frame as the static compliance says: without it the held point and the coupling trade
-  /// the pull frame by frame, and a lattice softer than the coupling swings up (a person's pull on the E 10 kPa
-  /// bunny_pull gave the hand 7.6 J). Wrong for one stepped explicitly, whose nodes carry their inertia from frame to
-  /// frame: the static prediction put the held point up to 10 mm off for a few ticks each frame (steps of 2-4 N, the
-  /// hand given energy it never put in, on the spring bunny_pull shaken at 5 Hz). servo_params_for sets it from
-  /// the scene's integrator.
+  /// A grab takes the local model's prediction between frames (kLocalModel). Right for a lattice that settles within a
+  /// frame as the static compliance says (implicit Euler, local/global, explicit Euler's damped substeps): without it
+  /// the held point and the coupling trade the pull frame by frame, and a lattice softer than the coupling swings up
+  /// (a person's pull on the E 10 kPa bunny_pull gave the hand 7.6 J, on bunny_pull_explicit 9.29 J). Wrong for one
+  /// stepped symplectically, whose nodes carry their inertia from frame to frame: the static prediction put the held
+  /// point up to 10 mm off for a few ticks each frame (steps of 2-4 N, the hand given energy it never put in, on the
+  /// spring bunny_pull_springs shaken at 5 Hz). servo_params_for sets it from the scene's integrator.
   bool predict_grab = true;
   bool surface_blend = true;              ///< a patch with blend_s > 0 moves over its frame; false takes each frame's
                                           ///< surface at its first tick (the comparison of `palpate bench force`)

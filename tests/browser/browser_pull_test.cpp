@@ -52,7 +52,9 @@ constexpr int kTick = 0, kTool = 2, kProxy = 5, kForce = 8, kContact = 11;
 // One person's pull on `scene`: Chromium grabs, shakes, holds still; the session is judged and replayed.
 // max_buzz: the share of the replay's force above 100 Hz it may have; max_excess_N: the largest step beyond what the
 // hand's own motion explains (bench feel's figures; <= 0: not judged).
-void person_pull(const std::string& scene, const std::string& tag, double max_buzz, double max_excess_N) {
+// settle_N: how far the force may still range over the last seconds with the hand still.
+void person_pull(const std::string& scene, const std::string& tag, double max_buzz, double max_excess_N,
+                 double settle_N = 0.05) {
   ASSERT_EQ(test::shell("command -v chromium").code, 0)
       << "chromium is not installed: the browser test needs it (scripts/install_deps.sh installs it)";
   const std::string dir = test::fresh_dir("browser_person_pull_" + tag);
@@ -125,7 +127,7 @@ void person_pull(const std::string& scene, const std::string& tag, double max_bu
   EXPECT_GT(grab, 3000) << "the grab did not hold through the shakes";
   EXPECT_LE(most_J, grab_J + 0.1e-3) << "the device gave the hand energy it never put in";
   ASSERT_GT(still_rows, 500) << "the grab did not hold while the hand was still";
-  EXPECT_LE(hi - lo, 0.05) << "the pull kept swinging with the hand still";
+  EXPECT_LE(hi - lo, settle_N) << "the pull kept swinging with the hand still";
 
   // replayed in lockstep, the session tick for tick
   const std::string replay = dir + "/replay";
@@ -181,6 +183,15 @@ TEST(BrowserPull, APersonShakingTheSpringBunnysGrabStaysPassiveSettlesAndReplays
   // one's blend was done made the held point jump the rest of that way at once; the servo now goes on from where the
   // surface is, and six runs gave 0.032-0.051 N)
   person_pull("scenes/bunny_pull_springs.json", "springs", 0.01, 0.2);
+}
+
+// The paper's explicit Euler bunny (level 4, softer and heavier, substepped): its substeps damp within a frame, and a
+// grab on it is predicted between frames. Unpredicted, the pull traded frame by frame with the coupling: the device
+// gave the hand 9.29 J, the force swung to the device's 3.3 N limit and back with the hand still, steps of 0.47 N
+// beyond its motion. Its lattice is damped less than the others: with the hand still the force swings 0.065 N over
+// the last seconds.
+TEST(BrowserPull, APersonShakingTheExplicitBunnysGrabStaysPassiveSettlesAndReplaysTickForTick) {
+  person_pull("scenes/bunny_pull_explicit.json", "explicit", 0.01, 0.2, 0.1);
 }
 
 }  // namespace
