@@ -62,33 +62,30 @@ TEST(GodObject, ToolPushedThroughAThinSlabStaysOnTheEntryFace) {
 // side (taken from the normals, the next tick passed the sheet's faces over as its far side and the sphere fell
 // through: 7 mm and a 2.1 N step on assimp's regr01.obj).
 TEST(GodObject, ASphereOnASheetWhoseNormalsPointAwayStaysOnItsSide) {
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  LocalModel& m = tb->write_buffer();
-  const double h = 0.05, r = 0.003;
-  add_quad(&m, Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0));  // wound +z
+  const double r = 0.003;
+  ServoParams p = test::static_surface_params(300);
+  p.tool_radius_m = r;
+  test::FloorRig rig(p, false);
+  // the rig's floor z = 0 (wound +z) again, its vertex normals turned to its underside
+  LocalModel& m = rig.tb->write_buffer();
+  m.num_triangles = 0;
+  add_quad(&m, Vec3(-0.05, -0.05, 0), Vec3(0.05, -0.05, 0), Vec3(0.05, 0.05, 0), Vec3(-0.05, 0.05, 0));
   for (int i = 0; i < m.num_triangles; ++i) m.normal[i] = {Vec3(0.1, 0, -1).normalized(), -Vec3::UnitZ(), -Vec3::UnitZ()};
-  m.frame = 0;
-  tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get(), r);
-  HapticSample sink;
+  m.frame = 1;
+  rig.tb->publish();
   int touched = 0;
   for (int i = 0; i <= 600; ++i) {
     // down from 6 mm above to 2 mm into the sheet in 100 ticks, then 20 mm across
     const double z = std::max(-0.002, 0.006 - 8e-5 * i), x = i > 100 ? 4e-5 * (i - 100) : 0.0;
-    dev.pos_m = Vec3(x, 0.001, z);
-    servo->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    const HapticSample& s = servo->last_sample();
+    rig.dev.pos_m = Vec3(x, 0.001, z);
+    rig.tick(i);
+    const HapticSample& s = rig.servo->last_sample();
     if (touched == 0 && s.contact != ContactState::kTouch) continue;
     // once touched, the tool stays within the sphere's reach of the sheet: the contact holds
     ASSERT_EQ(s.contact, ContactState::kTouch) << "tick " << i << ": contact lost with the tool under the sheet";
     ++touched;
     ASSERT_GE(s.proxy_pos_m.z(), r - 1e-6) << "tick " << i << ": the sphere's centre went under the sheet";
-    ASSERT_GE(dev.force_N.z(), 0.0) << "tick " << i << ": the force pulls the hand into the sheet";
+    ASSERT_GE(rig.dev.force_N.z(), 0.0) << "tick " << i << ": the force pulls the hand into the sheet";
   }
   EXPECT_GT(touched, 400);
 }
