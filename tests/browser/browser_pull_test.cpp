@@ -52,9 +52,7 @@ constexpr int kTick = 0, kTool = 2, kProxy = 5, kForce = 8, kContact = 11;
 // One person's pull on `scene`: Chromium grabs, shakes, holds still; the session is judged and replayed.
 // max_buzz: the share of the replay's force above 100 Hz it may have; max_excess_N: the largest step beyond what the
 // hand's own motion explains (bench feel's figures; <= 0: not judged).
-// settle_N: how far the force may still range over the last seconds with the hand still.
-void person_pull(const std::string& scene, const std::string& tag, double max_buzz, double max_excess_N,
-                 double settle_N = 0.05) {
+void person_pull(const std::string& scene, const std::string& tag, double max_buzz, double max_excess_N) {
   ASSERT_EQ(test::shell("command -v chromium").code, 0)
       << "chromium is not installed: the browser test needs it (scripts/install_deps.sh installs it)";
   const std::string dir = test::fresh_dir("browser_person_pull_" + tag);
@@ -133,7 +131,7 @@ void person_pull(const std::string& scene, const std::string& tag, double max_bu
   EXPECT_GT(grab, 3000) << "the grab did not hold through the shakes";
   EXPECT_LE(most_J, grab_J + 0.1e-3) << "the device gave the hand energy it never put in";
   ASSERT_GT(still_rows, 500) << "the grab did not hold while the hand was still";
-  EXPECT_LE(hi - lo, settle_N) << "the pull kept swinging with the hand still";
+  EXPECT_LE(hi - lo, 0.05) << "the pull kept swinging with the hand still";
   EXPECT_LE(last_N, first_N + 0.005) << "the swing grew with the hand still: " << first_N << " N, then " << last_N << " N";
 
   // replayed in lockstep, the session tick for tick
