@@ -25,17 +25,47 @@ void compute_vertex_normals(const std::vector<Vec3>& vertices_m,
 }
 
 TriMesh subdivide_midpoint(const TriMesh& mesh) {
+  // Every edge gets one midpoint, numbered in the order a walk over the triangles first meets the edge (so the
+  // result does not depend on how the edges are found). The edges are found by sorting the triangles' 3 n_t edge
+  // slots by their key: no hash map, whose one node per edge dominated a million-triangle mesh's subdivision.
+  const std::size_t n_t = mesh.triangles.size();
+  struct Slot {
+    uint64_t key;
+    uint32_t at;  // 3 t + k: edge k of triangle t, (t[k], t[k + 1])
+  };
+  std::vector<Slot> slots(3 * n_t);
+  for (std::size_t t = 0; t < n_t; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto& tri = mesh.triangles[t];
+      slots[3 * t + static_cast<std::size_t>(k)] = {unordered_pair_key(tri[k], tri[(k + 1) % 3]),
+                                                    static_cast<uint32_t>(3 * t + static_cast<std::size_t>(k))};
+    }
+  std::sort(slots.begin(), slots.end(),
+            [](const Slot& a, const Slot& b) { return a.key != b.key ? a.key < b.key : a.at < b.at; });
+  // first[at] = the first slot of at's edge (the walk meets the edge there); each slot names its edge's first
+  std::vector<uint32_t> first(3 * n_t);
+  for (std::size_t i = 0; i < slots.size();) {
+    std::size_t j = i;
+    while (j < slots.size() && slots[j].key == slots[i].key) first[slots[j++].at] = slots[i].at;
+    i = j;
+  }
   TriMesh out;
   out.vertices_m = mesh.vertices_m;
-  out.triangles.reserve(4 * mesh.triangles.size());
-  std::unordered_map<uint64_t, int32_t> midpoint;  // edge (lo, hi) -> new vertex
-  auto mid = [&](int32_t a, int32_t b) {
-    auto [it, fresh] = midpoint.try_emplace(unordered_pair_key(a, b), static_cast<int32_t>(out.vertices_m.size()));
-    if (fresh) out.vertices_m.push_back(0.5 * (mesh.vertices_m[a] + mesh.vertices_m[b]));
-    return it->second;
+  out.vertices_m.reserve(mesh.vertices_m.size() + slots.size() / 2 + 1);
+  out.triangles.reserve(4 * n_t);
+  std::vector<int32_t> vertex_of(3 * n_t, -1);  // by the edge's first slot
+  auto mid = [&](std::size_t t, int k) {
+    const uint32_t f = first[3 * t + static_cast<std::size_t>(k)];
+    if (vertex_of[f] < 0) {
+      const auto& tri = mesh.triangles[t];
+      vertex_of[f] = static_cast<int32_t>(out.vertices_m.size());
+      out.vertices_m.push_back(0.5 * (mesh.vertices_m[tri[k]] + mesh.vertices_m[tri[(k + 1) % 3]]));
+    }
+    return vertex_of[f];
   };
-  for (const auto& t : mesh.triangles) {
-    const int32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+  for (std::size_t i = 0; i < n_t; ++i) {
+    const auto& t = mesh.triangles[i];
+    const int32_t ab = mid(i, 0), bc = mid(i, 1), ca = mid(i, 2);
     out.triangles.push_back({t[0], ab, ca});
     out.triangles.push_back({ab, t[1], bc});
     out.triangles.push_back({ca, bc, t[2]});
