@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -166,12 +168,24 @@ TEST(HostileCorpus, EveryInputEndsWithItsExpectedExitAndOneLine) {
   for (const auto& [name, path] : generate(fs::path(test::temp_root()) / "hostile_generated")) inputs[name] = path;
   for (const auto& [name, e] : expected) EXPECT_TRUE(inputs.count(name)) << name << " is listed but not in the corpus";
 
+  // each input's wall time, the slowest printed at the end (a figure, not a pass/fail: the limit above is the test)
+  std::vector<std::pair<double, std::string>> seconds;
+  struct Slowest {
+    std::vector<std::pair<double, std::string>>* s;
+    ~Slowest() {
+      std::sort(s->rbegin(), s->rend());
+      for (std::size_t i = 0; i < std::min<std::size_t>(3, s->size()); ++i)
+        std::printf("[ figures ] slowest input %zu: %s, %.2f s\n", i + 1, (*s)[i].second.c_str(), (*s)[i].first);
+    }
+  } slowest{&seconds};
   int index = 0;
   for (const auto& [name, path] : inputs) {
     if (!expected.count(name)) continue;
     const Expectation& want = expected.at(name);
     const std::string out = (fs::path(test::temp_root()) / ("corpus_out_" + std::to_string(index++))).string();
+    const auto t0 = std::chrono::steady_clock::now();
     const Outcome o = run(command_for(name, path, out));
+    seconds.emplace_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), name);
     SCOPED_TRACE(name + ": " + o.err);
     ASSERT_TRUE(WIFEXITED(o.status)) << "ended by a signal";
     const int code = WEXITSTATUS(o.status);
