@@ -10,6 +10,9 @@ namespace {
 // cells per triangle the grid aims at, and the most cells along an axis
 constexpr double kCellsPerTriangle = 2.0;
 constexpr int32_t kMaxCellsPerAxis = 1024;
+// a triangle whose box reaches more cells than this (a sliver across the model, a corner that is not finite) is
+// kept in one list that every query tests, not in each of its cells
+constexpr int64_t kWideCells = 64;
 
 }  // namespace
 
@@ -42,7 +45,10 @@ void TriangleBoxGrid::build(const std::vector<Vec3>& vertices_m, const std::vect
   for (int k = 0; k < 3; ++k)
     dims_[static_cast<std::size_t>(k)] =
         std::clamp(static_cast<int32_t>(std::ceil(extent[k] / cell_m_)), int32_t{1}, kMaxCellsPerAxis);
-  cells_.assign(static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2], {});
+  // a list only for the cells a triangle reaches: a surface fills few of its box's cells
+  slot_of_cell_.assign(static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2], -1);
+  lists_.clear();
+  wide_.clear();
   // room for the triangles cuts add, so an append in a frame never moves the whole array (at 200k triangles that
   // took 69 ms on the first splitting frame)
   const std::size_t room = triangles.size() + triangles.size() / 4 + 1024;
@@ -50,15 +56,45 @@ void TriangleBoxGrid::build(const std::vector<Vec3>& vertices_m, const std::vect
   stamp_.reserve(room);
   ranges_.resize(triangles.size());
   stamp_.assign(triangles.size(), 0u);
-  // each cell's entries counted first, so each list is allocated once
-  std::vector<int32_t> counts(cells_.size(), 0);
+  // each list's entries counted first, so each is allocated once
+  std::vector<int32_t> counts;
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     ranges_[t] = box_range(vertices_m, triangles[t]);
-    for_cells(ranges_[t], [&](std::size_t i) { ++counts[i]; });
+    if (wide(ranges_[t])) continue;
+    for_cells(ranges_[t], [&](std::size_t i) {
+      int32_t& slot = slot_of_cell_[i];
+      if (slot < 0) {
+        slot = static_cast<int32_t>(counts.size());
+        counts.push_back(0);
+      }
+      ++counts[static_cast<std::size_t>(slot)];
+    });
   }
-  for (std::size_t i = 0; i < cells_.size(); ++i) cells_[i].reserve(static_cast<std::size_t>(counts[i]));
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-    for_cells(ranges_[t], [&](std::size_t i) { cells_[i].push_back(static_cast<int32_t>(t)); });
+  lists_.resize(counts.size());
+  for (std::size_t i = 0; i < counts.size(); ++i) lists_[i].reserve(static_cast<std::size_t>(counts[i]));
+  for (std::size_t t = 0; t < triangles.size(); ++t) add(static_cast<int32_t>(t));
+}
+
+bool TriangleBoxGrid::wide(const CellRange& r) {
+  int64_t cells = 1;
+  for (std::size_t k = 0; k < 3; ++k) cells *= std::max<int64_t>(0, int64_t{r[k + 3]} - r[k] + 1);
+  return cells > kWideCells;
+}
+
+void TriangleBoxGrid::add(int32_t t) {
+  const CellRange& r = ranges_[static_cast<std::size_t>(t)];
+  if (wide(r)) {
+    wide_.push_back(t);
+    return;
+  }
+  for_cells(r, [&](std::size_t cell) {
+    int32_t& slot = slot_of_cell_[cell];
+    if (slot < 0) {
+      slot = static_cast<int32_t>(lists_.size());
+      lists_.emplace_back();
+    }
+    lists_[static_cast<std::size_t>(slot)].push_back(t);
+  });
 }
 
 TriangleBoxGrid::CellRange TriangleBoxGrid::box_range(const std::vector<Vec3>& vertices_m,
@@ -96,20 +132,27 @@ void TriangleBoxGrid::for_cells(const CellRange& r, F f) const {
 void TriangleBoxGrid::update(int32_t t, const std::vector<Vec3>& vertices_m,
                              const std::vector<std::array<int32_t, 3>>& triangles) {
   const auto i = static_cast<std::size_t>(t);
+  auto drop = [t](std::vector<int32_t>& ids) {
+    const auto it = std::find(ids.begin(), ids.end(), t);
+    if (it == ids.end()) return;
+    *it = ids.back();
+    ids.pop_back();
+  };
   if (i < ranges_.size()) {
-    for_cells(ranges_[i], [&](std::size_t cell) {
-      std::vector<int32_t>& ids = cells_[cell];
-      const auto it = std::find(ids.begin(), ids.end(), t);
-      if (it == ids.end()) return;
-      *it = ids.back();
-      ids.pop_back();
-    });
+    if (wide(ranges_[i])) {
+      drop(wide_);
+    } else {
+      for_cells(ranges_[i], [&](std::size_t cell) {
+        const int32_t slot = slot_of_cell_[cell];
+        if (slot >= 0) drop(lists_[static_cast<std::size_t>(slot)]);
+      });
+    }
   } else {
     ranges_.resize(i + 1, CellRange{0, 0, 0, -1, -1, -1});
     stamp_.resize(i + 1, 0);
   }
   ranges_[i] = box_range(vertices_m, triangles[i]);
-  for_cells(ranges_[i], [&](std::size_t cell) { cells_[cell].push_back(t); });
+  add(t);
 }
 
 void TriangleBoxGrid::query(const std::vector<Vec3>& vertices_m, const std::vector<std::array<int32_t, 3>>& triangles,
@@ -120,8 +163,8 @@ void TriangleBoxGrid::query(const std::vector<Vec3>& vertices_m, const std::vect
     std::fill(stamp_.begin(), stamp_.end(), 0u);
     query_ = 1;
   }
-  for_cells(range_of(lo_m, hi_m), [&](std::size_t cell) {
-    for (int32_t t : cells_[cell]) {
+  auto test = [&](const std::vector<int32_t>& ids) {
+    for (int32_t t : ids) {
       if (stamp_[static_cast<std::size_t>(t)] == query_) continue;
       stamp_[static_cast<std::size_t>(t)] = query_;
       ++last_tested_;
@@ -130,6 +173,11 @@ void TriangleBoxGrid::query(const std::vector<Vec3>& vertices_m, const std::vect
                                 vertices_m[static_cast<std::size_t>(tri[2])], lo_m, hi_m))
         out->push_back(t);
     }
+  };
+  test(wide_);
+  for_cells(range_of(lo_m, hi_m), [&](std::size_t cell) {
+    const int32_t slot = slot_of_cell_[cell];
+    if (slot >= 0) test(lists_[static_cast<std::size_t>(slot)]);
   });
   // the order of a test of every triangle
   std::sort(out->begin(), out->end());

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace palpate {
@@ -89,6 +90,20 @@ TEST(TriangleBoxGrid, QueriesGiveWhatTestingEveryTriangleGivesAfterMovesAndAppen
   }
   ASSERT_EQ(grid.size(), m.t.size());
   expect_queries_match(grid, m, 3, &tested);
+
+  // a corner that is not finite, then back: its triangles are filed as reaching everywhere, and back in their cells
+  auto update_at = [&](int32_t v) {
+    for (int32_t i = 0; i < static_cast<int32_t>(m.t.size()); ++i)
+      for (int32_t c : m.t[static_cast<std::size_t>(i)])
+        if (c == v) grid.update(i, m.v, m.t);
+  };
+  const Vec3 kept = m.v[45];
+  m.v[45] = Vec3(NAN, 0.5, 0.0);
+  update_at(45);
+  expect_queries_match(grid, m, 4, &tested);
+  m.v[45] = kept;
+  update_at(45);
+  expect_queries_match(grid, m, 5, &tested);
 }
 
 }  // namespace
