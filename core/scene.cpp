@@ -340,6 +340,10 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
     r.fail("render.view_from", "must be a direction (not zero): from the model toward the camera");
   r.vec3("look_at_m", &s->render.look_at_m, -1e3, 1e3);
   r.number("frame_radius_m", &s->render.frame_radius_m, 1e-4, 1e3);
+  r.name("color", &s->render.color);
+  r.number("color_range_m", &s->render.color_range_m, 0.0, 100.0);
+  r.boolean("force_arrow", &s->render.force_arrow);
+  r.boolean("legend", &s->render.legend);
   if (err->empty() && r.has("look_at_m") != r.has("frame_radius_m"))
     r.fail(r.has("look_at_m") ? "render.look_at_m" : "render.frame_radius_m",
            "needs render.look_at_m and render.frame_radius_m together (the sphere the camera frames)");

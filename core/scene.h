@@ -129,6 +129,10 @@ struct RenderSpec {
   Vec3 view_from = Vec3::Zero();                    ///< direction from the model toward the camera (zero: front-right-above)
   Vec3 look_at_m = Vec3::Zero();                    ///< with frame_radius_m: the point the camera frames (world, metres)
   double frame_radius_m = 0.0;                      ///< the camera frames a sphere this large around look_at_m (0: the whole model)
+  RenderColor color = RenderColor::kAuto;           ///< the surface coloured by displacement from rest, or one colour
+  double color_range_m = 0.0;                       ///< displacement at the colour map's top (0: planned from the trajectory)
+  bool force_arrow = true;                          ///< the force sent to the device as an arrow at the proxy, its value beside it
+  bool legend = true;                               ///< the colour map's and the arrow's scales in the top-right corner
 };
 
 /// A whole scene.
@@ -173,5 +177,11 @@ const char* integrator_name(IntegratorKind kind);
 bool integrator_from_name(const std::string& name, IntegratorKind* kind);
 /// Name of an interaction mode as written in scenes.
 const char* mode_name(InteractionMode mode);
+
+/// Whether the scene's frames colour the surface by displacement (render.color, auto: not in cut mode).
+inline bool colors_by_displacement(const Scene& scene) {
+  return scene.render.color == RenderColor::kDisplacement ||
+         (scene.render.color == RenderColor::kAuto && scene.mode != InteractionMode::kCut);
+}
 
 }  // namespace palpate

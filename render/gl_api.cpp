@@ -39,6 +39,7 @@ Status GlApi::load(GetProc get_proc, const char* backend, const char* loader_nam
   L(&DisableClientState, "glDisableClientState");
   L(&VertexPointer, "glVertexPointer");
   L(&NormalPointer, "glNormalPointer");
+  L(&ColorPointer, "glColorPointer");
   L(&DrawElements, "glDrawElements");
   L(&DrawArrays, "glDrawArrays");
   L(&PolygonMode, "glPolygonMode");

@@ -38,6 +38,7 @@ struct GlApi {
   decltype(&::glDisableClientState) DisableClientState = nullptr;
   decltype(&::glVertexPointer) VertexPointer = nullptr;
   decltype(&::glNormalPointer) NormalPointer = nullptr;
+  decltype(&::glColorPointer) ColorPointer = nullptr;
   decltype(&::glDrawElements) DrawElements = nullptr;
   decltype(&::glDrawArrays) DrawArrays = nullptr;
   decltype(&::glPolygonMode) PolygonMode = nullptr;

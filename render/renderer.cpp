@@ -92,6 +92,16 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
     gl.GetIntegerv(GL_FRAMEBUFFER_BINDING, &previous);
     gl.BindFramebuffer(GL_FRAMEBUFFER, frame_.id());
   }
+  // a change of colouring (range, the cut's first vertex) redraws the layer: every colour it holds changes
+  const bool color_on = colored(view);
+  if (color_on != color_on_ || (color_on && (view.color_range_m != color_range_m_ ||
+                                             view.first_cut_vertex != color_cut_from_))) {
+    layer_valid_ = false;
+    mesh_image_valid_ = false;
+    color_on_ = color_on;
+    color_range_m_ = view.color_range_m;
+    color_cut_from_ = view.first_cut_vertex;
+  }
   last_layered_ = own_fbo && layered_ && view.moving_vertices != nullptr && draw_layered(gl, view);
   if (!last_layered_) {
     setup_frame(gl, /*clear=*/true);
@@ -101,7 +111,9 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
   draw_tool(gl, view);
   draw_proxy(gl, view);
   draw_blade(gl, view);
+  draw_force(gl, view);
   ctx_->read_rgba(rgba);
+  annotate(view, rgba);
   if (own_fbo) gl.BindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous));
 }
 
@@ -170,6 +182,14 @@ bool Renderer::prepare_mesh(const FrameView& view) {
     }
     to_floats(*normals, &normals_f_);
   }
+  colors_.clear();
+  if (colored(view) && fill_drawn()) {
+    colors_.resize(4 * vertices.size());
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+      const auto c = vertex_color(view, v, vertices[v]);
+      std::copy(c.begin(), c.end(), colors_.begin() + static_cast<std::ptrdiff_t>(4 * v));
+    }
+  }
   if (lines_drawn()) update_edges(triangles);
   if (style_ == RenderStyle::kBoth && !wire_decided_) decide_wire(vertices.size());
   // a `both` mesh too fine for its lines: no edges to keep up (a layer split and every cut would sort them all)
@@ -200,7 +220,8 @@ void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
   if (!prepare_mesh(view)) return;
   static_assert(sizeof(std::array<int32_t, 3>) == 3 * sizeof(uint32_t), "triangles are packed index triples");
   const auto& triangles = *view.triangles;
-  draw_fill(gl, positions_f_.data(), normals_f_.data(), triangles.data()->data(), 3 * triangles.size());
+  draw_fill(gl, positions_f_.data(), normals_f_.data(), colors_.empty() ? nullptr : colors_.data(),
+            triangles.data()->data(), 3 * triangles.size());
   draw_lines(gl, positions_f_.data(), edge_indices_);
 }
 
@@ -259,7 +280,7 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
       gl.Scissor(rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
     }
     setup_frame(gl, /*clear=*/true);
-    draw_fill(gl, positions_f_.data(), normals_f_.data(), fill, n_fill);
+    draw_fill(gl, positions_f_.data(), normals_f_.data(), colors_.empty() ? nullptr : colors_.data(), fill, n_fill);
     draw_lines(gl, positions_f_.data(), static_lines);
     gl.Disable(GL_SCISSOR_TEST);
     last_layer_px_ = rect.area();
@@ -301,7 +322,8 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills
   // after cached lines changes no pixel; a moving and a static fill at exactly equal depth (an edge seen
   // edge-on) go to the moving one here and to the later triangle in a full redraw
-  draw_fill(gl, local_positions_f_.data(), local_normals_f_.data(), fill, n_fill);
+  draw_fill(gl, local_positions_f_.data(), local_normals_f_.data(),
+            local_colors_.empty() ? nullptr : local_colors_.data(), fill, n_fill);
   draw_lines(gl, local_positions_f_.data(), lines);
   ++dynamic_draws_;
   // kept once the dynamic part holds still for a frame: a part that changes every frame costs no extra copy
@@ -360,8 +382,8 @@ const std::vector<uint32_t>& Renderer::covering_lines(bool cull, const PixelCove
   return *out;
 }
 
-void Renderer::draw_fill(const GlApi& gl, const float* positions, const float* normals, const void* indices,
-                         std::size_t count) const {
+void Renderer::draw_fill(const GlApi& gl, const float* positions, const float* normals, const uint8_t* colors,
+                         const void* indices, std::size_t count) const {
   if (!fill_drawn() || count == 0) return;
   gl.EnableClientState(GL_VERTEX_ARRAY);
   gl.VertexPointer(3, GL_FLOAT, 0, positions);
@@ -374,7 +396,12 @@ void Renderer::draw_fill(const GlApi& gl, const float* positions, const float* n
     gl.PolygonOffset(1.0f, 1.0f);
   }
   set_color(gl, kMeshColor);
+  if (colors) {
+    gl.EnableClientState(GL_COLOR_ARRAY);
+    gl.ColorPointer(4, GL_UNSIGNED_BYTE, 0, colors);
+  }
   gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT, indices);
+  if (colors) gl.DisableClientState(GL_COLOR_ARRAY);
   gl.Disable(GL_POLYGON_OFFSET_FILL);
   gl.DisableClientState(GL_NORMAL_ARRAY);
   gl.DisableClientState(GL_VERTEX_ARRAY);

@@ -49,6 +49,19 @@ struct FrameView {
   /// vertices are moving (a cut inside the moving part): the layer is kept and only the dynamic part is split
   /// again. False: any change of the triangles redraws the layer.
   bool static_part_kept = false;
+  /// Colour by displacement: each vertex by its distance from rest_m (one per vertex), the map's top
+  /// (render/annotate.h) at color_range_m and beyond. Null, or a range that is not positive: one colour.
+  const std::vector<Vec3>* rest_m = nullptr;
+  double color_range_m = 0.0;
+  /// Vertices from this index on were made by a cut: drawn in the cut's colour (-1: none).
+  int64_t first_cut_vertex = -1;
+  /// The force arrow: force_N (the force sent to the device) drawn from the proxy, its value beside its tip; an
+  /// arrow of force_scale_N is a fifth of the picture's height at the proxy's depth (<= 0: no arrow).
+  bool show_force = false;
+  Vec3 force_N = Vec3::Zero();
+  double force_scale_N = 0.0;
+  /// The legend (displacement colours, the cut's colour, the arrow's scale) in the top-right corner.
+  bool show_legend = false;
 };
 
 /// Draws frames with legacy fixed-function GL; keeps a pointer to the context (which must outlive it) and
@@ -127,8 +140,8 @@ class Renderer {
   void draw_mesh(const GlApi& gl, const FrameView& view);
   // the fill of `count` triangle indices and the lines of an edge list, from the given vertex arrays (3 floats
   // per vertex: the whole mesh's positions_f_ / normals_f_, or the dynamic part's local ones)
-  void draw_fill(const GlApi& gl, const float* positions, const float* normals, const void* indices,
-                 std::size_t count) const;
+  void draw_fill(const GlApi& gl, const float* positions, const float* normals, const uint8_t* colors,
+                 const void* indices, std::size_t count) const;
   void draw_lines(const GlApi& gl, const float* positions, const std::vector<uint32_t>& edges) const;
   // creates the frame and layer framebuffers once; false when the context has none
   bool ensure_framebuffers(const GlApi& gl);
@@ -145,6 +158,14 @@ class Renderer {
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
   void draw_drop(const GlApi& gl, const FrameView& view) const;
   void draw_blade(const GlApi& gl, const FrameView& view) const;
+  // the force arrow (GL) and, into the image read back, the legend and the arrow's value
+  void draw_force(const GlApi& gl, const FrameView& view);
+  void annotate(const FrameView& view, uint8_t* rgba) const;
+  // whether the view colours its vertices, and the colour of vertex v (its position p)
+  static bool colored(const FrameView& view) {
+    return view.rest_m != nullptr && (view.color_range_m > 0.0 || view.first_cut_vertex >= 0);
+  }
+  static std::array<uint8_t, 4> vertex_color(const FrameView& view, std::size_t v, const Vec3& p);
   bool fill_drawn() const { return style_ != RenderStyle::kWireframe; }
   bool lines_drawn() const {
     return style_ == RenderStyle::kWireframe || (style_ == RenderStyle::kBoth && (!wire_decided_ || wire_on_));
@@ -173,6 +194,14 @@ class Renderer {
   std::vector<float> positions_f_;       // mesh positions for GL (3 n_v)
   std::vector<float> normals_f_;         // mesh normals for GL (3 n_v)
   std::vector<Vec3> computed_normals_;   // normals when the view has none (n_v)
+  std::vector<uint8_t> colors_;          // mesh vertex colours, RGBA (4 n_v; empty: one colour)
+  std::vector<uint8_t> local_colors_;    // the dynamic part's vertex colours (4 n_local; empty: one colour)
+  double color_range_m_ = 0.0;           // the colouring the layer was drawn with (a change redraws it)
+  int64_t color_cut_from_ = -1;
+  bool color_on_ = false;
+  double arrow_m_per_N_ = 0.0;           // the last arrow's scale, and where its tip was (for its label)
+  Vec3 arrow_tip_m_ = Vec3::Zero();
+  bool arrow_drawn_ = false;
   std::vector<uint64_t> edge_keys_;      // scratch for the edge build: (lo << 32 | hi) per half edge
   std::vector<uint32_t> edge_indices_;   // unique mesh edges as GL_LINES pairs (2 n_e)
   uint64_t edges_hash_ = 0;              // hash of the triangles edge_indices_ was built from

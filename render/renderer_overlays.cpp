@@ -1,9 +1,12 @@
 // The renderer's overlays, drawn over the model each frame: the tool sphere (and its outline where the surface hides
-// it), a free tool's drop line and the disc where it lands, the proxy spring and point, the blade.
+// it), a free tool's drop line and the disc where it lands, the proxy spring and point, the blade, the force arrow;
+// and what is written into the image read back: the legend and the arrow's value.
 #include "render/renderer.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "render/annotate.h"
 
 #include "render/renderer_colors.h"
 
@@ -113,6 +116,90 @@ void Renderer::draw_blade(const GlApi& gl, const FrameView& view) const {
   gl.DrawArrays(GL_LINES, 0, 2);
   gl.DisableClientState(GL_VERTEX_ARRAY);
   gl.LineWidth(1.0f);
+}
+
+std::array<uint8_t, 4> Renderer::vertex_color(const FrameView& view, std::size_t v, const Vec3& p) {
+  if (view.first_cut_vertex >= 0 && static_cast<int64_t>(v) >= view.first_cut_vertex) return kCutFaceColor;
+  if (!(view.color_range_m > 0.0) || v >= view.rest_m->size()) return displacement_color(0.0);
+  return displacement_color((p - (*view.rest_m)[v]).norm() / view.color_range_m);
+}
+
+namespace {
+
+// the force arrow's colour, and how much of the picture's height an arrow of the scale's force spans
+constexpr float kArrowColor[4] = {0.90f, 0.43f, 0.0f, 1.0f};
+constexpr double kArrowShareOfHeight = 0.2;
+
+}  // namespace
+
+void Renderer::draw_force(const GlApi& gl, const FrameView& view) {
+  arrow_drawn_ = false;
+  if (!view.show_force || !(view.force_scale_N > 0.0) || !view.force_N.allFinite() || !view.proxy_pos_m.allFinite())
+    return;
+  // metres per newton so that an arrow of force_scale_N spans kArrowShareOfHeight of the picture at the proxy's depth
+  const Vec3 forward = (camera_.target_m - camera_.eye_m).normalized();
+  const double depth = (view.proxy_pos_m - camera_.eye_m).dot(forward);
+  if (!(depth > 0.0)) return;
+  const double view_h_m = 2.0 * depth * std::tan(0.5 * camera_.fov_y_deg * M_PI / 180.0);
+  arrow_m_per_N_ = kArrowShareOfHeight * view_h_m / view.force_scale_N;
+  const double f = view.force_N.norm(), length = f * arrow_m_per_N_;
+  // shorter than a pixel and a half: nothing to see
+  if (!(length > 1.5 * view_h_m / ctx_->height())) return;
+  const Vec3 dir = view.force_N / f, from = view.proxy_pos_m, tip = from + length * dir;
+  const double head = std::min(0.3 * length, 0.25 * kArrowShareOfHeight * view_h_m);
+  const Vec3 base = tip - head * dir;
+  const Vec3 u = (std::abs(dir.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(dir).normalized(), w = dir.cross(u);
+  // drawn over everything, as the proxy spring is: a force pulling into the model stays in sight
+  gl.Disable(GL_LIGHTING);
+  gl.Disable(GL_DEPTH_TEST);
+  set_color(gl, kArrowColor);
+  gl.EnableClientState(GL_VERTEX_ARRAY);
+  const float shaft[6] = {static_cast<float>(from.x()), static_cast<float>(from.y()), static_cast<float>(from.z()),
+                          static_cast<float>(base.x()), static_cast<float>(base.y()), static_cast<float>(base.z())};
+  gl.LineWidth(3.0f);
+  gl.VertexPointer(3, GL_FLOAT, 0, shaft);
+  gl.DrawArrays(GL_LINES, 0, 2);
+  gl.LineWidth(1.0f);
+  constexpr int kSides = 12;
+  float cone[3 * (kSides + 2)];
+  for (int i = 0; i <= kSides + 1; ++i) {
+    const double a = 2.0 * M_PI * (i - 1) / kSides;
+    const Vec3 p = i == 0 ? tip : Vec3(base + 0.4 * head * (std::cos(a) * u + std::sin(a) * w));
+    for (int k = 0; k < 3; ++k) cone[3 * i + k] = static_cast<float>(p[k]);
+  }
+  gl.VertexPointer(3, GL_FLOAT, 0, cone);
+  gl.DrawArrays(GL_TRIANGLE_FAN, 0, kSides + 2);
+  gl.DisableClientState(GL_VERTEX_ARRAY);
+  gl.Enable(GL_DEPTH_TEST);
+  arrow_tip_m_ = tip;
+  arrow_drawn_ = true;
+}
+
+void Renderer::annotate(const FrameView& view, uint8_t* rgba) const {
+  const RgbaImage img{rgba, ctx_->width(), ctx_->height()};
+  const int s = text_scale(img.h);
+  if (arrow_drawn_) {
+    // the arrow's value beside its tip, on a light ground
+    const Eigen::Vector2d at = project(arrow_tip_m_);
+    if (at.allFinite()) {
+      const std::string label = format_force(view.force_N.norm());
+      const auto size = text_size(label, s);
+      const int x = static_cast<int>(std::lround(at.x())) + 3 * s, y = static_cast<int>(std::lround(at.y())) - size[1] / 2;
+      fill_rect(img, x - s, y - s, x + size[0] + s, y + size[1] + s, {255, 255, 255, 190});
+      draw_text(img, x, y, label, s, {120, 50, 0, 255});
+    }
+  }
+  if (!view.show_legend) return;
+  const double range = colored(view) ? view.color_range_m : 0.0;
+  // the arrow's scale: a round force near a quarter of the scale's, and its length in pixels
+  double ref_N = 0.0, ref_px = 0.0;
+  if (view.show_force && view.force_scale_N > 0.0) {
+    ref_N = nice_ceil(0.25 * view.force_scale_N);
+    ref_px = kArrowShareOfHeight * img.h * ref_N / view.force_scale_N;
+  }
+  const bool cut_faces = view.first_cut_vertex >= 0 && view.vertices_m != nullptr &&
+                         static_cast<int64_t>(view.vertices_m->size()) > view.first_cut_vertex;
+  if (range > 0.0 || cut_faces || ref_N > 0.0) draw_legend(img, range, cut_faces, ref_N, ref_px);
 }
 
 }  // namespace palpate

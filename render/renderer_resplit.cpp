@@ -24,7 +24,11 @@ void Renderer::fill_local_vertices() {
   const auto& local = layers_.local_vertices();
   local_positions_f_.resize(3 * local.size());
   if (style_ != RenderStyle::kWireframe) local_normals_f_.resize(3 * local.size());
+  local_colors_.resize(colors_.empty() ? 0 : 4 * local.size());
   for (std::size_t i = 0; i < local.size(); ++i) {
+    if (!colors_.empty())
+      std::copy_n(colors_.begin() + static_cast<std::ptrdiff_t>(4 * local[i]), 4,
+                  local_colors_.begin() + static_cast<std::ptrdiff_t>(4 * i));
     const auto from = static_cast<std::ptrdiff_t>(3 * local[i]);
     const auto to = static_cast<std::ptrdiff_t>(3 * i);
     std::copy_n(positions_f_.begin() + from, 3, local_positions_f_.begin() + to);
@@ -39,6 +43,7 @@ bool Renderer::resplit(const FrameView& view) {
   // view below with every affected vertex
   positions_f_.resize(3 * vertices.size(), 0.0f);
   if (style_ != RenderStyle::kWireframe) normals_f_.resize(3 * vertices.size(), 0.0f);
+  if (!colors_.empty()) colors_.resize(4 * vertices.size(), 0);
   // a mesh grown inside the dynamic part (a cut) is split again there only, its indices checked there (the static
   // triangles are drawn from the layer); else the whole mesh, its indices checked first
   if (lines_drawn() || !layers_.grow(vertices.size(), triangles, *view.moving_vertices)) {
@@ -76,6 +81,14 @@ bool Renderer::update_local_vertices(const FrameView& view) {
   };
   for (std::size_t i = 0; i < affected.size(); ++i)
     for (int c = 0; c < 3; ++c) put(&local_positions_f_[3 * i + c], vertices[affected[i]][c]);
+  if (!local_colors_.empty()) {
+    for (std::size_t i = 0; i < affected.size(); ++i) {
+      const auto rgba = vertex_color(view, affected[i], vertices[affected[i]]);
+      uint8_t* to = &local_colors_[4 * i];
+      changed = changed || std::memcmp(to, rgba.data(), 4) != 0;
+      std::copy(rgba.begin(), rgba.end(), to);
+    }
+  }
   if (style_ == RenderStyle::kWireframe) return changed;
   const std::vector<Vec3>* normals = view.normals;
   if (normals != nullptr && normals->size() == vertices.size()) {

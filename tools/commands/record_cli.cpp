@@ -72,9 +72,10 @@ class StopOnSignal {
 
 // The command line of `palpate record`, as parsed.
 struct RecordArgs {
-  std::string scene_path, mode, video_path, serve;
+  std::string scene_path, mode, video_path, serve, color;
   RecordOptions opt;
-  bool no_render = false, no_video = false;
+  bool no_render = false, no_video = false, no_arrow = false, no_legend = false;
+  double color_range_m = 0.0;
   double serve_linger_s = 0.0;
 };
 
@@ -142,6 +143,12 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
     return 1;
   }
+  // what the frames show besides the model (the scene's render.color, color_range_m, force_arrow, legend)
+  RenderSpec& look = scene.value().render;
+  if (!a.color.empty()) look.color = from_name<RenderColor>(a.color).value_or(RenderColor::kAuto);
+  if (cmd.get_option("--color-range")->count() > 0) look.color_range_m = a.color_range_m;
+  if (a.no_arrow) look.force_arrow = false;
+  if (a.no_legend) look.legend = false;
   // everything decided and every output checked before anything in the output folder is touched
   auto planned = plan_record(scene.value(), opt);
   if (!planned) {
@@ -274,6 +281,16 @@ Subcommand add_record_command(CLI::App& app) {
                   "writable, a missing encoder is then an error instead of a warning)")
       ->expected(0, 1);
   rec->add_flag("--no-video", a->no_video, "No MP4, frames/*.png only");
+  rec->add_option("--color", a->color,
+                  "The surface's colour: displacement (from rest, its scale in the legend), none, or auto "
+                  "(displacement in touch and pull, none in cut; the scene's render.color, default auto)")
+      ->check(CLI::IsMember({"auto", "displacement", "none"}));
+  rec->add_option("--color-range", a->color_range_m,
+                  "Displacement at the colour map's top, metres (default: the scene's render.color_range_m, else a "
+                  "first pass of a scripted run finds it)")
+      ->check(finite_range(1e-9, 100.0));
+  rec->add_flag("--no-arrow", a->no_arrow, "No force arrow at the proxy (render.force_arrow)");
+  rec->add_flag("--no-legend", a->no_legend, "No legend (render.legend)");
   rec->add_option("--serve", a->serve,
                   "Live view in a browser while recording: serve it on [ADDR:]PORT (ADDR default 127.0.0.1; PORT 0 = any "
                   "free port); the URL is printed on stderr");

@@ -1,5 +1,7 @@
 #include "tools/record/recorder.h"
 
+#include "tools/record/color_pass.h"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -173,6 +175,11 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   if (const std::string w = mesh_resolution_notice(scene, model.rest, model.grid); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
+  // the colours' range, fixed before the first frame: from a first pass of the scripted run
+  if (needs_color_pass(scene, opt.render, plan.driver)) {
+    if (!opt.quiet) std::fprintf(stderr, "record %s: a first pass without frames, for the colours' range\n", scene.name.c_str());
+    scene.render.color_range_m = color_pass_range_m(scene, model, opt.stop);
+  }
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
   auto device_r = make_device(scene, opt.device, opt.browser);

@@ -212,6 +212,13 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                            {"median_edge_px", std::isfinite(median) ? nlohmann::json(median) : nlohmann::json(nullptr)},
                            {"min_edge_px", scene.render.wire_min_edge_px}};
   }
+  // what the frames show besides the model: displacement colours (their range, fixed before the first frame or
+  // followed), the force arrow, the legend
+  j["render"]["color"] = {{"by", colors_by_displacement(scene) ? "displacement" : "none"},
+                          {"range_m", stage.view_style().range_m()},
+                          {"range_fixed", stage.view_style().fixed()},
+                          {"force_arrow", scene.render.force_arrow},
+                          {"legend", scene.render.legend}};
   // a mesh finer than the image is drawn clustered (render.lod_min_edge_px)
   j["render"]["lod"] = {{"used", stage.lod() != nullptr}, {"min_edge_px", scene.render.lod_min_edge_px}};
   if (const MeshLod* lod = stage.lod()) {

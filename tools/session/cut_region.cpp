@@ -11,7 +11,8 @@ CutRegion::CutRegion(const Scene& scene, const Model& model, FrameStats* stats)
     : scene_(scene),
       grid_(model.grid),
       stats_(stats),
-      cut_(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m) {
+      cut_(model.rest, model.bindings, &model.grid, scene.lattice.level, scene.blade_length_m),
+      uncut_vertices_(static_cast<int64_t>(model.rest.vertices_m.size())) {
   // one lattice over every solid cell: a region centred in the grid reaching all of it
   const int level = scene.lattice.level;
   const int n = model.grid.cells_per_axis(level);
@@ -112,6 +113,9 @@ void CutRegion::fill_view(const HapticSample& latest, FrameView* view) const {
     view->topology_epoch = redraw_->topology_epoch();
     view->static_part_kept = true;
   }
+  // displacement from each vertex's own rest (a cut's vertices have theirs); the cut's faces in their colour
+  view->rest_m = &cut_.rest_vertices_m();
+  view->first_cut_vertex = uncut_vertices_;
   view->show_blade = true;
   view->blade_tip_m = latest.tool_pos_m;
   view->blade_end_m = latest.tool_pos_m + scene_.blade_length_m * latest.blade_axis;

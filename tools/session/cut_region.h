@@ -84,6 +84,7 @@ class CutRegion final : public RegionPolicy {
   std::size_t first_new_ = 0;        // first vertex this frame's split created
   std::size_t frame_deformed_ = 0;   // mesh vertices deform() recomputed this frame
   std::size_t frame_normals_ = 0;    // vertex normals recomputed this frame
+  int64_t uncut_vertices_ = 0;       // the model's own vertices (the cut's come after them)
 };
 
 }  // namespace palpate

@@ -44,7 +44,8 @@ FrameStage::FrameStage(const Scene& scene, const Model& model, SpscQueue<HapticS
       writer_(writer),
       log_(log),
       step_opts_(step_options(scene.lattice)),
-      vertices_m_(model.rest.vertices_m) {
+      vertices_m_(model.rest.vertices_m),
+      style_(scene, model) {
   latest_.tool_pos_m = scene.trajectory.front().pos_m;
   latest_.proxy_pos_m = latest_.tool_pos_m;
   stats_.sim_ms.reserve(static_cast<std::size_t>(scene.rates.frames(scene.duration_s)) + 8);
@@ -349,6 +350,7 @@ FrameView FrameStage::current_view() const {
   }
   // what may move (the rest comes from the renderer's cached layer), the blade
   region_->fill_view(latest_, &view);
+  style_.apply(latest_, &view);
   return view;
 }
 
@@ -453,6 +455,7 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer, int64_t 
     for (std::size_t i = 0; i < lat.num_nodes(); ++i)
       lattice_moved_m_ = std::max(lattice_moved_m_, (lat.x_m[i] - lat.rest_m[i]).norm());
     stats_.max_displacement_m = std::max(stats_.max_displacement_m, lattice_moved_m_);
+    style_.follow(lattice_moved_m_);
     region_->deform(&vertices_m_);
   }
   check_tool_inside();

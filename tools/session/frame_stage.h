@@ -34,6 +34,7 @@
 #include "tools/live/live_feed.h"
 #include "tools/session/model.h"
 #include "tools/session/region_policy.h"
+#include "tools/session/view_style.h"
 
 namespace palpate {
 
@@ -78,6 +79,8 @@ class FrameStage {
   std::string state_hash() const;
   /// Collected figures.
   const FrameStats& stats() const { return stats_; }
+  /// The frames' colours, arrow and legend (the colours' range as it ended).
+  const ViewStyle& view_style() const { return style_; }
   /// Current deformed vertex positions.
   const std::vector<Vec3>& vertices_m() const { return vertices_m_; }
   /// Current vertex normals (those the region can change are recomputed each frame, the rest kept).
@@ -153,6 +156,7 @@ class FrameStage {
   std::vector<Vec3> f_ext_N_;        // external node forces (n)
   std::vector<Vec3> part_f_ext_N_;   // zero forces on the stepped part of the lattice, when not all of it (n_part)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
+  ViewStyle style_;                  // the frames' colours, force arrow and legend
   struct PublishedCorners {
     std::array<Vec3, 3> corners, normals;
   };

@@ -108,6 +108,7 @@ void LocalRegion::fill_view(const HapticSample& latest, FrameView* view) const {
   (void)latest;
   view->moving_vertices = &deformer_.vertex_ids();
   view->layer_epoch = layer_epoch_;
+  view->rest_m = &model_.rest.vertices_m;
 }
 
 }  // namespace palpate

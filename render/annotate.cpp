@@ -1,0 +1,175 @@
+#include "render/annotate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace palpate {
+namespace {
+
+// a glyph: 7 rows of 5 bits, the leftmost column the highest bit
+struct Glyph {
+  char c;
+  std::array<uint8_t, 7> rows;
+};
+
+constexpr Glyph kFont[] = {
+    {'0', {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E}}, {'1', {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E}},
+    {'2', {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F}}, {'3', {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E}},
+    {'4', {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02}}, {'5', {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E}},
+    {'6', {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}}, {'7', {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}},
+    {'8', {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}}, {'9', {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}},
+    {'.', {0x00, 0x00, 0x00, 0x00, 0x00, 0x0C, 0x0C}}, {'-', {0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00}},
+    {'+', {0x00, 0x04, 0x04, 0x1F, 0x04, 0x04, 0x00}}, {'=', {0x00, 0x00, 0x1F, 0x00, 0x1F, 0x00, 0x00}},
+    {':', {0x00, 0x0C, 0x0C, 0x00, 0x0C, 0x0C, 0x00}}, {'/', {0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00}},
+    {'%', {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03}}, {'(', {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}},
+    {')', {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}}, {'|', {0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}},
+    {'N', {0x11, 0x19, 0x15, 0x13, 0x11, 0x11, 0x11}}, {'F', {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10}},
+    {'P', {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10}}, {'a', {0x00, 0x00, 0x0E, 0x01, 0x0F, 0x11, 0x0F}},
+    {'b', {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1E}}, {'c', {0x00, 0x00, 0x0E, 0x10, 0x10, 0x11, 0x0E}},
+    {'d', {0x01, 0x01, 0x0D, 0x13, 0x11, 0x11, 0x0F}}, {'e', {0x00, 0x00, 0x0E, 0x11, 0x1F, 0x10, 0x0E}},
+    {'f', {0x06, 0x09, 0x08, 0x1C, 0x08, 0x08, 0x08}}, {'g', {0x00, 0x0F, 0x11, 0x11, 0x0F, 0x01, 0x0E}},
+    {'h', {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11}}, {'i', {0x04, 0x00, 0x0C, 0x04, 0x04, 0x04, 0x0E}},
+    {'k', {0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12}}, {'l', {0x0C, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}},
+    {'m', {0x00, 0x00, 0x1A, 0x15, 0x15, 0x11, 0x11}}, {'n', {0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11}},
+    {'o', {0x00, 0x00, 0x0E, 0x11, 0x11, 0x11, 0x0E}}, {'p', {0x00, 0x00, 0x1E, 0x11, 0x1E, 0x10, 0x10}},
+    {'r', {0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10}}, {'s', {0x00, 0x00, 0x0E, 0x10, 0x0E, 0x01, 0x1E}},
+    {'t', {0x08, 0x08, 0x1C, 0x08, 0x08, 0x09, 0x06}}, {'u', {0x00, 0x00, 0x11, 0x11, 0x11, 0x13, 0x0D}},
+    {'v', {0x00, 0x00, 0x11, 0x11, 0x11, 0x0A, 0x04}}, {'w', {0x00, 0x00, 0x11, 0x11, 0x15, 0x15, 0x0A}},
+    {'x', {0x00, 0x00, 0x11, 0x0A, 0x04, 0x0A, 0x11}}, {'y', {0x00, 0x00, 0x11, 0x11, 0x0F, 0x01, 0x0E}},
+};
+
+const Glyph* glyph(char c) {
+  for (const Glyph& g : kFont)
+    if (g.c == c) return &g;
+  return nullptr;
+}
+
+void blend(uint8_t* p, Rgba8 c) {
+  if (c[3] == 255) {
+    p[0] = c[0], p[1] = c[1], p[2] = c[2], p[3] = 255;
+    return;
+  }
+  const int a = c[3];
+  for (int k = 0; k < 3; ++k) p[k] = static_cast<uint8_t>((c[k] * a + p[k] * (255 - a) + 127) / 255);
+  p[3] = 255;
+}
+
+// two significant figures, trailing zeros dropped ("1.5", "12", "250", "0.42")
+std::string two_figures(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2g", x);
+  // %.2g writes 120 as "1.2e+02"
+  if (std::string(b).find('e') != std::string::npos) std::snprintf(b, sizeof b, "%.0f", x);
+  return b;
+}
+
+}  // namespace
+
+Rgba8 displacement_color(double u) {
+  // stops: the mesh's blue-grey, a pale yellow, orange, dark red
+  static constexpr double kStops[4][3] = {{168, 186, 214}, {246, 226, 122}, {242, 140, 52}, {176, 26, 30}};
+  if (!(u > 0.0)) u = 0.0;
+  u = std::min(u, 1.0) * 3.0;
+  const int i = std::min(2, static_cast<int>(u));
+  const double f = u - i;
+  Rgba8 c{0, 0, 0, 255};
+  for (int k = 0; k < 3; ++k)
+    c[static_cast<std::size_t>(k)] = static_cast<uint8_t>(std::lround(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k])));
+  return c;
+}
+
+double nice_ceil(double x) {
+  if (!(x > 0.0) || !std::isfinite(x)) return 0.0;
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * p >= x * (1.0 - 1e-12)) return m * p;
+  return 10.0 * p;
+}
+
+std::string format_length(double m) {
+  if (!(m > 0.0)) return "0";
+  if (m < 1e-3) return two_figures(m * 1e6) + " um";
+  if (m < 1.0) return two_figures(m * 1e3) + " mm";
+  return two_figures(m) + " m";
+}
+
+std::string format_force(double n) { return two_figures(std::abs(n)) + " N"; }
+
+int text_scale(int h) { return std::max(1, h / 240); }
+
+std::array<int, 2> text_size(std::string_view text, int scale) {
+  const int n = static_cast<int>(text.size());
+  return {n > 0 ? (6 * n - 1) * scale : 0, 7 * scale};
+}
+
+void draw_text(RgbaImage img, int x, int y, std::string_view text, int scale, Rgba8 color) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const Glyph* g = glyph(text[i]);
+    if (!g) continue;
+    const int gx = x + static_cast<int>(i) * 6 * scale;
+    for (int r = 0; r < 7; ++r)
+      for (int col = 0; col < 5; ++col)
+        if (g->rows[static_cast<std::size_t>(r)] & (0x10 >> col))
+          fill_rect(img, gx + col * scale, y + r * scale, gx + (col + 1) * scale, y + (r + 1) * scale, color);
+  }
+}
+
+void fill_rect(RgbaImage img, int x0, int y0, int x1, int y1, Rgba8 color) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, img.w), y1 = std::min(y1, img.h);
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) blend(img.px + (static_cast<std::size_t>(y) * img.w + x) * 4, color);
+}
+
+std::array<int, 4> draw_legend(RgbaImage img, double range_m, bool cut_faces, double force_ref_N, double force_ref_px) {
+  const int s = text_scale(img.h);
+  const Rgba8 ink{40, 44, 56, 255}, paper{255, 255, 255, 200};
+  const int pad = 4 * s, bar_w = 6 * s, bar_h = std::max(40, img.h / 4), line = 10 * s;
+  const bool bar = range_m > 0.0, arrow = force_ref_N > 0.0;
+  const std::string title = "displacement", top = format_length(range_m);
+  const std::string ref = arrow ? format_force(force_ref_N) : std::string();
+  const int arrow_px = static_cast<int>(std::lround(force_ref_px));
+  int inner_w = 0, inner_h = 0;
+  if (bar) {
+    inner_w = std::max(text_size(title, s)[0], bar_w + 2 * s + std::max(text_size(top, s)[0], text_size("0", s)[0]));
+    inner_h += line + bar_h + 3 * s;
+  }
+  if (cut_faces) {
+    inner_w = std::max(inner_w, bar_w + 2 * s + text_size("cut", s)[0]);
+    inner_h += line;
+  }
+  if (arrow) {
+    inner_w = std::max(inner_w, arrow_px + 2 * s + text_size(ref, s)[0]);
+    inner_h += line;
+  }
+  const int x1 = img.w - pad, x0 = x1 - inner_w - 2 * pad, y0 = pad, y1 = y0 + inner_h + 2 * pad - 3 * s;
+  fill_rect(img, x0, y0, x1, y1, paper);
+  const int x = x0 + pad;
+  int y = y0 + pad;
+  if (bar) {
+    draw_text(img, x, y, title, s, ink);
+    y += line;
+    // the map from 0 at the bottom to the range at the top, both ends labelled
+    const int bar_y0 = y, bar_y1 = y + bar_h;
+    for (int r = bar_y0; r < bar_y1; ++r)
+      fill_rect(img, x, r, x + bar_w, r + 1, displacement_color(static_cast<double>(bar_y1 - 1 - r) / (bar_h - 1)));
+    draw_text(img, x + bar_w + 2 * s, bar_y0, top, s, ink);
+    draw_text(img, x + bar_w + 2 * s, bar_y1 - 7 * s, "0", s, ink);
+    y = bar_y1 + 3 * s;
+  }
+  if (cut_faces) {
+    fill_rect(img, x, y, x + bar_w, y + 7 * s, kCutFaceColor);
+    draw_text(img, x + bar_w + 2 * s, y, "cut", s, ink);
+    y += line;
+  }
+  if (arrow) {
+    // the arrow's scale: a bar as long as the arrow of force_ref_N, with its head
+    const Rgba8 orange{230, 110, 0, 255};
+    fill_rect(img, x, y + 3 * s, x + arrow_px, y + 4 * s + 1, orange);
+    fill_rect(img, x + arrow_px - s, y + s, x + arrow_px + 1, y + 6 * s + 1, orange);
+    draw_text(img, x + arrow_px + 3 * s, y, ref, s, ink);
+  }
+  return {x0, y0, x1, y1};
+}
+
+}  // namespace palpate

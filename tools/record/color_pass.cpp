@@ -1,0 +1,31 @@
+#include "tools/record/color_pass.h"
+
+#include "render/annotate.h"
+#include "tools/session/device_factory.h"
+#include "tools/session/session.h"
+
+namespace palpate {
+
+bool needs_color_pass(const Scene& scene, bool render, DeviceDriver driver) {
+  return render && driver == DeviceDriver::kScripted && colors_by_displacement(scene) &&
+         !(scene.render.color_range_m > 0.0);
+}
+
+double color_pass_range_m(const Scene& scene, const Model& model, const std::atomic<bool>* stop) {
+  Scene pass = scene;
+  pass.run_mode = RunMode::kLockstep;
+  auto device = make_device(pass, "scripted");
+  if (!device) return 0.0;
+  struct Stopped {};
+  try {
+    Session session(pass, model, device.value().get());
+    session.run_lockstep(pass.duration_s, [&](int64_t, double) {
+      if (stop && stop->load(std::memory_order_relaxed)) throw Stopped{};
+    });
+    return nice_ceil(session.stage().stats().max_displacement_m);
+  } catch (const Stopped&) {
+    return 0.0;
+  }
+}
+
+}  // namespace palpate

@@ -1,0 +1,34 @@
+#pragma once
+/// What a frame shows besides the surface's shape (scene.render's color, color_range_m, force_arrow, legend): the
+/// displacement colours' fixed range, the force arrow and the legend, set on a FrameView. Thread: the sim thread.
+
+#include "core/scene.h"
+#include "haptics/haptic_sample.h"
+#include "render/renderer.h"
+#include "tools/session/model.h"
+
+namespace palpate {
+
+/// The view's colours, arrow and legend for one recording.
+class ViewStyle {
+ public:
+  ViewStyle(const Scene& scene, const Model& model);
+  /// A run whose scene gives no render.color_range_m (a recording of a scripted run gets one from a first pass,
+  /// tools/record/color_pass.h; a live device's run cannot): the range steps up (1, 2, 5 times a power of ten,
+  /// never down) to cover the largest displacement so far.
+  void follow(double max_displacement_m);
+  /// Sets the colours' range, the arrow and the legend on *view (its rest positions and cut faces are the region's).
+  void apply(const HapticSample& latest, FrameView* view) const;
+  /// The displacement at the colour map's top (0: not coloured by displacement), and whether it was fixed before
+  /// the first frame (the scene's, or a first pass's) or followed the run.
+  double range_m() const { return range_m_; }
+  bool fixed() const { return planned_; }
+
+ private:
+  const Scene& scene_;
+  double range_m_ = 0.0;
+  bool planned_ = false;
+  double floor_m_ = 0.0;  // the smallest range a followed run shows (a thousandth of the model's size)
+};
+
+}  // namespace palpate
