@@ -344,6 +344,7 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   r.number("color_range_m", &s->render.color_range_m, 0.0, 100.0);
   r.boolean("force_arrow", &s->render.force_arrow);
   r.boolean("legend", &s->render.legend);
+  r.boolean("floor", &s->render.floor);
   if (err->empty() && r.has("look_at_m") != r.has("frame_radius_m"))
     r.fail(r.has("look_at_m") ? "render.look_at_m" : "render.frame_radius_m",
            "needs render.look_at_m and render.frame_radius_m together (the sphere the camera frames)");

@@ -133,6 +133,7 @@ struct RenderSpec {
   double color_range_m = 0.0;                       ///< displacement at the colour map's top (0: planned from the trajectory)
   bool force_arrow = true;                          ///< the force sent to the device as an arrow at the proxy, its value beside it
   bool legend = true;                               ///< the colour map's and the arrow's scales in the top-right corner
+  bool floor = true;                                ///< a floor under the model with its and the tool's shadows
 };
 
 /// A whole scene.

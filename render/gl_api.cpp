@@ -26,6 +26,7 @@ Status GlApi::load(GetProc get_proc, const char* backend, const char* loader_nam
   L(&Enable, "glEnable");
   L(&Disable, "glDisable");
   L(&DepthFunc, "glDepthFunc");
+  L(&DepthMask, "glDepthMask");
   L(&ShadeModel, "glShadeModel");
   L(&MatrixMode, "glMatrixMode");
   L(&LoadMatrixd, "glLoadMatrixd");

@@ -25,6 +25,7 @@ struct GlApi {
   decltype(&::glEnable) Enable = nullptr;
   decltype(&::glDisable) Disable = nullptr;
   decltype(&::glDepthFunc) DepthFunc = nullptr;
+  decltype(&::glDepthMask) DepthMask = nullptr;
   decltype(&::glShadeModel) ShadeModel = nullptr;
   decltype(&::glMatrixMode) MatrixMode = nullptr;
   decltype(&::glLoadMatrixd) LoadMatrixd = nullptr;

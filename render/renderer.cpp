@@ -94,19 +94,22 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
   }
   // a change of colouring (range, the cut's first vertex) redraws the layer: every colour it holds changes
   const bool color_on = colored(view);
-  if (color_on != color_on_ || (color_on && (view.color_range_m != color_range_m_ ||
-                                             view.first_cut_vertex != color_cut_from_))) {
+  const bool floor_changed = floor_shown(view) ? !(view.floor_z_m == floor_z_) : std::isfinite(floor_z_);
+  if (floor_changed || color_on != color_on_ ||
+      (color_on && (view.color_range_m != color_range_m_ || view.first_cut_vertex != color_cut_from_))) {
     layer_valid_ = false;
     mesh_image_valid_ = false;
     color_on_ = color_on;
     color_range_m_ = view.color_range_m;
     color_cut_from_ = view.first_cut_vertex;
+    floor_z_ = floor_shown(view) ? view.floor_z_m : std::numeric_limits<double>::quiet_NaN();
   }
   last_layered_ = own_fbo && layered_ && view.moving_vertices != nullptr && draw_layered(gl, view);
   if (!last_layered_) {
     setup_frame(gl, /*clear=*/true);
     draw_mesh(gl, view);
   }
+  draw_tool_shadow(gl, view);
   draw_drop(gl, view);
   draw_tool(gl, view);
   draw_proxy(gl, view);
@@ -190,6 +193,14 @@ bool Renderer::prepare_mesh(const FrameView& view) {
       std::copy(c.begin(), c.end(), colors_.begin() + static_cast<std::ptrdiff_t>(4 * v));
     }
   }
+  shadow_f_.clear();
+  if (floor_shown(view)) {
+    shadow_f_.resize(3 * vertices.size());
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+      const Vec3 f = on_floor(view, vertices[v]);
+      for (int c = 0; c < 3; ++c) shadow_f_[3 * v + static_cast<std::size_t>(c)] = static_cast<float>(f[c]);
+    }
+  }
   if (lines_drawn()) update_edges(triangles);
   if (style_ == RenderStyle::kBoth && !wire_decided_) decide_wire(vertices.size());
   // a `both` mesh too fine for its lines: no edges to keep up (a layer split and every cut would sort them all)
@@ -220,6 +231,10 @@ void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
   if (!prepare_mesh(view)) return;
   static_assert(sizeof(std::array<int32_t, 3>) == 3 * sizeof(uint32_t), "triangles are packed index triples");
   const auto& triangles = *view.triangles;
+  if (!shadow_f_.empty()) {
+    draw_floor(gl, view);
+    draw_shadow(gl, shadow_f_.data(), triangles.data()->data(), 3 * triangles.size());
+  }
   draw_fill(gl, positions_f_.data(), normals_f_.data(), colors_.empty() ? nullptr : colors_.data(),
             triangles.data()->data(), 3 * triangles.size());
   draw_lines(gl, positions_f_.data(), edge_indices_);
@@ -242,7 +257,11 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
     // a layer of the same camera and mesh with no lines is redrawn only where the parts changed (layer_patch.h)
     const bool patch = layer_patching_ && layer_valid_ && !lines_drawn() && vertices.size() >= layer_vertices_ &&
                        positions_f_.size() >= 3 * layer_vertices_;
+    // (and the shadows' rectangle, from the positions flattened onto the floor)
+    const bool shadow_patch = patch && !shadow_f_.empty() && shadow_f_.size() >= 3 * layer_vertices_;
     if (patch) patch_.keep(layers_.affected_vertices(), layers_.local_vertices(), positions_f_, normals_f_, layer_vertices_);
+    if (shadow_patch)
+      shadow_patch_.keep(layers_.affected_vertices(), layers_.local_vertices(), shadow_f_, {}, layer_vertices_);
     layer_valid_ = false;
     for (int32_t v : *view.moving_vertices)
       if (v < 0 || static_cast<std::size_t>(v) >= vertices.size()) return false;
@@ -252,9 +271,22 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
     fill_local_vertices();
     const auto& local = layers_.local_vertices();
     const PixelRect whole{0, 0, ctx_->width(), ctx_->height()};
-    const PixelRect rect = patch ? patch_.rect(cover_, local, positions_f_, normals_f_, vertices.size(), kPatchPadPx,
-                                               whole.x1, whole.y1)
-                                 : whole;
+    PixelRect rect = patch ? patch_.rect(cover_, local, positions_f_, normals_f_, vertices.size(), kPatchPadPx,
+                                         whole.x1, whole.y1)
+                           : whole;
+    // a floor that was not drawn before (or one without the old shadows kept) is drawn whole
+    if (patch && !shadow_f_.empty()) {
+      if (!shadow_patch) {
+        rect = whole;
+      } else {
+        const PixelRect s = shadow_patch_.rect(cover_, local, shadow_f_, {}, vertices.size(), kPatchPadPx, whole.x1,
+                                               whole.y1);
+        if (s.area() > 0) {
+          if (rect.area() == 0) rect = s;
+          rect = {std::min(rect.x0, s.x0), std::min(rect.y0, s.y0), std::max(rect.x1, s.x1), std::max(rect.y1, s.y1)};
+        }
+      }
+    }
     // the static part, drawn as a full redraw would draw it: fill, then lines (less what reaches no centre)
     const bool cull = culling_;
     const bool part = rect.area() < whole.area();
@@ -280,6 +312,19 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
       gl.Scissor(rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
     }
     setup_frame(gl, /*clear=*/true);
+    if (!shadow_f_.empty()) {
+      // the floor and the static part's shadow (those of its triangles whose shadow reaches the rectangle)
+      draw_floor(gl, view);
+      const std::vector<uint32_t>* shadow_tris = &layers_.static_triangles();
+      if (part) {
+        shadow_xy_.resize(2 * vertices.size());
+        cover_.project(shadow_f_.data(), vertices.size(), shadow_xy_.data());
+        shadow_tris_.clear();
+        triangles_in_rect(shadow_xy_.data(), shadow_tris->data(), shadow_tris->size(), rect, &shadow_tris_);
+        shadow_tris = &shadow_tris_;
+      }
+      draw_shadow(gl, shadow_f_.data(), shadow_tris->data(), shadow_tris->size());
+    }
     draw_fill(gl, positions_f_.data(), normals_f_.data(), colors_.empty() ? nullptr : colors_.data(), fill, n_fill);
     draw_lines(gl, positions_f_.data(), static_lines);
     gl.Disable(GL_SCISSOR_TEST);
@@ -319,6 +364,8 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
       covering_lines(cull, local_line_cells_.data(), layers_.dynamic_edges());
   frame_.copy_from(layer_);
   setup_frame(gl, /*clear=*/false);
+  // the moving part's shadow, under whatever the layer holds nearer the eye
+  if (!local_shadow_f_.empty()) draw_shadow(gl, local_shadow_f_.data(), dynamic_tris.data(), dynamic_tris.size());
   // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills
   // after cached lines changes no pixel; a moving and a static fill at exactly equal depth (an edge seen
   // edge-on) go to the moving one here and to the later triangle in a full redraw

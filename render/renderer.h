@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -56,13 +57,24 @@ struct FrameView {
   /// Vertices from this index on were made by a cut: drawn in the cut's colour (-1: none).
   int64_t first_cut_vertex = -1;
   /// The force arrow: force_N (the force sent to the device) drawn from the proxy, its value beside its tip; an
-  /// arrow of force_scale_N is a fifth of the picture's height at the proxy's depth (<= 0: no arrow).
+  /// arrow of force_scale_N is a fifth of the picture's height at the proxy's depth (<= 0: no arrow, and none in
+  /// the legend).
   bool show_force = false;
   Vec3 force_N = Vec3::Zero();
   double force_scale_N = 0.0;
   /// The legend (displacement colours, the cut's colour, the arrow's scale) in the top-right corner.
   bool show_legend = false;
+  /// A floor at height floor_z_m (world z; NaN: none), a square of half-side floor_half_m around floor_centre_m
+  /// (x, y), with the shadows the model and the tool cast on it from a light above (kShadowLight): where the tool is
+  /// above the surface and the model above the floor, in a still frame.
+  double floor_z_m = std::numeric_limits<double>::quiet_NaN();
+  Vec3 floor_centre_m = Vec3::Zero();
+  double floor_half_m = 0.0;
 };
+
+/// The direction the floor's light travels (world, not unit): from above, behind and to the left of the default
+/// view (front-right-above), so shadows fall toward the viewer and to the right, where they are seen.
+inline const Vec3 kShadowLight{0.35, -0.25, -1.0};
 
 /// Draws frames with legacy fixed-function GL; keeps a pointer to the context (which must outlive it) and
 /// grow-only scratch buffers; not copyable. Thread: the thread that owns the context.
@@ -160,6 +172,14 @@ class Renderer {
   void draw_blade(const GlApi& gl, const FrameView& view) const;
   // the force arrow (GL) and, into the image read back, the legend and the arrow's value
   void draw_force(const GlApi& gl, const FrameView& view);
+  // the floor (no depth written: everything is drawn over it) and shadows: the triangles (count indices) of a
+  // 3-float array of positions already flattened onto the floor, and the tool's
+  static bool floor_shown(const FrameView& view) { return std::isfinite(view.floor_z_m) && view.floor_half_m > 0.0; }
+  void draw_floor(const GlApi& gl, const FrameView& view) const;
+  void draw_shadow(const GlApi& gl, const float* flat, const void* indices, std::size_t count) const;
+  void draw_tool_shadow(const GlApi& gl, const FrameView& view) const;
+  // p flattened onto the floor along kShadowLight
+  static Vec3 on_floor(const FrameView& view, const Vec3& p);
   void annotate(const FrameView& view, uint8_t* rgba) const;
   // whether the view colours its vertices, and the colour of vertex v (its position p)
   static bool colored(const FrameView& view) {
@@ -196,6 +216,12 @@ class Renderer {
   std::vector<Vec3> computed_normals_;   // normals when the view has none (n_v)
   std::vector<uint8_t> colors_;          // mesh vertex colours, RGBA (4 n_v; empty: one colour)
   std::vector<uint8_t> local_colors_;    // the dynamic part's vertex colours (4 n_local; empty: one colour)
+  std::vector<float> shadow_f_;          // mesh positions flattened onto the floor (3 n_v; empty: no floor)
+  std::vector<float> local_shadow_f_;    // the dynamic part's, flattened (3 n_local; empty: no floor)
+  std::vector<float> shadow_xy_;         // window positions of shadow_f_, for a partial layer build (2 n_v)
+  std::vector<uint32_t> shadow_tris_;    // scratch: the static triangles whose shadow reaches that rectangle
+  LayerPatch shadow_patch_;              // the old layer's parts' shadows, for the rectangle a redraw must cover
+  double floor_z_ = std::numeric_limits<double>::quiet_NaN();  // the floor the layer was drawn with
   double color_range_m_ = 0.0;           // the colouring the layer was drawn with (a change redraws it)
   int64_t color_cut_from_ = -1;
   bool color_on_ = false;

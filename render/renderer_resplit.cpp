@@ -25,10 +25,14 @@ void Renderer::fill_local_vertices() {
   local_positions_f_.resize(3 * local.size());
   if (style_ != RenderStyle::kWireframe) local_normals_f_.resize(3 * local.size());
   local_colors_.resize(colors_.empty() ? 0 : 4 * local.size());
+  local_shadow_f_.resize(shadow_f_.empty() ? 0 : 3 * local.size());
   for (std::size_t i = 0; i < local.size(); ++i) {
     if (!colors_.empty())
       std::copy_n(colors_.begin() + static_cast<std::ptrdiff_t>(4 * local[i]), 4,
                   local_colors_.begin() + static_cast<std::ptrdiff_t>(4 * i));
+    if (!shadow_f_.empty())
+      std::copy_n(shadow_f_.begin() + static_cast<std::ptrdiff_t>(3 * local[i]), 3,
+                  local_shadow_f_.begin() + static_cast<std::ptrdiff_t>(3 * i));
     const auto from = static_cast<std::ptrdiff_t>(3 * local[i]);
     const auto to = static_cast<std::ptrdiff_t>(3 * i);
     std::copy_n(positions_f_.begin() + from, 3, local_positions_f_.begin() + to);
@@ -44,6 +48,7 @@ bool Renderer::resplit(const FrameView& view) {
   positions_f_.resize(3 * vertices.size(), 0.0f);
   if (style_ != RenderStyle::kWireframe) normals_f_.resize(3 * vertices.size(), 0.0f);
   if (!colors_.empty()) colors_.resize(4 * vertices.size(), 0);
+  if (!shadow_f_.empty()) shadow_f_.resize(3 * vertices.size(), 0.0f);
   // a mesh grown inside the dynamic part (a cut) is split again there only, its indices checked there (the static
   // triangles are drawn from the layer); else the whole mesh, its indices checked first
   if (lines_drawn() || !layers_.grow(vertices.size(), triangles, *view.moving_vertices)) {
@@ -89,6 +94,11 @@ bool Renderer::update_local_vertices(const FrameView& view) {
       std::copy(rgba.begin(), rgba.end(), to);
     }
   }
+  if (!local_shadow_f_.empty())
+    for (std::size_t i = 0; i < affected.size(); ++i) {
+      const Vec3 f = on_floor(view, vertices[affected[i]]);
+      for (int c = 0; c < 3; ++c) local_shadow_f_[3 * i + c] = static_cast<float>(f[c]);
+    }
   if (style_ == RenderStyle::kWireframe) return changed;
   const std::vector<Vec3>* normals = view.normals;
   if (normals != nullptr && normals->size() == vertices.size()) {

@@ -72,11 +72,11 @@ class AnnotateRender : public ::testing::Test {
     camera_ = Camera::framing(Vec3(-0.03, -0.03, -0.01), Vec3(0.03, 0.03, 0.02), static_cast<double>(kW) / kH);
   }
 
-  // the sheet pushed up by a bump of height h (a Gaussian of 8 mm around the centre); the vertices it moves
-  std::vector<Vec3> bumped(double h, std::vector<int32_t>* moving = nullptr) const {
+  // the sheet pushed up by a bump of height h (a Gaussian of 8 mm around `at`, x and y); the vertices it moves
+  std::vector<Vec3> bumped(double h, std::vector<int32_t>* moving = nullptr, const Vec3& at = Vec3::Zero()) const {
     std::vector<Vec3> v = rest_.vertices_m;
     for (std::size_t i = 0; i < v.size(); ++i) {
-      const double r2 = v[i].head<2>().squaredNorm();
+      const double r2 = (v[i] - at).head<2>().squaredNorm();
       if (r2 < 0.015 * 0.015) {
         v[i].z() += h * std::exp(-r2 / (2 * 0.008 * 0.008));
         if (moving) moving->push_back(static_cast<int32_t>(i));
@@ -147,6 +147,46 @@ TEST_F(AnnotateRender, ColouredFramesFromTheCachedLayerAreTheFullRedrawsPixelFor
     EXPECT_EQ(test::count_different(a, b), 0) << "bump " << h;
   }
   EXPECT_EQ(layered.layer_builds(), 1);
+}
+
+// The floor under a sheet held 1 cm above it, with the sheet's shadow: a bump rising in one place, then in another
+// (a new moving set: the layer is redrawn only in the rectangle where the parts and their shadows changed), drawn
+// from the cached layer and in full, pixel for pixel the same; the shadow is on the floor.
+TEST_F(AnnotateRender, TheFloorAndTheShadowsFromTheLayerAreTheFullRedrawsPixelForPixel) {
+  for (Vec3& p : rest_.vertices_m) p.z() = 0.01;
+  camera_ = Camera::framing(Vec3(-0.04, -0.04, 0.0), Vec3(0.04, 0.04, 0.03), static_cast<double>(kW) / kH);
+  Renderer layered(ctx_.get(), RenderStyle::kSolid, camera_), whole(ctx_.get(), RenderStyle::kSolid, camera_);
+  whole.set_layered(false);
+  std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size());
+  int shadow_px = 0;
+  for (const Vec3& at : {Vec3(0.0, 0.0, 0.0), Vec3(0.012, 0.006, 0.0)}) {
+    std::vector<int32_t> moving;
+    bumped(0.0, &moving, at);
+    for (double h : {0.0, 0.004, 0.008}) {
+      const std::vector<Vec3> v = bumped(h, nullptr, at);
+      FrameView view;
+      view.vertices_m = &v;
+      view.triangles = &rest_.triangles;
+      view.rest_m = &rest_.vertices_m;
+      view.color_range_m = 0.01;
+      view.moving_vertices = &moving;
+      view.layer_epoch = at.x() > 0.0 ? 2 : 1;
+      view.floor_z_m = 0.0;
+      view.floor_half_m = 0.06;
+      layered.draw(view, a.data());
+      whole.draw(view, b.data());
+      EXPECT_EQ(test::count_different(a, b), 0) << "bump " << h << " at " << at.x();
+    }
+  }
+  EXPECT_EQ(layered.layer_builds(), 2);
+  // the second layer was redrawn in part
+  EXPECT_LT(layered.last_layer_px(), int64_t{kW} * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const auto p = pixel(a, kW, x, y);
+      shadow_px += std::abs(p[0] - 168) <= 2 && std::abs(p[1] - 171) <= 2 && std::abs(p[2] - 181) <= 2 ? 1 : 0;
+    }
+  EXPECT_GT(shadow_px, 200);
 }
 
 // The arrow's pixels (its colour, unlit): the farthest from the proxy's pixel.

@@ -74,7 +74,7 @@ class StopOnSignal {
 struct RecordArgs {
   std::string scene_path, mode, video_path, serve, color;
   RecordOptions opt;
-  bool no_render = false, no_video = false, no_arrow = false, no_legend = false;
+  bool no_render = false, no_video = false, no_arrow = false, no_legend = false, no_floor = false;
   double color_range_m = 0.0;
   double serve_linger_s = 0.0;
 };
@@ -149,6 +149,7 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
   if (cmd.get_option("--color-range")->count() > 0) look.color_range_m = a.color_range_m;
   if (a.no_arrow) look.force_arrow = false;
   if (a.no_legend) look.legend = false;
+  if (a.no_floor) look.floor = false;
   // everything decided and every output checked before anything in the output folder is touched
   auto planned = plan_record(scene.value(), opt);
   if (!planned) {
@@ -291,6 +292,7 @@ Subcommand add_record_command(CLI::App& app) {
       ->check(finite_range(1e-9, 100.0));
   rec->add_flag("--no-arrow", a->no_arrow, "No force arrow at the proxy (render.force_arrow)");
   rec->add_flag("--no-legend", a->no_legend, "No legend (render.legend)");
+  rec->add_flag("--no-floor", a->no_floor, "No floor under the model, and no shadows (render.floor)");
   rec->add_option("--serve", a->serve,
                   "Live view in a browser while recording: serve it on [ADDR:]PORT (ADDR default 127.0.0.1; PORT 0 = any "
                   "free port); the URL is printed on stderr");

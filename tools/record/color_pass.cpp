@@ -1,8 +1,11 @@
 #include "tools/record/color_pass.h"
 
+#include <algorithm>
+
 #include "render/annotate.h"
 #include "tools/session/device_factory.h"
 #include "tools/session/session.h"
+#include "tools/session/view_style.h"
 
 namespace palpate {
 
@@ -19,10 +22,14 @@ double color_pass_range_m(const Scene& scene, const Model& model, const std::ato
   struct Stopped {};
   try {
     Session session(pass, model, device.value().get());
+    double most = 0.0;
     session.run_lockstep(pass.duration_s, [&](int64_t, double) {
       if (stop && stop->load(std::memory_order_relaxed)) throw Stopped{};
+      // the surface's own displacement (the vertices the frame may move), not the lattice's: its nodes inside the
+      // body, or sagging under gravity beside the touch, can move farther than any point a frame shows
+      most = std::max(most, ViewStyle::largest_displacement_m(session.stage().current_view()));
     });
-    return nice_ceil(session.stage().stats().max_displacement_m);
+    return nice_ceil(most);
   } catch (const Stopped&) {
     return 0.0;
   }

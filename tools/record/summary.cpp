@@ -217,8 +217,11 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   j["render"]["color"] = {{"by", colors_by_displacement(scene) ? "displacement" : "none"},
                           {"range_m", stage.view_style().range_m()},
                           {"range_fixed", stage.view_style().fixed()},
+                          // the largest distance from rest of a point the frames drew
+                          {"max_displacement_m", stage.view_style().shown_max_m()},
                           {"force_arrow", scene.render.force_arrow},
-                          {"legend", scene.render.legend}};
+                          {"legend", scene.render.legend},
+                          {"floor", scene.render.floor}};
   // a mesh finer than the image is drawn clustered (render.lod_min_edge_px)
   j["render"]["lod"] = {{"used", stage.lod() != nullptr}, {"min_edge_px", scene.render.lod_min_edge_px}};
   if (const MeshLod* lod = stage.lod()) {

@@ -386,6 +386,7 @@ void FrameStage::render(int64_t index, bool block) {
   }
   const FrameView view = current_view();
   renderer_->draw(view, buf);
+  style_.observe(view);
   stats_.frames_layered += renderer_->last_draw_layered() ? 1 : 0;
   // the video gets its own copy: its frame index is the scene's, so a skipped frame holds the last one shown
   if (video_) video_->submit(index, buf, block);
@@ -455,7 +456,6 @@ void FrameStage::frame(int64_t index, double t_s, bool block_on_writer, int64_t 
     for (std::size_t i = 0; i < lat.num_nodes(); ++i)
       lattice_moved_m_ = std::max(lattice_moved_m_, (lat.x_m[i] - lat.rest_m[i]).norm());
     stats_.max_displacement_m = std::max(stats_.max_displacement_m, lattice_moved_m_);
-    style_.follow(lattice_moved_m_);
     region_->deform(&vertices_m_);
   }
   check_tool_inside();

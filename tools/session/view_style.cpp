@@ -8,27 +8,57 @@
 namespace palpate {
 
 ViewStyle::ViewStyle(const Scene& scene, const Model& model) : scene_(scene) {
-  if (!colors_by_displacement(scene)) return;
-  range_m_ = scene.render.color_range_m;
-  planned_ = range_m_ > 0.0;
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   for (const Vec3& v : model.rest.vertices_m) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   const double size = (hi - lo).allFinite() ? (hi - lo).maxCoeff() : 0.0;
+  // the floor: at the model's lowest point, three times as wide as the model and centred under it
+  if (size > 0.0) {
+    ground_z_m_ = lo.z();
+    ground_half_m_ = 1.5 * size;
+    ground_centre_m_ = 0.5 * (lo + hi);
+  }
+  if (!colors_by_displacement(scene)) return;
+  range_m_ = scene.render.color_range_m;
+  planned_ = range_m_ > 0.0;
   floor_m_ = nice_ceil(std::max(1e-3 * size, 1e-6));
   if (!planned_) range_m_ = floor_m_;
 }
 
-void ViewStyle::follow(double max_displacement_m) {
-  if (planned_ || !colors_by_displacement(scene_) || !std::isfinite(max_displacement_m)) return;
-  range_m_ = std::max(range_m_, nice_ceil(max_displacement_m));
+double ViewStyle::largest_displacement_m(const FrameView& view) {
+  if (!view.vertices_m || !view.rest_m) return 0.0;
+  const auto& v = *view.vertices_m;
+  const auto& rest = *view.rest_m;
+  double most = 0.0;
+  auto at = [&](std::size_t i) {
+    if (i < v.size() && i < rest.size()) most = std::max(most, (v[i] - rest[i]).norm());
+  };
+  if (view.moving_vertices) {
+    for (int32_t i : *view.moving_vertices) at(static_cast<std::size_t>(i));
+  } else {
+    for (std::size_t i = 0; i < v.size(); ++i) at(i);
+  }
+  return most;
+}
+
+void ViewStyle::observe(const FrameView& view) {
+  const double most = largest_displacement_m(view);
+  if (!std::isfinite(most)) return;
+  shown_max_m_ = std::max(shown_max_m_, most);
+  if (planned_ || !colors_by_displacement(scene_)) return;
+  range_m_ = std::max(range_m_, nice_ceil(most));
 }
 
 void ViewStyle::apply(const HapticSample& latest, FrameView* view) const {
   view->color_range_m = colors_by_displacement(scene_) ? range_m_ : 0.0;
   view->show_force = scene_.render.force_arrow && latest.contact != ContactState::kFree;
   view->force_N = latest.force_N;
-  view->force_scale_N = scene_.device.max_force_N;
+  view->force_scale_N = scene_.render.force_arrow ? scene_.device.max_force_N : 0.0;
   view->show_legend = scene_.render.legend;
+  if (scene_.render.floor && ground_half_m_ > 0.0) {
+    view->floor_z_m = ground_z_m_;
+    view->floor_half_m = ground_half_m_;
+    view->floor_centre_m = ground_centre_m_;
+  }
 }
 
 }  // namespace palpate

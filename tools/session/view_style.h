@@ -13,10 +13,14 @@ namespace palpate {
 class ViewStyle {
  public:
   ViewStyle(const Scene& scene, const Model& model);
-  /// A run whose scene gives no render.color_range_m (a recording of a scripted run gets one from a first pass,
-  /// tools/record/color_pass.h; a live device's run cannot): the range steps up (1, 2, 5 times a power of ten,
-  /// never down) to cover the largest displacement so far.
-  void follow(double max_displacement_m);
+  /// A frame was drawn with `view`: its largest surface displacement is noted, and a run whose scene gives no
+  /// render.color_range_m (a recording of a scripted run gets one from a first pass, tools/record/color_pass.h; a
+  /// live device's run cannot) steps its range up (1, 2, 5 times a power of ten, never down) to cover it.
+  void observe(const FrameView& view);
+  /// The largest distance from rest of the vertices a view may move (all of them when it names none).
+  static double largest_displacement_m(const FrameView& view);
+  /// The largest surface displacement the frames drew.
+  double shown_max_m() const { return shown_max_m_; }
   /// Sets the colours' range, the arrow and the legend on *view (its rest positions and cut faces are the region's).
   void apply(const HapticSample& latest, FrameView* view) const;
   /// The displacement at the colour map's top (0: not coloured by displacement), and whether it was fixed before
@@ -29,6 +33,9 @@ class ViewStyle {
   double range_m_ = 0.0;
   bool planned_ = false;
   double floor_m_ = 0.0;  // the smallest range a followed run shows (a thousandth of the model's size)
+  double shown_max_m_ = 0.0;
+  double ground_z_m_ = 0.0, ground_half_m_ = 0.0;  // the floor under the model: its height and half-side
+  Vec3 ground_centre_m_ = Vec3::Zero();
 };
 
 }  // namespace palpate
