@@ -103,6 +103,11 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
     color_range_m_ = view.color_range_m;
     color_cut_from_ = view.first_cut_vertex;
     floor_z_ = floor_shown(view) ? view.floor_z_m : std::numeric_limits<double>::quiet_NaN();
+    if (floor_shown(view)) {
+      const Vec3 centre(view.floor_centre_m.x(), view.floor_centre_m.y(), view.floor_z_m);
+      const double depth = std::max((centre - camera_.eye_m).norm(), 1e-9);
+      shadow_grid_m_ = 2.0 * (2.0 * depth * std::tan(0.5 * camera_.fov_y_deg * M_PI / 180.0)) / ctx_->height();
+    }
   }
   last_layered_ = own_fbo && layered_ && view.moving_vertices != nullptr && draw_layered(gl, view);
   if (!last_layered_) {
@@ -197,7 +202,7 @@ bool Renderer::prepare_mesh(const FrameView& view) {
   if (floor_shown(view)) {
     shadow_f_.resize(3 * vertices.size());
     for (std::size_t v = 0; v < vertices.size(); ++v) {
-      const Vec3 f = on_floor(view, vertices[v]);
+      const Vec3 f = shadow_point(view, vertices[v]);
       for (int c = 0; c < 3; ++c) shadow_f_[3 * v + static_cast<std::size_t>(c)] = static_cast<float>(f[c]);
     }
   }
@@ -233,7 +238,12 @@ void Renderer::draw_mesh(const GlApi& gl, const FrameView& view) {
   const auto& triangles = *view.triangles;
   if (!shadow_f_.empty()) {
     draw_floor(gl, view);
-    draw_shadow(gl, shadow_f_.data(), triangles.data()->data(), 3 * triangles.size());
+    std::size_t n_shadow = 0;
+    static_assert(sizeof(uint32_t) == sizeof(int32_t));
+    const uint32_t* shadow = covering_shadow(shadow_f_.data(), view.vertices_m->size(),
+                                             reinterpret_cast<const uint32_t*>(triangles.data()->data()),
+                                             3 * triangles.size(), view.closed_surface, /*cull=*/false, &n_shadow);
+    draw_shadow(gl, shadow_f_.data(), shadow, n_shadow);
   }
   draw_fill(gl, positions_f_.data(), normals_f_.data(), colors_.empty() ? nullptr : colors_.data(),
             triangles.data()->data(), 3 * triangles.size());
@@ -323,7 +333,10 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
         triangles_in_rect(shadow_xy_.data(), shadow_tris->data(), shadow_tris->size(), rect, &shadow_tris_);
         shadow_tris = &shadow_tris_;
       }
-      draw_shadow(gl, shadow_f_.data(), shadow_tris->data(), shadow_tris->size());
+      std::size_t n_shadow = 0;
+      const uint32_t* shadow = covering_shadow(shadow_f_.data(), vertices.size(), shadow_tris->data(),
+                                               shadow_tris->size(), view.closed_surface, culling_, &n_shadow);
+      draw_shadow(gl, shadow_f_.data(), shadow, n_shadow);
     }
     draw_fill(gl, positions_f_.data(), normals_f_.data(), colors_.empty() ? nullptr : colors_.data(), fill, n_fill);
     draw_lines(gl, positions_f_.data(), static_lines);
@@ -365,7 +378,12 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   frame_.copy_from(layer_);
   setup_frame(gl, /*clear=*/false);
   // the moving part's shadow, under whatever the layer holds nearer the eye
-  if (!local_shadow_f_.empty()) draw_shadow(gl, local_shadow_f_.data(), dynamic_tris.data(), dynamic_tris.size());
+  if (!local_shadow_f_.empty()) {
+    std::size_t n_shadow = 0;
+    const uint32_t* shadow = covering_shadow(local_shadow_f_.data(), layers_.local_vertices().size(), dynamic_tris.data(),
+                                             dynamic_tris.size(), view.closed_surface, culling_, &n_shadow);
+    draw_shadow(gl, local_shadow_f_.data(), shadow, n_shadow);
+  }
   // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills
   // after cached lines changes no pixel; a moving and a static fill at exactly equal depth (an edge seen
   // edge-on) go to the moving one here and to the later triangle in a full redraw
@@ -394,6 +412,44 @@ void Renderer::place(const float* positions, std::size_t n, std::vector<float>* 
     if (line_cells->size() < xy->size() / 2) line_cells->resize(xy->size() / 2);
     cover_.cells(xy->data(), n, PixelCover::kLineReachPx, line_cells->data());
   }
+}
+
+const uint32_t* Renderer::covering_shadow(const float* flat, std::size_t n, const uint32_t* tris, std::size_t n_indices,
+                                          bool light_facing_only, bool cull, std::size_t* kept) {
+  *kept = n_indices;
+  if (cull) {
+    shadow_xy_.resize(2 * n);
+    cover_.project(flat, n, shadow_xy_.data());
+    shadow_cells_.resize(n);
+    cover_.cells(shadow_xy_.data(), n, 0.0f, shadow_cells_.data());
+  }
+  kept_shadow_.clear();
+  for (std::size_t k = 0; k + 2 < n_indices; k += 3) {
+    const uint32_t* t = tris + k;
+    // a triangle whose corners snapped to a point or a line on the floor casts nothing
+    const float* p0 = flat + 3 * t[0];
+    const float* p1 = flat + 3 * t[1];
+    const float* p2 = flat + 3 * t[2];
+    const float area2 = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
+    if (area2 == 0.0f) continue;
+    if (light_facing_only) {
+      // a triangle facing the light keeps its winding flattened onto the floor (counter-clockwise seen from above);
+      // a closed surface's shadow is the union of those alone
+      const float* a = flat + 3 * t[0];
+      const float* b = flat + 3 * t[1];
+      const float* c = flat + 3 * t[2];
+      if (!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0f)) continue;
+    }
+    if (cull) {
+      const std::size_t before = kept_shadow_.size();
+      PixelCover::keep_triangles(shadow_cells_.data(), t, 3, &kept_shadow_);
+      if (kept_shadow_.size() == before) continue;
+    } else {
+      kept_shadow_.insert(kept_shadow_.end(), t, t + 3);
+    }
+  }
+  *kept = kept_shadow_.size();
+  return kept_shadow_.data();
 }
 
 const uint32_t* Renderer::covering_triangles(bool cull, const PixelCover::Cell* cells, const uint32_t* tris,

@@ -70,6 +70,8 @@ struct FrameView {
   double floor_z_m = std::numeric_limits<double>::quiet_NaN();
   Vec3 floor_centre_m = Vec3::Zero();
   double floor_half_m = 0.0;
+  /// The surface is closed: its shadow is that of the triangles facing the light alone (half as many drawn).
+  bool closed_surface = false;
 };
 
 /// The direction the floor's light travels (world, not unit): from above, behind and to the left of the default
@@ -178,8 +180,9 @@ class Renderer {
   void draw_floor(const GlApi& gl, const FrameView& view) const;
   void draw_shadow(const GlApi& gl, const float* flat, const void* indices, std::size_t count) const;
   void draw_tool_shadow(const GlApi& gl, const FrameView& view) const;
-  // p flattened onto the floor along kShadowLight
+  // p flattened onto the floor along kShadowLight; and so, snapped to the shadow's grid (shadow_grid_m_) there
   static Vec3 on_floor(const FrameView& view, const Vec3& p);
+  Vec3 shadow_point(const FrameView& view, const Vec3& p) const;
   void annotate(const FrameView& view, uint8_t* rgba) const;
   // whether the view colours its vertices, and the colour of vertex v (its position p)
   static bool colored(const FrameView& view) {
@@ -220,8 +223,18 @@ class Renderer {
   std::vector<float> local_shadow_f_;    // the dynamic part's, flattened (3 n_local; empty: no floor)
   std::vector<float> shadow_xy_;         // window positions of shadow_f_, for a partial layer build (2 n_v)
   std::vector<uint32_t> shadow_tris_;    // scratch: the static triangles whose shadow reaches that rectangle
+  std::vector<PixelCover::Cell> shadow_cells_;  // scratch: the cells of shadow positions (n_v or n_local)
+  std::vector<uint32_t> kept_shadow_;    // scratch: the shadow triangles that reach a pixel centre
+  // the triangles (n_indices) of `flat` (n vertices, 3 floats each, on the floor) whose shadow reaches a pixel centre
+  // (all of them without culling); points at kept_shadow_ or at the input
+  const uint32_t* covering_shadow(const float* flat, std::size_t n, const uint32_t* tris, std::size_t n_indices,
+                                  bool light_facing_only, bool cull, std::size_t* kept);
   LayerPatch shadow_patch_;              // the old layer's parts' shadows, for the rectangle a redraw must cover
   double floor_z_ = std::numeric_limits<double>::quiet_NaN();  // the floor the layer was drawn with
+  // the grid the shadows' corners are snapped to on the floor, about two pixels where the floor's centre is seen: a
+  // flat-coloured shadow loses a pixel of outline at most, and the triangles that fall to a point or a line on it
+  // (most of a fine mesh's) are not drawn
+  double shadow_grid_m_ = 0.0;
   double color_range_m_ = 0.0;           // the colouring the layer was drawn with (a change redraws it)
   int64_t color_cut_from_ = -1;
   bool color_on_ = false;

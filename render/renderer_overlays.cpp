@@ -218,6 +218,13 @@ Vec3 Renderer::on_floor(const FrameView& view, const Vec3& p) {
   return Vec3(p.x() + t * kShadowLight.x(), p.y() + t * kShadowLight.y(), view.floor_z_m);
 }
 
+Vec3 Renderer::shadow_point(const FrameView& view, const Vec3& p) const {
+  Vec3 f = on_floor(view, p);
+  if (shadow_grid_m_ > 0.0 && f.allFinite())
+    for (int k = 0; k < 2; ++k) f[k] = shadow_grid_m_ * std::round(f[k] / shadow_grid_m_);
+  return f;
+}
+
 void Renderer::draw_floor(const GlApi& gl, const FrameView& view) const {
   // seen from below the floor it would hide nothing it should: not drawn (its shadows neither)
   if (!(camera_.eye_m.z() > view.floor_z_m)) return;

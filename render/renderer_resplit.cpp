@@ -96,7 +96,7 @@ bool Renderer::update_local_vertices(const FrameView& view) {
   }
   if (!local_shadow_f_.empty())
     for (std::size_t i = 0; i < affected.size(); ++i) {
-      const Vec3 f = on_floor(view, vertices[affected[i]]);
+      const Vec3 f = shadow_point(view, vertices[affected[i]]);
       for (int c = 0; c < 3; ++c) local_shadow_f_[3 * i + c] = static_cast<float>(f[c]);
     }
   if (style_ == RenderStyle::kWireframe) return changed;

@@ -181,6 +181,26 @@ TEST_F(AnnotateRender, TheFloorAndTheShadowsFromTheLayerAreTheFullRedrawsPixelFo
   EXPECT_EQ(layered.layer_builds(), 2);
   // the second layer was redrawn in part
   EXPECT_LT(layered.last_layer_px(), int64_t{kW} * kH);
+  // a closed surface's shadow is drawn from the faces toward the light alone: the same triangles on both paths
+  {
+    Renderer l2(ctx_.get(), RenderStyle::kSolid, camera_), w2(ctx_.get(), RenderStyle::kSolid, camera_);
+    w2.set_layered(false);
+    std::vector<int32_t> moving;
+    bumped(0.0, &moving);
+    const std::vector<Vec3> v = bumped(0.006);
+    FrameView view;
+    view.vertices_m = &v;
+    view.triangles = &rest_.triangles;
+    view.moving_vertices = &moving;
+    view.layer_epoch = 1;
+    view.floor_z_m = 0.0;
+    view.floor_half_m = 0.06;
+    view.closed_surface = true;
+    std::vector<uint8_t> c(a.size()), d(a.size());
+    l2.draw(view, c.data());
+    w2.draw(view, d.data());
+    EXPECT_EQ(test::count_different(c, d), 0);
+  }
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       const auto p = pixel(a, kW, x, y);

@@ -12,7 +12,8 @@ ViewStyle::ViewStyle(const Scene& scene, const Model& model) : scene_(scene) {
   for (const Vec3& v : model.rest.vertices_m) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   const double size = (hi - lo).allFinite() ? (hi - lo).maxCoeff() : 0.0;
   // the floor: at the model's lowest point, three times as wide as the model and centred under it
-  if (size > 0.0) {
+  if (size > 0.0 && scene.render.floor) {
+    closed_ = scene.mode != InteractionMode::kCut && (model.closed || closed_surface(model.rest, model.adjacency));
     ground_z_m_ = lo.z();
     ground_half_m_ = 1.5 * size;
     ground_centre_m_ = 0.5 * (lo + hi);
@@ -58,6 +59,7 @@ void ViewStyle::apply(const HapticSample& latest, FrameView* view) const {
     view->floor_z_m = ground_z_m_;
     view->floor_half_m = ground_half_m_;
     view->floor_centre_m = ground_centre_m_;
+    view->closed_surface = closed_;
   }
 }
 

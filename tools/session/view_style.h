@@ -36,6 +36,7 @@ class ViewStyle {
   double shown_max_m_ = 0.0;
   double ground_z_m_ = 0.0, ground_half_m_ = 0.0;  // the floor under the model: its height and half-side
   Vec3 ground_centre_m_ = Vec3::Zero();
+  bool closed_ = false;  // the model's surface is closed (and not cut): its shadow needs the light-facing faces only
 };
 
 }  // namespace palpate
