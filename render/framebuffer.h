@@ -20,12 +20,16 @@ class Framebuffer {
   Framebuffer& operator=(const Framebuffer&) = delete;
   ~Framebuffer();
 
-  /// Creates a width x height framebuffer; errors name the GL status. gl must have has_fbo.
-  static Result<Framebuffer> create(const GlApi& gl, int width, int height);
+  /// Creates a width x height framebuffer of `samples` samples a pixel (0: one, not multisampled); errors name the
+  /// GL status. gl must have has_fbo (and RenderbufferStorageMultisample for samples > 0).
+  static Result<Framebuffer> create(const GlApi& gl, int width, int height, int samples = 0);
   /// The GL name of the framebuffer object (0 when empty).
   uint32_t id() const { return fbo_; }
-  /// Copies colour and depth of `from` into this framebuffer (same size and formats, so bit-exact).
+  /// Copies colour and depth of `from` into this framebuffer (same size, formats and samples, so bit-exact).
   void copy_from(const Framebuffer& from) const;
+  /// Resolves the colour of a multisampled `from` (same size) into this one-sample framebuffer: each pixel the mean
+  /// of its samples.
+  void resolve_from(const Framebuffer& from) const;
 
  private:
   void release();

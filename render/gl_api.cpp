@@ -70,6 +70,9 @@ Status GlApi::load(GetProc get_proc, const char* backend, const char* loader_nam
   L(&CheckFramebufferStatus, "glCheckFramebufferStatus");
   L(&BlitFramebuffer, "glBlitFramebuffer");
   has_fbo = missing == nullptr;
+  // multisampled renderbuffers (anti-aliased frames) are optional: without them frames are drawn one sample a pixel
+  RenderbufferStorageMultisample = reinterpret_cast<PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC>(
+      get_proc("glRenderbufferStorageMultisample"));
   if (with_fbo && !has_fbo) {
     return make_error(backend, ": ", loader_name, "('", missing, "') returned null");
   }

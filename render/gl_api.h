@@ -66,6 +66,7 @@ struct GlApi {
   PFNGLFRAMEBUFFERRENDERBUFFERPROC FramebufferRenderbuffer = nullptr;
   PFNGLCHECKFRAMEBUFFERSTATUSPROC CheckFramebufferStatus = nullptr;
   PFNGLBLITFRAMEBUFFERPROC BlitFramebuffer = nullptr;
+  PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC RenderbufferStorageMultisample = nullptr;  ///< may be null (no multisampling)
   bool has_fbo = false;  ///< every framebuffer-object entry point above is loaded
 
   /// Fills the table through get_proc; fails naming the backend, the loader and the first missing entry point.

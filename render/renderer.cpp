@@ -120,6 +120,7 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
   draw_proxy(gl, view);
   draw_blade(gl, view);
   draw_force(gl, view);
+  if (samples_ > 0 && own_fbo) resolved_.resolve_from(frame_);
   ctx_->read_rgba(rgba);
   annotate(view, rgba);
   if (own_fbo) gl.BindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous));
@@ -128,14 +129,28 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
 bool Renderer::ensure_framebuffers(const GlApi& gl) {
   if (!fbo_tried_) {
     fbo_tried_ = true;
-    auto f = Framebuffer::create(gl, ctx_->width(), ctx_->height());
-    auto l = Framebuffer::create(gl, ctx_->width(), ctx_->height());
+    // anti-aliased: every framebuffer multisampled alike (copies between them stay exact), the frame resolved into
+    // one of a sample a pixel to be read; without multisampling, one sample
+    const int s = samples_asked_ > 1 ? samples_asked_ : 0;
+    if (s > 0) {
+      auto r = Framebuffer::create(gl, ctx_->width(), ctx_->height());
+      auto probe = Framebuffer::create(gl, ctx_->width(), ctx_->height(), s);
+      if (r && probe) {
+        resolved_ = std::move(r).value();
+        samples_ = s;
+      }
+    }
+    auto f = Framebuffer::create(gl, ctx_->width(), ctx_->height(), samples_);
+    auto l = Framebuffer::create(gl, ctx_->width(), ctx_->height(), samples_);
     // without them frames go to the context's own buffer and every frame is drawn in full
     if (f && l) {
       frame_ = std::move(f).value();
       layer_ = std::move(l).value();
       // without it every layered frame draws its dynamic part
-      if (auto m = Framebuffer::create(gl, ctx_->width(), ctx_->height())) mesh_image_ = std::move(m).value();
+      if (auto m = Framebuffer::create(gl, ctx_->width(), ctx_->height(), samples_)) mesh_image_ = std::move(m).value();
+    } else {
+      samples_ = 0;
+      resolved_ = Framebuffer();
     }
   }
   return frame_.id() != 0;
@@ -298,7 +313,8 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
       }
     }
     // the static part, drawn as a full redraw would draw it: fill, then lines (less what reaches no centre)
-    const bool cull = culling_;
+    // (multisampled, a triangle between pixel centres still covers samples: nothing is left out)
+    const bool cull = culling_ && samples_ == 0;
     const bool part = rect.area() < whole.area();
     if (cull || part) {
       mesh_xy_.resize(2 * vertices.size());
@@ -335,7 +351,7 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
       }
       std::size_t n_shadow = 0;
       const uint32_t* shadow = covering_shadow(shadow_f_.data(), vertices.size(), shadow_tris->data(),
-                                               shadow_tris->size(), view.closed_surface, culling_, &n_shadow);
+                                               shadow_tris->size(), view.closed_surface, culling_ && samples_ == 0, &n_shadow);
       draw_shadow(gl, shadow_f_.data(), shadow, n_shadow);
     }
     draw_fill(gl, positions_f_.data(), normals_f_.data(), colors_.empty() ? nullptr : colors_.data(), fill, n_fill);
@@ -381,7 +397,7 @@ bool Renderer::draw_layered(const GlApi& gl, const FrameView& view) {
   if (!local_shadow_f_.empty()) {
     std::size_t n_shadow = 0;
     const uint32_t* shadow = covering_shadow(local_shadow_f_.data(), layers_.local_vertices().size(), dynamic_tris.data(),
-                                             dynamic_tris.size(), view.closed_surface, culling_, &n_shadow);
+                                             dynamic_tris.size(), view.closed_surface, culling_ && samples_ == 0, &n_shadow);
     draw_shadow(gl, local_shadow_f_.data(), shadow, n_shadow);
   }
   // the polygon offset keeps every fill at least one depth unit behind a line on it, so drawing moving fills

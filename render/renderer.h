@@ -116,6 +116,10 @@ class Renderer {
     culling_ = on;
     mesh_image_valid_ = false;
   }
+  /// Samples a pixel for anti-aliased edges (0 or 1: one; set before the first draw). When the context has no
+  /// multisampled framebuffers, frames are drawn one sample a pixel; samples() says what is used.
+  void set_samples(int n) { samples_asked_ = n; }
+  int samples() const { return samples_; }
   /// false: a new layer is always drawn whole; true (the default): when the camera is the same and no lines are
   /// drawn, only the rectangle where the static and moving parts changed is redrawn (render/layer_patch.h).
   void set_layer_patching(bool on) { layer_patching_ = on; }
@@ -254,6 +258,8 @@ class Renderer {
   Framebuffer frame_;                    // where frames are drawn and read (both paths, so they match)
   Framebuffer layer_;                    // static part: colour + depth
   Framebuffer mesh_image_;               // the layer with the dynamic part drawn over it, before the tool
+  Framebuffer resolved_;                 // multisampled frames: the frame resolved to one sample a pixel, read back
+  int samples_asked_ = 0, samples_ = 0;  // samples a pixel asked for, and used
   bool mesh_image_valid_ = false;        // mesh_image_ holds what the dynamic part would draw now
   bool dynamic_changed_ = true;          // the last layered frame changed the dynamic part (or built the layer)
   int64_t dynamic_draws_ = 0;            // layered frames that drew the dynamic part

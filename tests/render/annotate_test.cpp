@@ -209,6 +209,54 @@ TEST_F(AnnotateRender, TheFloorAndTheShadowsFromTheLayerAreTheFullRedrawsPixelFo
   EXPECT_GT(shadow_px, 200);
 }
 
+// Multisampled frames: the flat sheet's silhouette (one lit colour on the background) has pixels between the two,
+// where one sample a pixel has none; the cached layer's frames equal the full redraw's multisampled too.
+TEST_F(AnnotateRender, MultisampledFramesSmoothTheEdgesAndTheLayerStillEqualsAFullRedraw) {
+  std::vector<int32_t> moving;
+  bumped(0.0, &moving);
+  FrameView view;
+  view.vertices_m = &rest_.vertices_m;
+  view.triangles = &rest_.triangles;
+  std::vector<uint8_t> one(static_cast<std::size_t>(kW) * kH * 4), four(one.size()), full(one.size());
+  auto between = [](const std::vector<uint8_t>& rgba) {
+    // the background, and the sheet's one colour (its centre pixel)
+    const auto inside = pixel(rgba, kW, kW / 2, kH / 2);
+    int n = 0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        const auto p = pixel(rgba, kW, x, y);
+        const bool bg = p[0] == 247 && p[1] == 247 && p[2] == 250;
+        const bool sheet = p[0] == inside[0] && p[1] == inside[1] && p[2] == inside[2];
+        n += bg || sheet ? 0 : 1;
+      }
+    return n;
+  };
+  Renderer single(ctx_.get(), RenderStyle::kSolid, camera_);
+  single.draw(view, one.data());
+  EXPECT_EQ(single.samples(), 0);
+  EXPECT_EQ(between(one), 0);
+  Renderer layered(ctx_.get(), RenderStyle::kSolid, camera_), whole(ctx_.get(), RenderStyle::kSolid, camera_);
+  layered.set_samples(4);
+  whole.set_samples(4);
+  whole.set_layered(false);
+  view.moving_vertices = &moving;
+  view.layer_epoch = 1;
+  for (double h : {0.0, 0.004}) {
+    const std::vector<Vec3> v = bumped(h);
+    view.vertices_m = &v;
+    layered.draw(view, four.data());
+    whole.draw(view, full.data());
+    EXPECT_EQ(test::count_different(four, full), 0) << "bump " << h;
+  }
+  ASSERT_EQ(layered.samples(), 4);
+  view.vertices_m = &rest_.vertices_m;
+  Renderer flat(ctx_.get(), RenderStyle::kSolid, camera_);
+  flat.set_samples(4);
+  flat.draw(view, four.data());
+  // the sheet's outline is a few hundred pixels long: most of them are now between
+  EXPECT_GT(between(four), 150);
+}
+
 // The arrow's pixels (its colour, unlit): the farthest from the proxy's pixel.
 double arrow_reach_px(const std::vector<uint8_t>& rgba, const Eigen::Vector2d& from) {
   double most = 0.0;

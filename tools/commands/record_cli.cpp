@@ -76,6 +76,7 @@ struct RecordArgs {
   RecordOptions opt;
   bool no_render = false, no_video = false, no_arrow = false, no_legend = false, no_floor = false;
   double color_range_m = 0.0;
+  int antialias = -1;
   double serve_linger_s = 0.0;
 };
 
@@ -150,6 +151,7 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
   if (a.no_arrow) look.force_arrow = false;
   if (a.no_legend) look.legend = false;
   if (a.no_floor) look.floor = false;
+  if (a.antialias >= 0) look.antialias = a.antialias;
   // everything decided and every output checked before anything in the output folder is touched
   auto planned = plan_record(scene.value(), opt);
   if (!planned) {
@@ -293,6 +295,10 @@ Subcommand add_record_command(CLI::App& app) {
   rec->add_flag("--no-arrow", a->no_arrow, "No force arrow at the proxy (render.force_arrow)");
   rec->add_flag("--no-legend", a->no_legend, "No legend (render.legend)");
   rec->add_flag("--no-floor", a->no_floor, "No floor under the model, and no shadows (render.floor)");
+  rec->add_option("--antialias", a->antialias,
+                  "Samples a pixel for anti-aliased edges: 0 (none, the default), 2, 4 or 8 (render.antialias; about twice "
+                  "the render time on llvmpipe)")
+      ->check(CLI::IsMember({0, 2, 4, 8}));
   rec->add_option("--serve", a->serve,
                   "Live view in a browser while recording: serve it on [ADDR:]PORT (ADDR default 127.0.0.1; PORT 0 = any "
                   "free port); the URL is printed on stderr");

@@ -217,6 +217,7 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
         scene_camera(scene, box));
     rec->renderer->set_layered(!opt.full_redraw);
     rec->renderer->set_wire_min_edge_px(scene.render.wire_min_edge_px);
+    rec->renderer->set_samples(scene.render.antialias);
     // lockstep: two encoder threads use the core the single sim/render thread leaves idle; realtime: one, so
     // the servo's core is not contended by a second encoder
     rec->writer = std::make_unique<PngWriter>(rec->frames_dir, scene.render.width, scene.render.height, 6, rec->png);

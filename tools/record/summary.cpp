@@ -221,7 +221,9 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
                           {"max_displacement_m", stage.view_style().shown_max_m()},
                           {"force_arrow", scene.render.force_arrow},
                           {"legend", scene.render.legend},
-                          {"floor", scene.render.floor}};
+                          {"floor", scene.render.floor},
+                          // samples a pixel the frames were drawn with (1: not anti-aliased)
+                          {"samples", in.renderer ? std::max(1, in.renderer->samples()) : 0}};
   // a mesh finer than the image is drawn clustered (render.lod_min_edge_px)
   j["render"]["lod"] = {{"used", stage.lod() != nullptr}, {"min_edge_px", scene.render.lod_min_edge_px}};
   if (const MeshLod* lod = stage.lod()) {
