@@ -203,6 +203,25 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   ASSERT_TRUE(wire) << wire.error().message;
   EXPECT_EQ(wire.value().render.wire_min_edge_px, 0.0);
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"lod_min_edge_px": 101}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.lod_min_edge_px: 101 out of range");
+  // what a frame shows besides the model: the colours, their range, the arrow, the legend, the floor, the samples
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color": "red"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.color: 'red' is not one of");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color_range_m": -0.01}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.color_range_m: -0.01 out of range");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"force_arrow": 1}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.force_arrow: must be true or false");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"antialias": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.antialias: 3 samples a pixel: give 0 (none), 2, 4 or 8");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"antialias": 16}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.antialias: 16 out of range");
+  auto look = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color": "none", "color_range_m": 0.004, "force_arrow": false, "legend": false, "floor": false, "antialias": 4}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(look) << look.error().message;
+  EXPECT_EQ(look.value().render.color, RenderColor::kNone);
+  EXPECT_EQ(look.value().render.color_range_m, 0.004);
+  EXPECT_FALSE(look.value().render.force_arrow || look.value().render.legend || look.value().render.floor);
+  EXPECT_EQ(look.value().render.antialias, 4);
+  // auto: displacement colours in touch and pull, none in cut
+  Scene cut = look.value();
+  cut.render.color = RenderColor::kAuto;
+  EXPECT_TRUE(colors_by_displacement(cut));
+  cut.mode = InteractionMode::kCut;
+  EXPECT_FALSE(colors_by_displacement(cut));
+
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,0,0]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.view_from: must be a direction (not zero)");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"view_from": [0,1]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.view_from");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"look_at_m": [0,0,0]}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.look_at_m: needs render.look_at_m and render.frame_radius_m together");
