@@ -345,6 +345,7 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   r.boolean("force_arrow", &s->render.force_arrow);
   r.boolean("legend", &s->render.legend);
   r.boolean("floor", &s->render.floor);
+  r.boolean("force_trace", &s->render.force_trace);
   r.integer("antialias", &s->render.antialias, 0, 8);
   if (err->empty() && r.has("antialias") && (s->render.antialias & (s->render.antialias - 1)) != 0)
     r.fail("render.antialias", std::to_string(s->render.antialias) + " samples a pixel: give 0 (none), 2, 4 or 8");

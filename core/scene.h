@@ -134,6 +134,7 @@ struct RenderSpec {
   bool force_arrow = true;                          ///< the force sent to the device as an arrow at the proxy, its value beside it
   bool legend = true;                               ///< the colour map's and the arrow's scales in the top-right corner
   bool floor = true;                                ///< a floor under the model with its and the tool's shadows
+  bool force_trace = true;                          ///< an inset of the force's magnitude over the last two seconds
   int antialias = 0;                                ///< samples a pixel for anti-aliased edges (0: none; 2, 4 or 8)
 };
 

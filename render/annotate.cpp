@@ -20,7 +20,7 @@ constexpr Glyph kFont[] = {
     {'6', {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}}, {'7', {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}},
     {'8', {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}}, {'9', {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}},
     {'.', {0x00, 0x00, 0x00, 0x00, 0x00, 0x0C, 0x0C}}, {'-', {0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00}},
-    {'+', {0x00, 0x04, 0x04, 0x1F, 0x04, 0x04, 0x00}}, {'=', {0x00, 0x00, 0x1F, 0x00, 0x1F, 0x00, 0x00}},
+    {'+', {0x00, 0x04, 0x04, 0x1F, 0x04, 0x04, 0x00}}, {',', {0x00, 0x00, 0x00, 0x00, 0x0C, 0x04, 0x08}}, {'=', {0x00, 0x00, 0x1F, 0x00, 0x1F, 0x00, 0x00}},
     {':', {0x00, 0x0C, 0x0C, 0x00, 0x0C, 0x0C, 0x00}}, {'/', {0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00}},
     {'%', {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03}}, {'(', {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}},
     {')', {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}}, {'|', {0x04, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}},
@@ -168,6 +168,39 @@ std::array<int, 4> draw_legend(RgbaImage img, double range_m, bool cut_faces, do
     fill_rect(img, x, y + 3 * s, x + arrow_px, y + 4 * s + 1, orange);
     fill_rect(img, x + arrow_px - s, y + s, x + arrow_px + 1, y + 6 * s + 1, orange);
     draw_text(img, x + arrow_px + 3 * s, y, ref, s, ink);
+  }
+  return {x0, y0, x1, y1};
+}
+
+std::array<int, 4> draw_force_trace(RgbaImage img, const float* values, std::size_t n, std::size_t capacity,
+                                    double scale_N, double span_s) {
+  const int s = text_scale(img.h);
+  const Rgba8 ink{40, 44, 56, 255}, paper{255, 255, 255, 200}, grid{200, 202, 210, 255}, line{230, 110, 0, 255};
+  const int pad = 4 * s, w = std::max(60, img.w * 3 / 10), h = std::max(30, img.h / 7);
+  const int x0 = pad, y1 = img.h - pad, x1 = x0 + w + 2 * pad, y0 = y1 - h - 2 * pad - 10 * s;
+  fill_rect(img, x0, y0, x1, y1, paper);
+  // the plot: time across (span_s at the full width, now at the right), force up from 0 to scale_N
+  const int px0 = x0 + pad, px1 = px0 + w, py1 = y1 - pad, py0 = py1 - h;
+  fill_rect(img, px0, py0, px1, py0 + 1, grid);
+  fill_rect(img, px0, py1 - 1, px1, py1, grid);
+  draw_text(img, px0, y0 + pad, "|F| to " + format_force(scale_N) + ", " + two_figures(span_s) + " s", s, ink);
+  if (n == 0 || capacity < 2 || !(scale_N > 0.0)) return {x0, y0, x1, y1};
+  auto row = [&](float v) {
+    const double u = std::clamp(std::isfinite(v) ? static_cast<double>(v) / scale_N : 0.0, 0.0, 1.0);
+    return py1 - 1 - static_cast<int>(std::lround(u * (h - 1)));
+  };
+  // the newest value at the right edge, each joined to the one before by a column span
+  const std::size_t first = n > capacity ? n - capacity : 0;
+  int prev_x = -1, prev_y = 0;
+  for (std::size_t i = first; i < n; ++i) {
+    const auto age = static_cast<double>(n - 1 - i);
+    const int x = px1 - 1 - static_cast<int>(std::lround(age * (w - 1) / static_cast<double>(capacity - 1)));
+    const int y = row(values[i]);
+    const int lo = prev_x < 0 ? y : std::min(y, prev_y), hi = prev_x < 0 ? y : std::max(y, prev_y);
+    fill_rect(img, prev_x < 0 ? x : prev_x + 1, lo, x + 1, hi + 1, line);
+    fill_rect(img, x, lo, x + 1, hi + 1, line);
+    prev_x = x;
+    prev_y = y;
   }
   return {x0, y0, x1, y1};
 }

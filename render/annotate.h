@@ -40,6 +40,12 @@ void draw_text(RgbaImage img, int x, int y, std::string_view text, int scale, Rg
 /// Fills [x0, x1) x [y0, y1), clipped; alpha blends over the image (255: replaces).
 void fill_rect(RgbaImage img, int x0, int y0, int x1, int y1, Rgba8 color);
 
+/// The force trace in the bottom-left corner: values (oldest first, one a frame; `capacity` of them span span_s
+/// seconds, the full width) from 0 to scale_N, a line on a light ground with its scale and span written. Returns the
+/// box it drew in ({x0, y0, x1, y1}).
+std::array<int, 4> draw_force_trace(RgbaImage img, const float* values, std::size_t n, std::size_t capacity,
+                                    double scale_N, double span_s);
+
 /// The displacement legend in the image's top-right corner: a title, a vertical bar of the colour map from 0 (bottom)
 /// to range_m (top) with both ends labelled, and (when cut_faces) a swatch for the cut's faces; `force_ref_N` > 0
 /// adds the force arrow's scale: a bar force_ref_px long labelled with that force. Returns the box it drew in

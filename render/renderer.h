@@ -64,6 +64,12 @@ struct FrameView {
   double force_scale_N = 0.0;
   /// The legend (displacement colours, the cut's colour, the arrow's scale) in the top-right corner.
   bool show_legend = false;
+  /// An inset in the bottom-left corner: the force's magnitude over the last force_trace_s seconds, one value a
+  /// drawn frame, oldest first (null: none), from 0 to force_trace_max_N.
+  const std::vector<float>* force_trace = nullptr;
+  double force_trace_max_N = 0.0;
+  double force_trace_s = 2.0;
+  std::size_t force_trace_frames = 120;  ///< values that span force_trace_s (the plot's full width)
   /// A floor at height floor_z_m (world z; NaN: none), a square of half-side floor_half_m around floor_centre_m
   /// (x, y), with the shadows the model and the tool cast on it from a light above (kShadowLight): where the tool is
   /// above the surface and the model above the floor, in a still frame.

@@ -189,6 +189,9 @@ void Renderer::annotate(const FrameView& view, uint8_t* rgba) const {
       draw_text(img, x, y, label, s, {120, 50, 0, 255});
     }
   }
+  if (view.force_trace != nullptr && view.force_trace_max_N > 0.0)
+    draw_force_trace(img, view.force_trace->data(), view.force_trace->size(), view.force_trace_frames,
+                     view.force_trace_max_N, view.force_trace_s);
   if (!view.show_legend) return;
   const double range = colored(view) ? view.color_range_m : 0.0;
   // the arrow's scale (whether or not an arrow is drawn now, so the legend keeps its size): a round force near a

@@ -74,7 +74,7 @@ class StopOnSignal {
 struct RecordArgs {
   std::string scene_path, mode, video_path, serve, color;
   RecordOptions opt;
-  bool no_render = false, no_video = false, no_arrow = false, no_legend = false, no_floor = false;
+  bool no_render = false, no_video = false, no_arrow = false, no_legend = false, no_floor = false, no_trace = false;
   double color_range_m = 0.0;
   int antialias = -1;
   double serve_linger_s = 0.0;
@@ -151,6 +151,7 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
   if (a.no_arrow) look.force_arrow = false;
   if (a.no_legend) look.legend = false;
   if (a.no_floor) look.floor = false;
+  if (a.no_trace) look.force_trace = false;
   if (a.antialias >= 0) look.antialias = a.antialias;
   // everything decided and every output checked before anything in the output folder is touched
   auto planned = plan_record(scene.value(), opt);
@@ -295,6 +296,7 @@ Subcommand add_record_command(CLI::App& app) {
   rec->add_flag("--no-arrow", a->no_arrow, "No force arrow at the proxy (render.force_arrow)");
   rec->add_flag("--no-legend", a->no_legend, "No legend (render.legend)");
   rec->add_flag("--no-floor", a->no_floor, "No floor under the model, and no shadows (render.floor)");
+  rec->add_flag("--no-trace", a->no_trace, "No inset of the force over the last two seconds (render.force_trace)");
   rec->add_option("--antialias", a->antialias,
                   "Samples a pixel for anti-aliased edges: 0 (none, the default), 2, 4 or 8 (render.antialias; about twice "
                   "the render time on llvmpipe)")

@@ -384,6 +384,7 @@ void FrameStage::render(int64_t index, bool block) {
     ++stats_.frames_dropped;
     return;
   }
+  style_.note_force(latest_.force_N.norm());
   const FrameView view = current_view();
   renderer_->draw(view, buf);
   style_.observe(view);

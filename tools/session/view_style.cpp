@@ -7,7 +7,19 @@
 
 namespace palpate {
 
+namespace {
+constexpr double kTraceSeconds = 2.0;  // the force trace's span
+}  // namespace
+
+void ViewStyle::note_force(double force_N) {
+  if (!scene_.render.force_trace) return;
+  if (trace_.size() >= trace_frames_) trace_.erase(trace_.begin());
+  trace_.push_back(static_cast<float>(force_N));
+}
+
 ViewStyle::ViewStyle(const Scene& scene, const Model& model) : scene_(scene) {
+  trace_frames_ = static_cast<std::size_t>(std::max(2.0, std::round(kTraceSeconds * scene.rates.frame_hz)));
+  trace_.reserve(trace_frames_);
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   for (const Vec3& v : model.rest.vertices_m) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   const double size = (hi - lo).allFinite() ? (hi - lo).maxCoeff() : 0.0;
@@ -55,6 +67,12 @@ void ViewStyle::apply(const HapticSample& latest, FrameView* view) const {
   view->force_N = latest.force_N;
   view->force_scale_N = scene_.render.force_arrow ? scene_.device.max_force_N : 0.0;
   view->show_legend = scene_.render.legend;
+  if (scene_.render.force_trace && scene_.device.max_force_N > 0.0) {
+    view->force_trace = &trace_;
+    view->force_trace_max_N = scene_.device.max_force_N;
+    view->force_trace_s = kTraceSeconds;
+    view->force_trace_frames = trace_frames_;
+  }
   if (scene_.render.floor && ground_half_m_ > 0.0) {
     view->floor_z_m = ground_z_m_;
     view->floor_half_m = ground_half_m_;

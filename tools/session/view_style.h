@@ -19,6 +19,8 @@ class ViewStyle {
   void observe(const FrameView& view);
   /// The largest distance from rest of the vertices a view may move (all of them when it names none).
   static double largest_displacement_m(const FrameView& view);
+  /// A frame is about to be drawn and the force sent to the device is force_N: the inset's trace takes its magnitude.
+  void note_force(double force_N);
   /// The largest surface displacement the frames drew.
   double shown_max_m() const { return shown_max_m_; }
   /// Sets the colours' range, the arrow and the legend on *view (its rest positions and cut faces are the region's).
@@ -34,6 +36,8 @@ class ViewStyle {
   bool planned_ = false;
   double floor_m_ = 0.0;  // the smallest range a followed run shows (a thousandth of the model's size)
   double shown_max_m_ = 0.0;
+  std::vector<float> trace_;        // the force's magnitude a drawn frame, oldest first, at most trace_frames_
+  std::size_t trace_frames_ = 120;  // the inset's two seconds in frames
   double ground_z_m_ = 0.0, ground_half_m_ = 0.0;  // the floor under the model: its height and half-side
   Vec3 ground_centre_m_ = Vec3::Zero();
   bool closed_ = false;  // the model's surface is closed (and not cut): its shadow needs the light-facing faces only
