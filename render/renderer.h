@@ -65,7 +65,8 @@ struct FrameView {
   /// The legend (displacement colours, the cut's colour, the arrow's scale) in the top-right corner.
   bool show_legend = false;
   /// An inset in the bottom-left corner: the force's magnitude over the last force_trace_s seconds, one value a
-  /// drawn frame, oldest first (null: none), from 0 to force_trace_max_N.
+  /// drawn frame (the largest a tick sent since the frame before), oldest first (null: none), from 0 to
+  /// force_trace_max_N.
   const std::vector<float>* force_trace = nullptr;
   double force_trace_max_N = 0.0;
   double force_trace_s = 2.0;

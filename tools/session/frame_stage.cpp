@@ -92,6 +92,7 @@ void FrameStage::drain(int64_t frame, int64_t drain_to_tick) {
     ++stats_.samples;
     ++frame_samples_;
     force_sum_N_ += s.force_N;
+    drawn_peak_N_ = std::max(drawn_peak_N_, s.force_N.norm());
     if (s.contact != ContactState::kFree && s.contact_tri >= 0) {
       contact_ = s;
       contact_this_frame_ = true;
@@ -384,7 +385,9 @@ void FrameStage::render(int64_t index, bool block) {
     ++stats_.frames_dropped;
     return;
   }
-  style_.note_force(latest_.force_N.norm());
+  // the trace takes the largest force the hand got since the last frame drawn (the latest when no tick came)
+  style_.note_force(drawn_peak_N_ >= 0.0 ? drawn_peak_N_ : latest_.force_N.norm());
+  drawn_peak_N_ = -1.0;
   const FrameView view = current_view();
   renderer_->draw(view, buf);
   style_.observe(view);

@@ -157,6 +157,7 @@ class FrameStage {
   std::vector<Vec3> part_f_ext_N_;   // zero forces on the stepped part of the lattice, when not all of it (n_part)
   std::vector<Vec3> vertices_m_;     // deformed mesh (n_v)
   ViewStyle style_;                  // the frames' colours, force arrow and legend
+  double drawn_peak_N_ = -1.0;       // the largest force a tick sent since the last frame drawn (-1: no tick)
   struct PublishedCorners {
     std::array<Vec3, 3> corners, normals;
   };
