@@ -131,27 +131,25 @@ bool Renderer::ensure_framebuffers(const GlApi& gl) {
     fbo_tried_ = true;
     // anti-aliased: every framebuffer multisampled alike (copies between them stay exact), the frame resolved into
     // one of a sample a pixel to be read; without multisampling, one sample
-    const int s = samples_asked_ > 1 ? samples_asked_ : 0;
+    const int w = ctx_->width(), h = ctx_->height();
+    int s = samples_asked_ > 1 ? samples_asked_ : 0;
     if (s > 0) {
-      auto r = Framebuffer::create(gl, ctx_->width(), ctx_->height());
-      auto probe = Framebuffer::create(gl, ctx_->width(), ctx_->height(), s);
-      if (r && probe) {
-        resolved_ = std::move(r).value();
-        samples_ = s;
-      }
+      auto r = Framebuffer::create(gl, w, h);
+      if (r) resolved_ = std::move(r).value();
+      else s = 0;
     }
-    auto f = Framebuffer::create(gl, ctx_->width(), ctx_->height(), samples_);
-    auto l = Framebuffer::create(gl, ctx_->width(), ctx_->height(), samples_);
+    auto f = Framebuffer::create(gl, w, h, s);
+    if (!f && s > 0) f = Framebuffer::create(gl, w, h, s = 0);
+    auto l = Framebuffer::create(gl, w, h, s);
     // without them frames go to the context's own buffer and every frame is drawn in full
     if (f && l) {
       frame_ = std::move(f).value();
       layer_ = std::move(l).value();
+      samples_ = s;
       // without it every layered frame draws its dynamic part
-      if (auto m = Framebuffer::create(gl, ctx_->width(), ctx_->height(), samples_)) mesh_image_ = std::move(m).value();
-    } else {
-      samples_ = 0;
-      resolved_ = Framebuffer();
+      if (auto m = Framebuffer::create(gl, w, h, s)) mesh_image_ = std::move(m).value();
     }
+    if (samples_ == 0) resolved_ = Framebuffer();
   }
   return frame_.id() != 0;
 }

@@ -182,6 +182,8 @@ class Renderer {
   void draw_tool(const GlApi& gl, const FrameView& view) const;
   void draw_proxy(const GlApi& gl, const FrameView& view) const;
   void draw_drop(const GlApi& gl, const FrameView& view) const;
+  // a 24-sided disc of radius r around c, facing n, in the current colour
+  static void fill_disc(const GlApi& gl, const Vec3& c, const Vec3& n, double r);
   void draw_blade(const GlApi& gl, const FrameView& view) const;
   // the force arrow (GL) and, into the image read back, the legend and the arrow's value
   void draw_force(const GlApi& gl, const FrameView& view);
@@ -249,8 +251,7 @@ class Renderer {
   double color_range_m_ = 0.0;           // the colouring the layer was drawn with (a change redraws it)
   int64_t color_cut_from_ = -1;
   bool color_on_ = false;
-  double arrow_m_per_N_ = 0.0;           // the last arrow's scale, and where its tip was (for its label)
-  Vec3 arrow_tip_m_ = Vec3::Zero();
+  Vec3 arrow_tip_m_ = Vec3::Zero();      // where the last arrow's tip was (for its label)
   bool arrow_drawn_ = false;
   std::vector<uint64_t> edge_keys_;      // scratch for the edge build: (lo << 32 | hi) per half edge
   std::vector<uint32_t> edge_indices_;   // unique mesh edges as GL_LINES pairs (2 n_e)

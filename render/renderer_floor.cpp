@@ -86,22 +86,10 @@ void Renderer::draw_tool_shadow(const GlApi& gl, const FrameView& view) const {
       !(at.z() > view.floor_z_m))
     return;
   // the tool's disc on the floor (at least 1 mm), hidden where the model is nearer the eye
-  constexpr int kSides = 24;
-  float disc[3 * (kSides + 2)];
-  const Vec3 c = on_floor(view, at);
-  const double r = std::max(view.tool_radius_m, 1e-3);
-  for (int i = 0; i <= kSides + 1; ++i) {
-    const double a = 2.0 * M_PI * (i - 1) / kSides;
-    const Vec3 p = i == 0 ? c : Vec3(c + r * Vec3(std::cos(a), std::sin(a), 0.0));
-    for (int k = 0; k < 3; ++k) disc[3 * i + k] = static_cast<float>(p[k]);
-  }
   gl.Disable(GL_LIGHTING);
   gl.DepthMask(GL_FALSE);
-  gl.EnableClientState(GL_VERTEX_ARRAY);
-  gl.VertexPointer(3, GL_FLOAT, 0, disc);
   set_color(gl, kToolShadowColor);
-  gl.DrawArrays(GL_TRIANGLE_FAN, 0, kSides + 2);
-  gl.DisableClientState(GL_VERTEX_ARRAY);
+  fill_disc(gl, on_floor(view, at), Vec3::UnitZ(), std::max(view.tool_radius_m, 1e-3));
   gl.DepthMask(GL_TRUE);
 }
 

@@ -48,27 +48,33 @@ void Renderer::draw_tool(const GlApi& gl, const FrameView& view) const {
   gl.LoadMatrixd(view_.data());
 }
 
-void Renderer::draw_drop(const GlApi& gl, const FrameView& view) const {
-  if (!view.show_drop || !view.drop_to_m.allFinite() || !view.tool_pos_m.allFinite() || !view.drop_normal.allFinite())
-    return;
-  gl.Disable(GL_LIGHTING);
-  gl.EnableClientState(GL_VERTEX_ARRAY);
-  // a disc on the surface where the line lands, the tool's radius wide (at least 1 mm), lifted off it a little
+void Renderer::fill_disc(const GlApi& gl, const Vec3& c, const Vec3& n, double r) {
   constexpr int kSides = 24;
   float disc[3 * (kSides + 2)];
-  const Vec3 n = view.drop_normal.normalized();
   const Vec3 u = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   const Vec3 v = n.cross(u);
-  const double r = std::max(view.tool_radius_m, 1e-3);
-  const Vec3 c = view.drop_to_m + n * (0.05 * r);
   for (int i = 0; i <= kSides + 1; ++i) {
     const double a = 2.0 * M_PI * (i - 1) / kSides;
     const Vec3 p = i == 0 ? c : Vec3(c + r * (std::cos(a) * u + std::sin(a) * v));
     for (int k = 0; k < 3; ++k) disc[3 * i + k] = static_cast<float>(p[k]);
   }
-  set_color(gl, kShadowColor);
+  gl.EnableClientState(GL_VERTEX_ARRAY);
   gl.VertexPointer(3, GL_FLOAT, 0, disc);
   gl.DrawArrays(GL_TRIANGLE_FAN, 0, kSides + 2);
+  gl.DisableClientState(GL_VERTEX_ARRAY);
+}
+
+void Renderer::draw_drop(const GlApi& gl, const FrameView& view) const {
+  if (!view.show_drop || !view.drop_to_m.allFinite() || !view.tool_pos_m.allFinite() || !view.drop_normal.allFinite())
+    return;
+  gl.Disable(GL_LIGHTING);
+  // a disc on the surface where the line lands, the tool's radius wide (at least 1 mm), lifted off it a little
+  const Vec3 n = view.drop_normal.normalized();
+  const double r = std::max(view.tool_radius_m, 1e-3);
+  const Vec3 c = view.drop_to_m + n * (0.05 * r);
+  set_color(gl, kShadowColor);
+  fill_disc(gl, c, n, r);
+  gl.EnableClientState(GL_VERTEX_ARRAY);
   // the line, drawn over everything like the proxy spring
   const float line[6] = {static_cast<float>(view.tool_pos_m.x()), static_cast<float>(view.tool_pos_m.y()),
                          static_cast<float>(view.tool_pos_m.z()), static_cast<float>(c.x()),
@@ -141,8 +147,8 @@ void Renderer::draw_force(const GlApi& gl, const FrameView& view) {
   const double depth = (view.proxy_pos_m - camera_.eye_m).dot(forward);
   if (!(depth > 0.0)) return;
   const double view_h_m = 2.0 * depth * std::tan(0.5 * camera_.fov_y_deg * M_PI / 180.0);
-  arrow_m_per_N_ = kArrowShareOfHeight * view_h_m / view.force_scale_N;
-  const double f = view.force_N.norm(), length = f * arrow_m_per_N_;
+  const double m_per_N = kArrowShareOfHeight * view_h_m / view.force_scale_N;
+  const double f = view.force_N.norm(), length = f * m_per_N;
   // shorter than a pixel and a half: nothing to see
   if (!(length > 1.5 * view_h_m / ctx_->height())) return;
   const Vec3 dir = view.force_N / f, from = view.proxy_pos_m, tip = from + length * dir;

@@ -137,6 +137,18 @@ class AnnotateRender : public ::testing::Test {
     return v;
   }
 
+  // the sheet at v, coloured up to 1 cm, `moving` free to move within layer `epoch`
+  FrameView coloured(const std::vector<Vec3>& v, const std::vector<int32_t>* moving, uint64_t epoch) const {
+    FrameView view;
+    view.vertices_m = &v;
+    view.triangles = &rest_.triangles;
+    view.rest_m = &rest_.vertices_m;
+    view.color_range_m = 0.01;
+    view.moving_vertices = moving;
+    view.layer_epoch = epoch;
+    return view;
+  }
+
   std::unique_ptr<GlContext> ctx_;
   TriMesh rest_;
   Camera camera_;
@@ -187,13 +199,7 @@ TEST_F(AnnotateRender, ColouredFramesFromTheCachedLayerAreTheFullRedrawsPixelFor
   // the bump grows over frames; the layer is drawn once and the moving part's colours follow
   for (double h : {0.0, 0.002, 0.005, 0.008}) {
     const std::vector<Vec3> v = bumped(h);
-    FrameView view;
-    view.vertices_m = &v;
-    view.triangles = &rest_.triangles;
-    view.rest_m = &rest_.vertices_m;
-    view.color_range_m = 0.01;
-    view.moving_vertices = &moving;
-    view.layer_epoch = 1;
+    const FrameView view = coloured(v, &moving, 1);
     layered.draw(view, a.data());
     whole.draw(view, b.data());
     EXPECT_EQ(test::count_different(a, b), 0) << "bump " << h;
@@ -216,13 +222,7 @@ TEST_F(AnnotateRender, TheFloorAndTheShadowsFromTheLayerAreTheFullRedrawsPixelFo
     bumped(0.0, &moving, at);
     for (double h : {0.0, 0.004, 0.008}) {
       const std::vector<Vec3> v = bumped(h, nullptr, at);
-      FrameView view;
-      view.vertices_m = &v;
-      view.triangles = &rest_.triangles;
-      view.rest_m = &rest_.vertices_m;
-      view.color_range_m = 0.01;
-      view.moving_vertices = &moving;
-      view.layer_epoch = at.x() > 0.0 ? 2 : 1;
+      FrameView view = coloured(v, &moving, at.x() > 0.0 ? 2 : 1);
       view.floor_z_m = 0.0;
       view.floor_half_m = 0.06;
       layered.draw(view, a.data());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/aabb.h"
 #include "render/annotate.h"
 
 namespace palpate {
@@ -20,9 +21,9 @@ void ViewStyle::note_force(double force_N) {
 ViewStyle::ViewStyle(const Scene& scene, const Model& model) : scene_(scene) {
   trace_frames_ = static_cast<std::size_t>(std::max(2.0, std::round(kTraceSeconds * scene.rates.frame_hz)));
   trace_.reserve(trace_frames_);
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-  for (const Vec3& v : model.rest.vertices_m) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-  const double size = (hi - lo).allFinite() ? (hi - lo).maxCoeff() : 0.0;
+  const Aabb box = Aabb::of(model.rest.vertices_m);
+  const Vec3 &lo = box.min_m, &hi = box.max_m;
+  const double size = box.extent().allFinite() ? box.extent().maxCoeff() : 0.0;
   // the floor: at the model's lowest point, three times as wide as the model and centred under it
   if (size > 0.0 && scene.render.floor) {
     closed_ = scene.mode != InteractionMode::kCut && (model.closed || closed_surface(model.rest, model.adjacency));
@@ -33,8 +34,7 @@ ViewStyle::ViewStyle(const Scene& scene, const Model& model) : scene_(scene) {
   if (!colors_by_displacement(scene)) return;
   range_m_ = scene.render.color_range_m;
   planned_ = range_m_ > 0.0;
-  floor_m_ = nice_ceil(std::max(1e-3 * size, 1e-6));
-  if (!planned_) range_m_ = floor_m_;
+  if (!planned_) range_m_ = nice_ceil(std::max(1e-3 * size, 1e-6));
 }
 
 double ViewStyle::largest_displacement_m(const FrameView& view) {

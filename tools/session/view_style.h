@@ -34,7 +34,6 @@ class ViewStyle {
   const Scene& scene_;
   double range_m_ = 0.0;
   bool planned_ = false;
-  double floor_m_ = 0.0;  // the smallest range a followed run shows (a thousandth of the model's size)
   double shown_max_m_ = 0.0;
   std::vector<float> trace_;        // the force's magnitude a drawn frame, oldest first, at most trace_frames_
   std::size_t trace_frames_ = 120;  // the inset's two seconds in frames
