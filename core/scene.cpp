@@ -36,6 +36,7 @@ class ObjectReader {
   }
 
   bool has(const std::string& key) const { return j_.is_object() && j_.contains(key); }
+  bool has_string(const std::string& key) const { return has(key) && j_[key].is_string(); }
 
   void number(const std::string& key, double* out, double lo, double hi) {
     const Json* v = take(key);
@@ -342,13 +343,20 @@ void read_render(ObjectReader& top, Scene* s, std::string* err) {
   r.number("frame_radius_m", &s->render.frame_radius_m, 1e-4, 1e3);
   r.name("color", &s->render.color);
   r.number("color_range_m", &s->render.color_range_m, 0.0, 100.0);
+  r.number("strain_range", &s->render.strain_range, 0.0, 100.0);
   r.boolean("force_arrow", &s->render.force_arrow);
   r.boolean("legend", &s->render.legend);
   r.boolean("floor", &s->render.floor);
   r.boolean("force_trace", &s->render.force_trace);
-  r.integer("antialias", &s->render.antialias, 0, 8);
-  if (err->empty() && r.has("antialias") && (s->render.antialias & (s->render.antialias - 1)) != 0)
-    r.fail("render.antialias", std::to_string(s->render.antialias) + " samples a pixel: give 0 (none), 2, 4 or 8");
+  if (r.has_string("antialias")) {
+    const int c = r.choice("antialias", {"edges", "none"});
+    if (c >= 0) s->render.antialias = c == 0 ? kAntialiasEdges : 0;
+  } else {
+    r.integer("antialias", &s->render.antialias, 0, 8);
+    if (err->empty() && r.has("antialias") && (s->render.antialias & (s->render.antialias - 1)) != 0)
+      r.fail("render.antialias", std::to_string(s->render.antialias) +
+                                     " samples a pixel: give \"edges\" (the default), \"none\" (or 0), 2, 4 or 8");
+  }
   if (err->empty() && r.has("look_at_m") != r.has("frame_radius_m"))
     r.fail(r.has("look_at_m") ? "render.look_at_m" : "render.frame_radius_m",
            "needs render.look_at_m and render.frame_radius_m together (the sphere the camera frames)");
@@ -442,6 +450,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
             "hold the cut together); use material.model 'springs'";
   }
   if (err.empty() && s.lattice.refine.level > 0) err = refine_conflict(s);
+  if (err.empty() && colors_by_strain(s) && s.mode == InteractionMode::kCut) err = kStrainInCut;
   if (!err.empty()) return make_error(who, err);
   if (s.name.empty()) s.name = safe_name(std::filesystem::path(path).stem().string());
   // a relative mesh path is relative to the scene file's folder

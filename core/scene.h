@@ -118,6 +118,9 @@ struct Keyframe {
 /// True when a keyframe's position is only known once the model is loaded (pos_rel or surface).
 inline bool needs_model(const Keyframe& k) { return k.pos_rel.has_value() || k.surface; }
 
+/// RenderSpec::antialias: edges smoothed in the image read back (render/edge_smooth.h), not multisampled.
+inline constexpr int kAntialiasEdges = -1;
+
 /// Off-screen rendering.
 struct RenderSpec {
   int width = 640;
@@ -131,11 +134,13 @@ struct RenderSpec {
   double frame_radius_m = 0.0;                      ///< the camera frames a sphere this large around look_at_m (0: the whole model)
   RenderColor color = RenderColor::kAuto;           ///< the surface coloured by displacement from rest, or one colour
   double color_range_m = 0.0;                       ///< displacement at the colour map's top (0: planned from the trajectory)
+  double strain_range = 0.0;                        ///< `strain`: equivalent strain at the map's top (0: planned, as above)
   bool force_arrow = true;                          ///< the force sent to the device as an arrow at the proxy, its value beside it
   bool legend = true;                               ///< the colour map's and the arrow's scales in the top-right corner
   bool floor = true;                                ///< a floor under the model with its and the tool's shadows
   bool force_trace = true;                          ///< an inset of the force's magnitude over the last two seconds
-  int antialias = 0;                                ///< samples a pixel for anti-aliased edges (0: none; 2, 4 or 8)
+  int antialias = kAntialiasEdges;                  ///< anti-aliased edges: kAntialiasEdges (smoothed in the image),
+                                                    ///< 0 (none), or 2, 4 or 8 samples a pixel (multisampled)
 };
 
 /// A whole scene.
@@ -186,5 +191,12 @@ inline bool colors_by_displacement(const Scene& scene) {
   return scene.render.color == RenderColor::kDisplacement ||
          (scene.render.color == RenderColor::kAuto && scene.mode != InteractionMode::kCut);
 }
+
+/// Why render.color 'strain' is refused in cut mode.
+inline constexpr const char* kStrainInCut =
+    "render.color: 'strain' is not drawn in interaction.mode 'cut' (the cut lattice's cells come apart); use "
+    "'displacement' or 'none'";
+/// Whether the frames colour the surface by the lattice's equivalent strain (render.color 'strain').
+inline bool colors_by_strain(const Scene& scene) { return scene.render.color == RenderColor::kStrain; }
 
 }  // namespace palpate

@@ -24,7 +24,7 @@ enum class RunMode { kLockstep, kRealtime };
 enum class RenderStyle { kSolid, kWireframe, kBoth };
 /// How the surface is coloured: by each vertex's displacement from rest, or in one colour; auto: by displacement in
 /// touch and pull, in one colour in cut mode (a piece cut free moves as a body: its displacement is not the tissue's).
-enum class RenderColor { kAuto, kDisplacement, kNone };
+enum class RenderColor { kAuto, kDisplacement, kStrain, kNone };
 /// `both` style: the wireframe is left out when the mesh's median edge is shorter than this on screen, in pixels
 /// (scene key render.wire_min_edge_px; see Renderer::set_wire_min_edge_px).
 inline constexpr double kWireMinEdgePxDefault = 2.0;
@@ -81,8 +81,11 @@ constexpr NameTable<RunMode, 2> names(RunMode) {
 constexpr NameTable<RenderStyle, 3> names(RenderStyle) {
   return {{{{RenderStyle::kSolid, "solid"}, {RenderStyle::kWireframe, "wireframe"}, {RenderStyle::kBoth, "both"}}}};
 }
-constexpr NameTable<RenderColor, 3> names(RenderColor) {
-  return {{{{RenderColor::kAuto, "auto"}, {RenderColor::kDisplacement, "displacement"}, {RenderColor::kNone, "none"}}}};
+constexpr NameTable<RenderColor, 4> names(RenderColor) {
+  return {{{{RenderColor::kAuto, "auto"},
+            {RenderColor::kDisplacement, "displacement"},
+            {RenderColor::kStrain, "strain"},
+            {RenderColor::kNone, "none"}}}};
 }
 constexpr NameTable<RenderBackend, 3> names(RenderBackend) {
   return {{{{RenderBackend::kAuto, "auto"}, {RenderBackend::kOsmesa, "osmesa"}, {RenderBackend::kEgl, "egl"}}}};

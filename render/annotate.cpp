@@ -66,17 +66,33 @@ std::string two_figures(double x) {
 
 }  // namespace
 
-Rgba8 displacement_color(double u) {
-  // stops: the mesh's blue-grey, a pale yellow, orange, dark red
+namespace {
+
+// the map at u in [0, 1], exactly: stops at the mesh's blue-grey, a pale yellow, orange, dark red
+Rgba8 map_exact(double u) {
   static constexpr double kStops[4][3] = {{168, 186, 214}, {246, 226, 122}, {242, 140, 52}, {176, 26, 30}};
-  if (!(u > 0.0)) u = 0.0;
-  u = std::min(u, 1.0) * 3.0;
+  u = std::clamp(u, 0.0, 1.0) * 3.0;
   const int i = std::min(2, static_cast<int>(u));
   const double f = u - i;
   Rgba8 c{0, 0, 0, 255};
   for (int k = 0; k < 3; ++k)
     c[static_cast<std::size_t>(k)] = static_cast<uint8_t>(std::lround(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k])));
   return c;
+}
+
+// the map tabulated: a frame colours every moving vertex, and a step of 1/1023 moves a channel by under a third
+constexpr int kMapSteps = 1023;
+
+}  // namespace
+
+Rgba8 displacement_color(double u) {
+  static const std::array<Rgba8, kMapSteps + 1> table = [] {
+    std::array<Rgba8, kMapSteps + 1> t{};
+    for (int i = 0; i <= kMapSteps; ++i) t[static_cast<std::size_t>(i)] = map_exact(static_cast<double>(i) / kMapSteps);
+    return t;
+  }();
+  if (!(u > 0.0)) return table[0];  // and NaN
+  return table[u >= 1.0 ? kMapSteps : static_cast<std::size_t>(u * kMapSteps + 0.5)];
 }
 
 double nice_ceil(double x) {
@@ -92,6 +108,10 @@ std::string format_length(double m) {
   if (m < 1e-3) return two_figures(m * 1e6) + " um";
   if (m < 1.0) return two_figures(m * 1e3) + " mm";
   return two_figures(m) + " m";
+}
+
+std::string format_percent(double fraction) {
+  return fraction > 0.0 ? two_figures(100.0 * fraction) + " %" : std::string("0");
 }
 
 std::string format_force(double n) { return two_figures(std::abs(n)) + " N"; }
@@ -121,12 +141,12 @@ void fill_rect(RgbaImage img, int x0, int y0, int x1, int y1, Rgba8 color) {
     for (int x = x0; x < x1; ++x) blend(img.px + (static_cast<std::size_t>(y) * img.w + x) * 4, color);
 }
 
-std::array<int, 4> draw_legend(RgbaImage img, double range_m, bool cut_faces, double force_ref_N, double force_ref_px) {
+std::array<int, 4> draw_legend(RgbaImage img, const std::string& title, const std::string& top, bool cut_faces,
+                               double force_ref_N, double force_ref_px, Corner corner, bool draw) {
   const int s = text_scale(img.h);
   const Rgba8 ink{40, 44, 56, 255}, paper{255, 255, 255, 200};
   const int pad = 4 * s, bar_w = 6 * s, bar_h = std::max(40, img.h / 4), line = 10 * s;
-  const bool bar = range_m > 0.0, arrow = force_ref_N > 0.0;
-  const std::string title = "displacement", top = format_length(range_m);
+  const bool bar = !title.empty(), arrow = force_ref_N > 0.0;
   const std::string ref = arrow ? format_force(force_ref_N) : std::string();
   const int arrow_px = static_cast<int>(std::lround(force_ref_px));
   int inner_w = 0, inner_h = 0;
@@ -142,7 +162,8 @@ std::array<int, 4> draw_legend(RgbaImage img, double range_m, bool cut_faces, do
     inner_w = std::max(inner_w, arrow_px + 2 * s + text_size(ref, s)[0]);
     inner_h += line;
   }
-  const int x1 = img.w - pad, x0 = x1 - inner_w - 2 * pad, y0 = pad, y1 = y0 + inner_h + 2 * pad - 3 * s;
+  const auto [x0, y0, x1, y1] = corner_box(img.w, img.h, inner_w + 2 * pad, inner_h + 2 * pad - 3 * s, pad, corner);
+  if (!draw) return {x0, y0, x1, y1};
   fill_rect(img, x0, y0, x1, y1, paper);
   const int x = x0 + pad;
   int y = y0 + pad;
@@ -172,12 +193,20 @@ std::array<int, 4> draw_legend(RgbaImage img, double range_m, bool cut_faces, do
   return {x0, y0, x1, y1};
 }
 
+std::array<int, 4> corner_box(int img_w, int img_h, int w, int h, int pad, Corner corner) {
+  const bool right = corner == Corner::kTopRight || corner == Corner::kBottomRight;
+  const bool top = corner == Corner::kTopRight || corner == Corner::kTopLeft;
+  const int x0 = right ? img_w - pad - w : pad, y0 = top ? pad : img_h - pad - h;
+  return {x0, y0, x0 + w, y0 + h};
+}
+
 std::array<int, 4> draw_force_trace(RgbaImage img, const float* values, std::size_t n, std::size_t capacity,
-                                    double scale_N, double span_s) {
+                                    double scale_N, double span_s, Corner corner, bool draw) {
   const int s = text_scale(img.h);
   const Rgba8 ink{40, 44, 56, 255}, paper{255, 255, 255, 200}, grid{200, 202, 210, 255}, line{230, 110, 0, 255};
   const int pad = 4 * s, w = std::max(60, img.w * 3 / 10), h = std::max(30, img.h / 7);
-  const int x0 = pad, y1 = img.h - pad, x1 = x0 + w + 2 * pad, y0 = y1 - h - 2 * pad - 10 * s;
+  const auto [x0, y0, x1, y1] = corner_box(img.w, img.h, w + 2 * pad, h + 2 * pad + 10 * s, pad, corner);
+  if (!draw) return {x0, y0, x1, y1};
   fill_rect(img, x0, y0, x1, y1, paper);
   // the plot: time across (span_s at the full width, now at the right), force up from 0 to scale_N
   const int px0 = x0 + pad, px1 = px0 + w, py1 = y1 - pad, py0 = py1 - h;

@@ -28,6 +28,8 @@ inline constexpr Rgba8 kCutFaceColor{178, 40, 96, 255};
 double nice_ceil(double x);
 /// A length to two significant figures in the unit that reads best: "0", "250 um", "1.5 mm", "12 mm", "1.2 m".
 std::string format_length(double m);
+/// A fraction as a percentage to two significant figures: "0", "0.5 %", "20 %", "150 %".
+std::string format_percent(double fraction);
 /// A force to two significant figures: "0.42 N", "3.3 N", "12 N".
 std::string format_force(double n);
 
@@ -40,16 +42,24 @@ void draw_text(RgbaImage img, int x, int y, std::string_view text, int scale, Rg
 /// Fills [x0, x1) x [y0, y1), clipped; alpha blends over the image (255: replaces).
 void fill_rect(RgbaImage img, int x0, int y0, int x1, int y1, Rgba8 color);
 
-/// The force trace in the bottom-left corner: values (oldest first, one a frame; `capacity` of them span span_s
-/// seconds, the full width) from 0 to scale_N, a line on a light ground with its scale and span written. Returns the
-/// box it drew in ({x0, y0, x1, y1}).
-std::array<int, 4> draw_force_trace(RgbaImage img, const float* values, std::size_t n, std::size_t capacity,
-                                    double scale_N, double span_s);
+/// A corner of the image an inset is drawn in.
+enum class Corner { kTopRight, kTopLeft, kBottomLeft, kBottomRight };
+/// The box {x0, y0, x1, y1} of an inset of outer size w x h in `corner` of an img_w x img_h image, pad pixels in.
+std::array<int, 4> corner_box(int img_w, int img_h, int w, int h, int pad, Corner corner);
 
-/// The displacement legend in the image's top-right corner: a title, a vertical bar of the colour map from 0 (bottom)
-/// to range_m (top) with both ends labelled, and (when cut_faces) a swatch for the cut's faces; `force_ref_N` > 0
-/// adds the force arrow's scale: a bar force_ref_px long labelled with that force. Returns the box it drew in
-/// ({x0, y0, x1, y1}).
-std::array<int, 4> draw_legend(RgbaImage img, double range_m, bool cut_faces, double force_ref_N, double force_ref_px);
+/// The force trace (in the bottom-left corner unless told): values (oldest first, one a frame; `capacity` of them
+/// span span_s seconds, the full width) from 0 to scale_N, a line on a light ground with its scale and span written.
+/// Returns the box it drew in ({x0, y0, x1, y1}); with draw false, only the box it would draw in.
+std::array<int, 4> draw_force_trace(RgbaImage img, const float* values, std::size_t n, std::size_t capacity,
+                                    double scale_N, double span_s, Corner corner = Corner::kBottomLeft,
+                                    bool draw = true);
+
+/// The legend (in the image's top-right corner unless told): the title of what the colours show and a vertical bar of the colour
+/// map from 0 (bottom) to `top` (its label: the range, in its unit) when the title is not empty, and (when cut_faces)
+/// a swatch for the cut's faces; `force_ref_N` > 0 adds the force arrow's scale: a bar force_ref_px long labelled with
+/// that force. Returns the box it drew in ({x0, y0, x1, y1}); with draw false, only the box it would draw in.
+std::array<int, 4> draw_legend(RgbaImage img, const std::string& title, const std::string& top, bool cut_faces,
+                               double force_ref_N, double force_ref_px, Corner corner = Corner::kTopRight,
+                               bool draw = true);
 
 }  // namespace palpate

@@ -96,11 +96,13 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
   const bool color_on = colored(view);
   const bool floor_changed = floor_shown(view) ? !(view.floor_z_m == floor_z_) : std::isfinite(floor_z_);
   if (floor_changed || color_on != color_on_ ||
-      (color_on && (view.color_range_m != color_range_m_ || view.first_cut_vertex != color_cut_from_))) {
+      (color_on && (view.color_range_m != color_range_m_ || view.first_cut_vertex != color_cut_from_ ||
+                    (by_strain(view) ? view.strain_range : 0.0) != strain_range_))) {
     layer_valid_ = false;
     mesh_image_valid_ = false;
     color_on_ = color_on;
     color_range_m_ = view.color_range_m;
+    strain_range_ = by_strain(view) ? view.strain_range : 0.0;
     color_cut_from_ = view.first_cut_vertex;
     floor_z_ = floor_shown(view) ? view.floor_z_m : std::numeric_limits<double>::quiet_NaN();
     if (floor_shown(view)) {
@@ -122,6 +124,7 @@ void Renderer::draw(const FrameView& view, uint8_t* rgba) {
   draw_force(gl, view);
   if (samples_ > 0 && own_fbo) resolved_.resolve_from(frame_);
   ctx_->read_rgba(rgba);
+  if (smooth_edges_) smoother_.apply(rgba, ctx_->width(), ctx_->height());
   annotate(view, rgba);
   if (own_fbo) gl.BindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous));
 }

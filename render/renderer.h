@@ -11,7 +11,9 @@
 
 #include "core/scene_enums.h"
 #include "core/types.h"
+#include "render/annotate.h"
 #include "render/camera.h"
+#include "render/edge_smooth.h"
 #include "render/framebuffer.h"
 #include "render/gl_context.h"
 #include "render/layer_patch.h"
@@ -54,6 +56,10 @@ struct FrameView {
   /// (render/annotate.h) at color_range_m and beyond. Null, or a range that is not positive: one colour.
   const std::vector<Vec3>* rest_m = nullptr;
   double color_range_m = 0.0;
+  /// Colour by strain instead: each vertex by its value here (one per vertex, a fraction), the map's top at
+  /// strain_range and beyond; the legend says "strain" in per cent. Null, or a range that is not positive: as above.
+  const std::vector<float>* vertex_value = nullptr;
+  double strain_range = 0.0;
   /// Vertices from this index on were made by a cut: drawn in the cut's colour (-1: none).
   int64_t first_cut_vertex = -1;
   /// The force arrow: force_N (the force sent to the device) drawn from the proxy, its value beside its tip; an
@@ -126,6 +132,13 @@ class Renderer {
   /// Samples a pixel for anti-aliased edges (0 or 1: one; set before the first draw). When the context has no
   /// multisampled framebuffers, frames are drawn one sample a pixel; samples() says what is used.
   void set_samples(int n) { samples_asked_ = n; }
+  /// true: edges are smoothed in the image read back (render/edge_smooth.h), before the legend and labels are written
+  /// into it; its cost follows the pixels that changed since the last frame.
+  void set_smooth_edges(bool on) {
+    smooth_edges_ = on;
+    smoother_.reset();
+  }
+  bool smooth_edges() const { return smooth_edges_; }
   int samples() const { return samples_; }
   /// false: a new layer is always drawn whole; true (the default): when the camera is the same and no lines are
   /// drawn, only the rectangle where the static and moving parts changed is redrawn (render/layer_patch.h).
@@ -137,6 +150,10 @@ class Renderer {
     std::size_t triangles = 0, triangles_drawn = 0, lines = 0, lines_drawn = 0;
   };
   const Drawn& last_drawn() const { return last_drawn_; }
+  /// The corners the legend and the force trace are drawn in: of the four, those covering the fewest of the model's
+  /// vertices on the first frame that shows either (top-right and bottom-left when free), kept for the run.
+  Corner legend_corner() const { return legend_corner_; }
+  Corner trace_corner() const { return trace_corner_; }
   /// Whether the last draw() used the cached layer.
   bool last_draw_layered() const { return last_layered_; }
   /// Frames drawn so far (calls of draw()).
@@ -196,10 +213,11 @@ class Renderer {
   // p flattened onto the floor along kShadowLight; and so, snapped to the shadow's grid (shadow_grid_m_) there
   static Vec3 on_floor(const FrameView& view, const Vec3& p);
   Vec3 shadow_point(const FrameView& view, const Vec3& p) const;
-  void annotate(const FrameView& view, uint8_t* rgba) const;
+  void annotate(const FrameView& view, uint8_t* rgba);
   // whether the view colours its vertices, and the colour of vertex v (its position p)
+  static bool by_strain(const FrameView& view) { return view.vertex_value != nullptr && view.strain_range > 0.0; }
   static bool colored(const FrameView& view) {
-    return view.rest_m != nullptr && (view.color_range_m > 0.0 || view.first_cut_vertex >= 0);
+    return view.rest_m != nullptr && (view.color_range_m > 0.0 || view.first_cut_vertex >= 0 || by_strain(view));
   }
   static std::array<uint8_t, 4> vertex_color(const FrameView& view, std::size_t v, const Vec3& p);
   bool fill_drawn() const { return style_ != RenderStyle::kWireframe; }
@@ -249,10 +267,14 @@ class Renderer {
   // (most of a fine mesh's) are not drawn
   double shadow_grid_m_ = 0.0;
   double color_range_m_ = 0.0;           // the colouring the layer was drawn with (a change redraws it)
+  double strain_range_ = 0.0;
   int64_t color_cut_from_ = -1;
   bool color_on_ = false;
   Vec3 arrow_tip_m_ = Vec3::Zero();      // where the last arrow's tip was (for its label)
   bool arrow_drawn_ = false;
+  // the corners of the legend and the force trace, chosen on the first frame that shows either (Renderer::annotate)
+  bool insets_placed_ = false;
+  Corner legend_corner_ = Corner::kTopRight, trace_corner_ = Corner::kBottomLeft;
   std::vector<uint64_t> edge_keys_;      // scratch for the edge build: (lo << 32 | hi) per half edge
   std::vector<uint32_t> edge_indices_;   // unique mesh edges as GL_LINES pairs (2 n_e)
   uint64_t edges_hash_ = 0;              // hash of the triangles edge_indices_ was built from
@@ -268,6 +290,8 @@ class Renderer {
   Framebuffer mesh_image_;               // the layer with the dynamic part drawn over it, before the tool
   Framebuffer resolved_;                 // multisampled frames: the frame resolved to one sample a pixel, read back
   int samples_asked_ = 0, samples_ = 0;  // samples a pixel asked for, and used
+  bool smooth_edges_ = false;            // edges smoothed in the image read back
+  EdgeSmoother smoother_;
   bool mesh_image_valid_ = false;        // mesh_image_ holds what the dynamic part would draw now
   bool dynamic_changed_ = true;          // the last layered frame changed the dynamic part (or built the layer)
   int64_t dynamic_draws_ = 0;            // layered frames that drew the dynamic part

@@ -126,6 +126,7 @@ void Renderer::draw_blade(const GlApi& gl, const FrameView& view) const {
 
 std::array<uint8_t, 4> Renderer::vertex_color(const FrameView& view, std::size_t v, const Vec3& p) {
   if (view.first_cut_vertex >= 0 && static_cast<int64_t>(v) >= view.first_cut_vertex) return kCutFaceColor;
+  if (by_strain(view)) return displacement_color(v < view.vertex_value->size() ? (*view.vertex_value)[v] / view.strain_range : 0.0);
   if (!(view.color_range_m > 0.0) || v >= view.rest_m->size()) return displacement_color(0.0);
   return displacement_color((p - (*view.rest_m)[v]).norm() / view.color_range_m);
 }
@@ -181,7 +182,7 @@ void Renderer::draw_force(const GlApi& gl, const FrameView& view) {
   arrow_drawn_ = true;
 }
 
-void Renderer::annotate(const FrameView& view, uint8_t* rgba) const {
+void Renderer::annotate(const FrameView& view, uint8_t* rgba) {
   const RgbaImage img{rgba, ctx_->width(), ctx_->height()};
   const int s = text_scale(img.h);
   if (arrow_drawn_) {
@@ -195,11 +196,15 @@ void Renderer::annotate(const FrameView& view, uint8_t* rgba) const {
       draw_text(img, x, y, label, s, {120, 50, 0, 255});
     }
   }
-  if (view.force_trace != nullptr && view.force_trace_max_N > 0.0)
-    draw_force_trace(img, view.force_trace->data(), view.force_trace->size(), view.force_trace_frames,
-                     view.force_trace_max_N, view.force_trace_s);
-  if (!view.show_legend) return;
-  const double range = colored(view) ? view.color_range_m : 0.0;
+  const bool trace = view.force_trace != nullptr && view.force_trace_max_N > 0.0;
+  std::string title, top;
+  if (colored(view) && by_strain(view)) {
+    title = "strain";
+    top = format_percent(view.strain_range);
+  } else if (colored(view) && view.color_range_m > 0.0) {
+    title = "displacement";
+    top = format_length(view.color_range_m);
+  }
   // the arrow's scale (whether or not an arrow is drawn now, so the legend keeps its size): a round force near a
   // quarter of the scale's, and its length in pixels
   double ref_N = 0.0, ref_px = 0.0;
@@ -208,7 +213,41 @@ void Renderer::annotate(const FrameView& view, uint8_t* rgba) const {
     ref_px = kArrowShareOfHeight * img.h * ref_N / view.force_scale_N;
   }
   const bool cut_faces = view.first_cut_vertex >= 0;
-  if (range > 0.0 || cut_faces || ref_N > 0.0) draw_legend(img, range, cut_faces, ref_N, ref_px);
+  const bool legend = view.show_legend && (!title.empty() || cut_faces || ref_N > 0.0);
+  if (!insets_placed_ && (legend || trace) && view.vertices_m != nullptr && !view.vertices_m->empty()) {
+    // the insets' corners, once a run (its frames alike): those that cover the fewest of the model's vertices
+    insets_placed_ = true;
+    auto covered = [&](const std::array<int, 4>& box) {
+      const auto& v = *view.vertices_m;
+      const std::size_t stride = std::max<std::size_t>(1, v.size() / 100000);  // a sample of a large mesh
+      int64_t n = 0;
+      for (std::size_t i = 0; i < v.size(); i += stride) {
+        const Eigen::Vector2d p = project(v[i]);
+        n += p.x() >= box[0] && p.x() < box[2] && p.y() >= box[1] && p.y() < box[3];
+      }
+      return n;
+    };
+    constexpr Corner kLegendOrder[] = {Corner::kTopRight, Corner::kTopLeft, Corner::kBottomRight, Corner::kBottomLeft};
+    constexpr Corner kTraceOrder[] = {Corner::kBottomLeft, Corner::kBottomRight, Corner::kTopLeft, Corner::kTopRight};
+    int64_t fewest = -1;
+    if (legend)
+      for (Corner c : kLegendOrder) {
+        const int64_t n = covered(draw_legend(img, title, top, cut_faces, ref_N, ref_px, c, false));
+        if (fewest < 0 || n < fewest) fewest = n, legend_corner_ = c;
+      }
+    fewest = -1;
+    if (trace)
+      for (Corner c : kTraceOrder) {
+        if (legend && c == legend_corner_) continue;
+        const int64_t n = covered(draw_force_trace(img, nullptr, 0, view.force_trace_frames, view.force_trace_max_N,
+                                                   view.force_trace_s, c, false));
+        if (fewest < 0 || n < fewest) fewest = n, trace_corner_ = c;
+      }
+  }
+  if (trace)
+    draw_force_trace(img, view.force_trace->data(), view.force_trace->size(), view.force_trace_frames,
+                     view.force_trace_max_N, view.force_trace_s, trace_corner_);
+  if (legend) draw_legend(img, title, top, cut_faces, ref_N, ref_px, legend_corner_);
 }
 
 }  // namespace palpate

@@ -39,6 +39,21 @@ void MeshDeformer::deform(const Lattice& lat, const std::vector<VertexBinding>& 
   }
 }
 
+void MeshDeformer::interpolate(const Lattice& lat, const std::vector<VertexBinding>& bindings,
+                               const std::vector<Vec3>& rest_vertices_m, const std::vector<double>& node_values,
+                               std::vector<float>* vertex_values) const {
+  for (std::size_t i = 0; i < vertex_ids_.size(); ++i) {
+    const int32_t v = vertex_ids_[i];
+    const auto& nodes = lat.cell_nodes[vertex_slot_[i]];
+    const auto w = trilinear_weights(lat.cell_span.empty() ? bindings[v].local
+                                                           : lat.local_in_cell(static_cast<std::size_t>(vertex_slot_[i]),
+                                                                               rest_vertices_m[v]));
+    double value = 0.0;
+    for (int c = 0; c < 8; ++c) value += w[c] * node_values[static_cast<std::size_t>(nodes[c])];
+    (*vertex_values)[static_cast<std::size_t>(v)] = static_cast<float>(value);
+  }
+}
+
 Vec3 deform_eq9(const Lattice& lat, int32_t slot, const Vec3& local) {
   const auto& n = lat.cell_nodes[slot];
   const Vec3 b = lat.x_m[n[0]];

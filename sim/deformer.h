@@ -23,6 +23,11 @@ class MeshDeformer {
   /// and reproduces the rest position bit-exactly when the cell is undeformed.
   void deform(const Lattice& lat, const std::vector<VertexBinding>& bindings, const std::vector<Vec3>& rest_vertices_m,
               std::vector<Vec3>* vertices_m) const;
+  /// Writes a value per node (n_nodes), interpolated as positions are, at each of the region's vertices into
+  /// *vertex_values (others untouched).
+  void interpolate(const Lattice& lat, const std::vector<VertexBinding>& bindings,
+                   const std::vector<Vec3>& rest_vertices_m, const std::vector<double>& node_values,
+                   std::vector<float>* vertex_values) const;
   /// Number of vertices that follow the lattice.
   std::size_t num_bound_vertices() const { return vertex_ids_.size(); }
   /// The vertex ids that follow the lattice, grouped by region cell.

@@ -207,7 +207,8 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color": "red"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.color: 'red' is not one of");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color_range_m": -0.01}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.color_range_m: -0.01 out of range");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"force_arrow": 1}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.force_arrow: must be true or false");
-  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"antialias": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.antialias: 3 samples a pixel: give 0 (none), 2, 4 or 8");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"antialias": 3}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.antialias: 3 samples a pixel: give \"edges\" (the default), \"none\" (or 0), 2, 4 or 8");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"antialias": "smooth"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.antialias: 'smooth' is not one of: edges, none");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "render": {"antialias": 16}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.antialias: 16 out of range");
   auto look = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color": "none", "color_range_m": 0.004, "force_arrow": false, "legend": false, "floor": false, "antialias": 4}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
   ASSERT_TRUE(look) << look.error().message;
@@ -215,6 +216,19 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
   EXPECT_EQ(look.value().render.color_range_m, 0.004);
   EXPECT_FALSE(look.value().render.force_arrow || look.value().render.legend || look.value().render.floor);
   EXPECT_EQ(look.value().render.antialias, 4);
+  for (const char* a : {"\"edges\"", "\"none\""}) {
+    auto named = parse_scene(std::string(R"({"mesh": {"box_m": [1,1,1]}, "render": {"antialias": )") + a +
+                                 R"(}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+    ASSERT_TRUE(named) << named.error().message;
+    EXPECT_EQ(named.value().render.antialias, a[1] == 'e' ? kAntialiasEdges : 0);
+  }
+  EXPECT_EQ(Scene{}.render.antialias, kAntialiasEdges);  // smoothed edges unless asked otherwise
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "interaction": {"mode": "cut"}, "render": {"color": "strain"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.color: 'strain' is not drawn in interaction.mode 'cut'");
+  auto strain = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color": "strain", "strain_range": 0.05}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(strain) << strain.error().message;
+  EXPECT_TRUE(colors_by_strain(strain.value()));
+  EXPECT_FALSE(colors_by_displacement(strain.value()));
+  EXPECT_EQ(strain.value().render.strain_range, 0.05);
   // auto: displacement colours in touch and pull, none in cut
   Scene cut = look.value();
   cut.render.color = RenderColor::kAuto;

@@ -309,6 +309,126 @@ TEST_F(AnnotateRender, MultisampledFramesSmoothTheEdgesAndTheLayerStillEqualsAFu
   EXPECT_GT(between(four), 150);
 }
 
+// Edges smoothed in the image read back (the default of a recording): the sheet's outline gets colours between the
+// background's and the sheet's, as multisampling gives it, and frames from the cached layer still equal full redraws.
+TEST_F(AnnotateRender, EdgesSmoothedInTheImageSoftenTheOutlineAndTheLayerStillEqualsAFullRedraw) {
+  std::vector<int32_t> moving;
+  bumped(0.0, &moving);
+  FrameView view;
+  view.triangles = &rest_.triangles;
+  view.moving_vertices = &moving;
+  view.layer_epoch = 1;
+  std::vector<uint8_t> a(static_cast<std::size_t>(kW) * kH * 4), b(a.size()), plain(a.size());
+  Renderer layered(ctx_.get(), RenderStyle::kSolid, camera_), whole(ctx_.get(), RenderStyle::kSolid, camera_),
+      unsmoothed(ctx_.get(), RenderStyle::kSolid, camera_);
+  layered.set_smooth_edges(true);
+  whole.set_smooth_edges(true);
+  whole.set_layered(false);
+  for (double h : {0.0, 0.004, 0.004, 0.006}) {
+    const std::vector<Vec3> v = bumped(h);
+    view.vertices_m = &v;
+    layered.draw(view, a.data());
+    whole.draw(view, b.data());
+    EXPECT_EQ(test::count_different(a, b), 0) << "bump " << h;
+  }
+  view.vertices_m = &rest_.vertices_m;
+  layered.draw(view, a.data());
+  unsmoothed.draw(view, plain.data());
+  // pixels that are neither the background nor the sheet's colour at its centre: on the outline
+  auto between = [](const std::vector<uint8_t>& rgba) {
+    const auto inside = pixel(rgba, kW, kW / 2, kH / 2);
+    int n = 0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        const auto p = pixel(rgba, kW, x, y);
+        const bool bg = p[0] == 247 && p[1] == 247 && p[2] == 250;
+        n += bg || (std::abs(p[0] - inside[0]) + std::abs(p[1] - inside[1]) + std::abs(p[2] - inside[2]) < 6) ? 0 : 1;
+      }
+    return n;
+  };
+  EXPECT_EQ(between(plain), 0);
+  EXPECT_GT(between(a), 150);
+  EXPECT_TRUE(layered.smooth_edges());
+}
+
+// Coloured by strain: a value per vertex, the map's top at the vertex whose value reaches the range, the legend's bar
+// beside it; without values the sheet is one colour.
+TEST_F(AnnotateRender, StrainColoursPutTheMapsTopAtTheMostStrainedVertex) {
+  const std::vector<Vec3> v = bumped(0.004);
+  std::vector<float> strain(v.size(), 0.0f);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    strain[i] = static_cast<float>(0.1 * std::exp(-(rest_.vertices_m[i] - Vec3(0.01, -0.01, 0)).squaredNorm() / (2 * 0.006 * 0.006)));
+  FrameView view;
+  view.vertices_m = &v;
+  view.triangles = &rest_.triangles;
+  view.rest_m = &rest_.vertices_m;
+  view.vertex_value = &strain;
+  view.strain_range = 0.1;
+  view.show_legend = true;
+  Renderer renderer(ctx_.get(), RenderStyle::kSolid, camera_);
+  std::vector<uint8_t> rgba(static_cast<std::size_t>(kW) * kH * 4);
+  renderer.draw(view, rgba.data());
+  // the strain's peak, away from the bump's apex, is red; the apex (displaced, little strain) is not
+  std::size_t peak = 0;
+  for (std::size_t i = 0; i < strain.size(); ++i)
+    if (strain[i] > strain[peak]) peak = i;
+  const Eigen::Vector2d at_peak = renderer.project(v[peak]);
+  const Eigen::Vector2d apex = renderer.project(v[20 * 41 + 20]);
+  EXPECT_GT(redness(pixel(rgba, kW, static_cast<int>(at_peak.x()), static_cast<int>(at_peak.y()))), 60);
+  EXPECT_LT(redness(pixel(rgba, kW, static_cast<int>(apex.x()), static_cast<int>(apex.y()))),
+            redness(pixel(rgba, kW, static_cast<int>(at_peak.x()), static_cast<int>(at_peak.y()))) - 40);
+  int top_color_px = 0;
+  for (int y = 0; y < kH / 2; ++y)
+    for (int x = kW / 2; x < kW; ++x) {
+      const auto p = pixel(rgba, kW, x, y);
+      top_color_px += p[0] == 176 && p[1] == 26 && p[2] == 30;
+    }
+  EXPECT_GT(top_color_px, 0);
+  EXPECT_EQ(format_percent(0.1), "10 %");
+  EXPECT_EQ(format_percent(0.005), "0.5 %");
+}
+
+// The insets go where the model is not: with the sheet filling the left half of the picture, the force trace leaves
+// the bottom-left corner for the bottom-right one and the legend keeps the top-right; the model's pixels under the
+// default corner stay the model's.
+TEST_F(AnnotateRender, TheInsetsTakeTheCornersTheModelLeavesFree) {
+  const std::vector<float> trace(60, 1.0f);
+  FrameView view;
+  view.vertices_m = &rest_.vertices_m;
+  view.triangles = &rest_.triangles;
+  view.rest_m = &rest_.vertices_m;
+  view.color_range_m = 0.01;
+  view.show_legend = true;
+  view.force_scale_N = 3.0;
+  view.force_trace = &trace;
+  view.force_trace_max_N = 2.0;
+  view.force_trace_frames = 120;
+  std::vector<uint8_t> rgba(static_cast<std::size_t>(kW) * kH * 4);
+  Renderer whole(ctx_.get(), RenderStyle::kSolid, camera_);
+  whole.draw(view, rgba.data());
+  EXPECT_EQ(whole.legend_corner(), Corner::kTopRight);
+  EXPECT_EQ(whole.trace_corner(), Corner::kBottomLeft);
+  // from above, the sheet's right edge at the picture's centre: the sheet fills the left half
+  const Camera half = Camera::framing_part(Vec3(-0.03, -0.03, 0.0), Vec3(0.03, 0.03, 0.0), static_cast<double>(kW) / kH,
+                                           Vec3(0, 0, 1), Vec3(0.03, 0.0, 0.0), 0.03);
+  Renderer left(ctx_.get(), RenderStyle::kSolid, half);
+  left.draw(view, rgba.data());
+  EXPECT_EQ(left.legend_corner(), Corner::kTopRight);
+  EXPECT_EQ(left.trace_corner(), Corner::kBottomRight);
+  // the trace's line (its orange, drawn unlit) is on the right, and the sheet still shows at the bottom-left
+  int orange_left = 0, orange_right = 0;
+  for (int y = kH / 2; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const auto p = pixel(rgba, kW, x, y);
+      if (p[0] == 230 && p[1] == 110 && p[2] == 0) (x < kW / 2 ? orange_left : orange_right)++;
+    }
+  EXPECT_EQ(orange_left, 0);
+  EXPECT_GT(orange_right, 20);
+  const auto corner = pixel(rgba, kW, 12, kH - 12);
+  EXPECT_FALSE(corner[0] == 247 && corner[1] == 247 && corner[2] == 250);  // not the background: the sheet
+  EXPECT_LT(corner[0], 225);  // nor the trace's white paper over it
+}
+
 // The arrow's pixels (its colour, unlit): the farthest from the proxy's pixel.
 double arrow_reach_px(const std::vector<uint8_t>& rgba, const Eigen::Vector2d& from) {
   double most = 0.0;

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/binding.h"
+#include "sim/strain.h"
 #include "support/fixtures.h"
 
 namespace palpate {
@@ -55,6 +58,59 @@ TEST(Deformer, RotatedCellRotatesItsVerticesWhereEq9DoesNot) {
     eq9_worst = std::max(eq9_worst, (deform_eq9(f.lat, slot, f.bindings[i].local) - want).norm());
   }
   EXPECT_GT(eq9_worst, 0.1 * f.lat.cell_m);  // eq. (9) keeps cells axis-aligned: it cannot rotate
+}
+
+// The strain a frame is coloured by, against closed forms: none for a rigid motion or a pure dilation (no change of
+// shape), 2/3 |e + e^2/2| for a uniaxial stretch e, and the same at every node and surface vertex of a lattice under
+// a uniform deformation (interpolated as positions are).
+TEST(Strain, EquivalentStrainMatchesClosedFormsAndIsInterpolatedToTheSurface) {
+  DeformFixture f;
+  auto apply = [&](const Mat3& F, const Vec3& shift) {
+    for (std::size_t i = 0; i < f.lat.num_nodes(); ++i) f.lat.x_m[i] = F * f.lat.rest_m[i] + shift;
+  };
+  auto node_range = [&] {
+    std::vector<double> e;
+    std::vector<int> n;
+    node_equivalent_strain(f.lat, &e, &n);
+    EXPECT_EQ(e.size(), f.lat.num_nodes());
+    return std::make_pair(*std::min_element(e.begin(), e.end()), *std::max_element(e.begin(), e.end()));
+  };
+  const Mat3 rot = Eigen::AngleAxisd(0.9, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
+  apply(rot, Vec3(0.01, 0.02, -0.03));
+  EXPECT_LT(node_range().second, 1e-12);
+  apply(1.3 * Mat3::Identity(), Vec3::Zero());
+  EXPECT_LT(node_range().second, 1e-12);
+  for (double e : {0.2, -0.1}) {
+    Mat3 F = Mat3::Identity();
+    F(2, 2) = 1.0 + e;
+    apply(rot * F, Vec3::Zero());  // stretched along z, then turned: the same strain
+    const auto [lo, hi] = node_range();
+    const double want = 2.0 / 3.0 * std::abs(e + 0.5 * e * e);
+    EXPECT_NEAR(lo, want, 1e-12) << "e " << e;
+    EXPECT_NEAR(hi, want, 1e-12) << "e " << e;
+    std::vector<double> nodes;
+    std::vector<int> count;
+    node_equivalent_strain(f.lat, &nodes, &count);
+    std::vector<float> at_vertex(f.box.mesh.num_vertices(), -1.0f);
+    f.deformer.interpolate(f.lat, f.bindings, f.box.mesh.vertices_m, nodes, &at_vertex);
+    for (float v : at_vertex) EXPECT_NEAR(v, want, 1e-6) << "e " << e;
+  }
+  // a dent: the strain is largest at the node pushed in, and nothing beyond its cells strains
+  apply(Mat3::Identity(), Vec3::Zero());
+  std::size_t pushed = 0;
+  for (std::size_t i = 0; i < f.lat.num_nodes(); ++i)
+    if ((f.lat.rest_m[i] - Vec3(0.02, 0.02, 0.02)).norm() < (f.lat.rest_m[pushed] - Vec3(0.02, 0.02, 0.02)).norm())
+      pushed = i;
+  f.lat.x_m[pushed].z() -= 0.2 * f.lat.cell_m;
+  std::vector<double> nodes;
+  std::vector<int> count;
+  node_equivalent_strain(f.lat, &nodes, &count);
+  EXPECT_EQ(std::max_element(nodes.begin(), nodes.end()) - nodes.begin(), static_cast<std::ptrdiff_t>(pushed));
+  for (std::size_t i = 0; i < f.lat.num_nodes(); ++i) {
+    if ((f.lat.rest_m[i] - f.lat.rest_m[pushed]).cwiseAbs().maxCoeff() > 2.5 * f.lat.cell_m) {
+      EXPECT_LT(nodes[i], 1e-12);
+    }
+  }
 }
 
 TEST(Deformer, Eq9AndTrilinearAgreeForBoxShapedCells) {

@@ -3,6 +3,8 @@
 // `none` skip the pass, and a cut's faces show in their colour in the frames of a real cut.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -86,6 +88,53 @@ TEST(FrameLook, TheFacesACutMakesShowInTheirColour) {
   ASSERT_TRUE(first && end);
   EXPECT_EQ(cut_colored_px(first.value()), 0);
   EXPECT_GT(cut_colored_px(end.value()), 100) << name;
+}
+
+// Coloured by strain: the range comes from the first pass as the displacement's does (the largest strain the frames
+// drew, rounded up), and the summary says what the colours show.
+TEST(FrameLook, StrainColoursTakeTheirRangeFromAFirstPass) {
+  Scene scene = small("bunny_pull");
+  scene.render.color = RenderColor::kStrain;
+  const nlohmann::json color = record_summary(scene, "strain")["render"]["color"];
+  EXPECT_EQ(color["by"], "strain");
+  EXPECT_TRUE(color["range_fixed"].get<bool>());
+  const double most = color["max_strain"].get<double>();
+  ASSERT_GT(most, 0.01);
+  EXPECT_EQ(color["range"].get<double>(), nice_ceil(most)) << "largest strain " << most;
+}
+
+// Framed whole, a run's model stays inside every frame: with nothing else drawn (no floor, insets or arrow), the
+// outermost ring of pixels of every frame of the shipped scenes that frame the whole model is the background.
+TEST(FrameLook, EveryFrameOfAWholeModelRunKeepsTheModelInsideThePicture) {
+  for (const char* name : {"bunny_pull", "bunny_touch", "cube_press", "tissue_pull"}) {
+    Scene scene = small(name);
+    ASSERT_FALSE(scene.render.frame_radius_m > 0.0) << name;
+    scene.duration_s = std::min(scene.duration_s, 3.0);
+    scene.render.color = RenderColor::kNone;
+    scene.render.force_arrow = scene.render.legend = scene.render.floor = scene.render.force_trace = false;
+    scene.render.antialias = 0;
+    std::string frames;
+    const nlohmann::json j = record_summary(scene, "framed", &frames);
+    const int64_t n = j["frames_written"].get<int64_t>();
+    ASSERT_GT(n, 0) << name;
+    int64_t touching = 0;
+    for (int64_t f = 0; f < n; ++f) {
+      char file[32];
+      std::snprintf(file, sizeof file, "frame_%05lld.png", static_cast<long long>(f));
+      const auto im = read_png((fs::path(frames) / file).string());
+      ASSERT_TRUE(im) << name << " " << file;
+      const Image& m = im.value();
+      auto bg = [&](int x, int y) {
+        const uint8_t* p = &m.rgba[(static_cast<std::size_t>(y) * m.width + x) * 4];
+        return p[0] == 247 && p[1] == 247 && p[2] == 250;
+      };
+      bool ring = true;
+      for (int x = 0; x < m.width; ++x) ring = ring && bg(x, 0) && bg(x, m.height - 1);
+      for (int y = 0; y < m.height; ++y) ring = ring && bg(0, y) && bg(m.width - 1, y);
+      touching += ring ? 0 : 1;
+    }
+    EXPECT_EQ(touching, 0) << name << ": frames whose edge the model reaches, of " << n;
+  }
 }
 
 }  // namespace

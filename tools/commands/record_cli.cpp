@@ -72,11 +72,10 @@ class StopOnSignal {
 
 // The command line of `palpate record`, as parsed.
 struct RecordArgs {
-  std::string scene_path, mode, video_path, serve, color;
+  std::string scene_path, mode, video_path, serve, color, antialias;
   RecordOptions opt;
   bool no_render = false, no_video = false, no_arrow = false, no_legend = false, no_floor = false, no_trace = false;
   double color_range_m = 0.0;
-  int antialias = -1;
   double serve_linger_s = 0.0;
 };
 
@@ -147,12 +146,18 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
   // what the frames show besides the model (the scene's render.color, color_range_m, force_arrow, legend)
   RenderSpec& look = scene.value().render;
   if (!a.color.empty()) look.color = from_name<RenderColor>(a.color).value_or(RenderColor::kAuto);
-  if (cmd.get_option("--color-range")->count() > 0) look.color_range_m = a.color_range_m;
+  if (colors_by_strain(scene.value()) && scene.value().mode == InteractionMode::kCut) {
+    std::fprintf(stderr, "palpate: %s\n", kStrainInCut);
+    return 1;
+  }
+  if (cmd.get_option("--color-range")->count() > 0)
+    (colors_by_strain(scene.value()) ? look.strain_range : look.color_range_m) = a.color_range_m;
   if (a.no_arrow) look.force_arrow = false;
   if (a.no_legend) look.legend = false;
   if (a.no_floor) look.floor = false;
   if (a.no_trace) look.force_trace = false;
-  if (a.antialias >= 0) look.antialias = a.antialias;
+  if (!a.antialias.empty())
+    look.antialias = a.antialias == "edges" ? kAntialiasEdges : a.antialias == "none" ? 0 : std::stoi(a.antialias);
   // everything decided and every output checked before anything in the output folder is touched
   auto planned = plan_record(scene.value(), opt);
   if (!planned) {
@@ -286,21 +291,23 @@ Subcommand add_record_command(CLI::App& app) {
       ->expected(0, 1);
   rec->add_flag("--no-video", a->no_video, "No MP4, frames/*.png only");
   rec->add_option("--color", a->color,
-                  "The surface's colour: displacement (from rest, its scale in the legend), none, or auto "
-                  "(displacement in touch and pull, none in cut; the scene's render.color, default auto)")
-      ->check(CLI::IsMember({"auto", "displacement", "none"}));
+                  "The surface's colour: displacement (from rest, its scale in the legend), strain (the lattice's "
+                  "equivalent strain; touch and pull), none, or auto (displacement in touch and pull, none in cut; "
+                  "the scene's render.color, default auto)")
+      ->check(CLI::IsMember({"auto", "displacement", "strain", "none"}));
   rec->add_option("--color-range", a->color_range_m,
-                  "Displacement at the colour map's top, metres (default: the scene's render.color_range_m, else a "
-                  "first pass of a scripted run finds it)")
+                  "The colour map's top: a displacement in metres, or with --color strain a strain (0.05 = 5 %) "
+                  "(default: the scene's render.color_range_m or render.strain_range, else a first pass of a "
+                  "scripted run finds it)")
       ->check(finite_range(1e-9, 100.0));
   rec->add_flag("--no-arrow", a->no_arrow, "No force arrow at the proxy (render.force_arrow)");
   rec->add_flag("--no-legend", a->no_legend, "No legend (render.legend)");
   rec->add_flag("--no-floor", a->no_floor, "No floor under the model, and no shadows (render.floor)");
   rec->add_flag("--no-trace", a->no_trace, "No inset of the force over the last two seconds (render.force_trace)");
   rec->add_option("--antialias", a->antialias,
-                  "Samples a pixel for anti-aliased edges: 0 (none, the default), 2, 4 or 8 (render.antialias; about twice "
-                  "the render time on llvmpipe)")
-      ->check(CLI::IsMember({0, 2, 4, 8}));
+                  "Anti-aliased edges (render.antialias): edges (the default: smoothed in the image, where it changed), "
+                  "none, or 2, 4 or 8 samples a pixel (multisampled: four times the render time on llvmpipe)")
+      ->check(CLI::IsMember({"edges", "none", "0", "2", "4", "8"}));
   rec->add_option("--serve", a->serve,
                   "Live view in a browser while recording: serve it on [ADDR:]PORT (ADDR default 127.0.0.1; PORT 0 = any "
                   "free port); the URL is printed on stderr");

@@ -10,11 +10,12 @@
 namespace palpate {
 
 bool needs_color_pass(const Scene& scene, bool render, DeviceDriver driver) {
-  return render && driver == DeviceDriver::kScripted && colors_by_displacement(scene) &&
-         !(scene.render.color_range_m > 0.0);
+  if (!render || driver != DeviceDriver::kScripted) return false;
+  if (colors_by_strain(scene)) return !(scene.render.strain_range > 0.0);
+  return colors_by_displacement(scene) && !(scene.render.color_range_m > 0.0);
 }
 
-double color_pass_range_m(const Scene& scene, const Model& model, const std::atomic<bool>* stop) {
+double color_pass_range(const Scene& scene, const Model& model, const std::atomic<bool>* stop) {
   Scene pass = scene;
   pass.run_mode = RunMode::kLockstep;
   auto device = make_device(pass, "scripted");
@@ -27,7 +28,9 @@ double color_pass_range_m(const Scene& scene, const Model& model, const std::ato
       if (stop && stop->load(std::memory_order_relaxed)) throw Stopped{};
       // the surface's own displacement (the vertices the frame may move), not the lattice's: its nodes inside the
       // body, or sagging under gravity beside the touch, can move farther than any point a frame shows
-      most = std::max(most, ViewStyle::largest_displacement_m(session.stage().current_view()));
+      const FrameView view = session.stage().current_view();
+      most = std::max(most, colors_by_strain(pass) ? ViewStyle::largest_strain(view)
+                                                    : ViewStyle::largest_displacement_m(view));
     });
     return nice_ceil(most);
   } catch (const Stopped&) {

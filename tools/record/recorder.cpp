@@ -178,7 +178,8 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   // the colours' range, fixed before the first frame: from a first pass of the scripted run
   if (needs_color_pass(scene, opt.render, plan.driver)) {
     if (!opt.quiet) std::fprintf(stderr, "record %s: a first pass without frames, for the colours' range\n", scene.name.c_str());
-    scene.render.color_range_m = color_pass_range_m(scene, model, opt.stop);
+    const double range = color_pass_range(scene, model, opt.stop);
+    (colors_by_strain(scene) ? scene.render.strain_range : scene.render.color_range_m) = range;
   }
   // the device is opened (and checked) before any output exists: a missing link, plugin or replay log, or an
   // unknown driver leaves no frames/ or haptic.csv.partial behind
@@ -217,7 +218,8 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
         scene_camera(scene, box));
     rec->renderer->set_layered(!opt.full_redraw);
     rec->renderer->set_wire_min_edge_px(scene.render.wire_min_edge_px);
-    rec->renderer->set_samples(scene.render.antialias);
+    rec->renderer->set_samples(std::max(scene.render.antialias, 0));
+    rec->renderer->set_smooth_edges(scene.render.antialias == kAntialiasEdges);
     // lockstep: two encoder threads use the core the single sim/render thread leaves idle; realtime: one, so
     // the servo's core is not contended by a second encoder
     rec->writer = std::make_unique<PngWriter>(rec->frames_dir, scene.render.width, scene.render.height, 6, rec->png);

@@ -214,16 +214,21 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   }
   // what the frames show besides the model: displacement colours (their range, fixed before the first frame or
   // followed), the force arrow, the legend
-  j["render"]["color"] = {{"by", colors_by_displacement(scene) ? "displacement" : "none"},
-                          {"range_m", stage.view_style().range_m()},
+  const bool strain = colors_by_strain(scene);
+  j["render"]["color"] = {{"by", strain ? "strain" : colors_by_displacement(scene) ? "displacement" : "none"},
+                          // metres, or a fraction when coloured by strain
+                          {strain ? "range" : "range_m", stage.view_style().range()},
                           {"range_fixed", stage.view_style().fixed()},
                           // the largest distance from rest of a point the frames drew
                           {"max_displacement_m", stage.view_style().shown_max_m()},
+                          {"max_strain", stage.view_style().shown_max_strain()},
                           {"force_arrow", scene.render.force_arrow},
                           {"legend", scene.render.legend},
                           {"floor", scene.render.floor},
-                          // samples a pixel the frames were drawn with (1: not anti-aliased)
-                          {"samples", in.renderer ? std::max(1, in.renderer->samples()) : 0}};
+                          // samples a pixel the frames were drawn with (1: not multisampled), and whether their
+                          // edges were smoothed in the image
+                          {"samples", in.renderer ? std::max(1, in.renderer->samples()) : 0},
+                          {"smooth_edges", in.renderer && in.renderer->smooth_edges()}};
   // a mesh finer than the image is drawn clustered (render.lod_min_edge_px)
   j["render"]["lod"] = {{"used", stage.lod() != nullptr}, {"min_edge_px", scene.render.lod_min_edge_px}};
   if (const MeshLod* lod = stage.lod()) {

@@ -7,6 +7,7 @@
 #include "core/vertex_triangles.h"
 #include "sim/refined_lattice.h"
 #include "sim/region.h"
+#include "sim/strain.h"
 
 namespace palpate {
 
@@ -68,6 +69,8 @@ bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh, bool recen
     // vertices of dropped cells go back to rest; the others are deformed again by the new lattice. Normals
     // that depended on the old region are final now unless they depend on the new one (redone after deform).
     for (int32_t v : deformer_.vertex_ids()) vertices_m[v] = model_.rest.vertices_m[v];
+    if (!strain_.empty())
+      for (int32_t v : deformer_.vertex_ids()) strain_[static_cast<std::size_t>(v)] = 0.0f;
     if (!mesh.normals->empty()) normal_patch_.update(vertices_m, triangles(), mesh.normals);
     ++stats_->region_moves;
   }
@@ -87,6 +90,11 @@ bool LocalRegion::build_at(const Vec3& p_m, const DeformedMesh& mesh, bool recen
 
 void LocalRegion::deform(std::vector<Vec3>* vertices_m) {
   deformer_.deform(*lattice_, model_.bindings, model_.rest.vertices_m, vertices_m);
+  if (!colors_by_strain(scene_)) return;
+  // the frame's strain, from the nodes of the cells it deformed to the vertices they carry
+  if (strain_.size() != vertices_m->size()) strain_.assign(vertices_m->size(), 0.0f);
+  node_equivalent_strain(*lattice_, &node_strain_, &strain_count_);
+  deformer_.interpolate(*lattice_, model_.bindings, model_.rest.vertices_m, node_strain_, &strain_);
 }
 
 void LocalRegion::update_normals(bool moved, const DeformedMesh& mesh) {
@@ -109,6 +117,7 @@ void LocalRegion::fill_view(const HapticSample& latest, FrameView* view) const {
   view->moving_vertices = &deformer_.vertex_ids();
   view->layer_epoch = layer_epoch_;
   view->rest_m = &model_.rest.vertices_m;
+  if (colors_by_strain(scene_) && !strain_.empty()) view->vertex_value = &strain_;
 }
 
 }  // namespace palpate

@@ -43,6 +43,11 @@ class LocalRegion final : public RegionPolicy {
   const Model& model_;
   FrameStats* stats_;
   MeshDeformer deformer_;
+  // render.color 'strain': each vertex's equivalent strain (n_v once colouring starts; 0 off the region), and
+  // the nodes' (scratch)
+  std::vector<float> strain_;
+  std::vector<double> node_strain_;
+  std::vector<int> strain_count_;
   CellCoord center_;                  // contact cell the region was built around
   Vec3 zone_center_m_ = Vec3::Zero(); // refined lattice: the contact point its fine zone was built around
   std::vector<int32_t> normal_ids_;   // vertices whose normal the region can change

@@ -31,10 +31,16 @@ ViewStyle::ViewStyle(const Scene& scene, const Model& model) : scene_(scene) {
     ground_half_m_ = 1.5 * size;
     ground_centre_m_ = 0.5 * (lo + hi);
   }
+  if (colors_by_strain(scene)) {
+    range_ = scene.render.strain_range;
+    planned_ = range_ > 0.0;
+    if (!planned_) range_ = 0.01;  // followed from 1 %
+    return;
+  }
   if (!colors_by_displacement(scene)) return;
-  range_m_ = scene.render.color_range_m;
-  planned_ = range_m_ > 0.0;
-  if (!planned_) range_m_ = nice_ceil(std::max(1e-3 * size, 1e-6));
+  range_ = scene.render.color_range_m;
+  planned_ = range_ > 0.0;
+  if (!planned_) range_ = nice_ceil(std::max(1e-3 * size, 1e-6));
 }
 
 double ViewStyle::largest_displacement_m(const FrameView& view) {
@@ -53,16 +59,34 @@ double ViewStyle::largest_displacement_m(const FrameView& view) {
   return most;
 }
 
+double ViewStyle::largest_strain(const FrameView& view) {
+  if (!view.vertex_value) return 0.0;
+  const auto& e = *view.vertex_value;
+  double most = 0.0;
+  auto at = [&](std::size_t i) {
+    if (i < e.size()) most = std::max(most, static_cast<double>(e[i]));
+  };
+  if (view.moving_vertices) {
+    for (int32_t i : *view.moving_vertices) at(static_cast<std::size_t>(i));
+  } else {
+    for (std::size_t i = 0; i < e.size(); ++i) at(i);
+  }
+  return most;
+}
+
 void ViewStyle::observe(const FrameView& view) {
   const double most = largest_displacement_m(view);
-  if (!std::isfinite(most)) return;
-  shown_max_m_ = std::max(shown_max_m_, most);
-  if (planned_ || !colors_by_displacement(scene_)) return;
-  range_m_ = std::max(range_m_, nice_ceil(most));
+  if (std::isfinite(most)) shown_max_m_ = std::max(shown_max_m_, most);
+  const double strain = largest_strain(view);
+  if (std::isfinite(strain)) shown_max_strain_ = std::max(shown_max_strain_, strain);
+  if (planned_) return;
+  if (colors_by_strain(scene_) && std::isfinite(strain)) range_ = std::max(range_, nice_ceil(strain));
+  else if (colors_by_displacement(scene_) && std::isfinite(most)) range_ = std::max(range_, nice_ceil(most));
 }
 
 void ViewStyle::apply(const HapticSample& latest, FrameView* view) const {
-  view->color_range_m = colors_by_displacement(scene_) ? range_m_ : 0.0;
+  view->color_range_m = colors_by_displacement(scene_) ? range_ : 0.0;
+  view->strain_range = colors_by_strain(scene_) ? range_ : 0.0;
   view->show_force = scene_.render.force_arrow && latest.contact != ContactState::kFree;
   view->force_N = latest.force_N;
   view->force_scale_N = scene_.render.force_arrow ? scene_.device.max_force_N : 0.0;
