@@ -150,8 +150,9 @@ class Renderer {
     std::size_t triangles = 0, triangles_drawn = 0, lines = 0, lines_drawn = 0;
   };
   const Drawn& last_drawn() const { return last_drawn_; }
-  /// The corners the legend and the force trace are drawn in: of the four, those covering the fewest of the model's
-  /// vertices on the first frame that shows either (top-right and bottom-left when free), kept for the run.
+  /// The corners the legend and the force trace are drawn in: of the four, those covering the least of the model (its
+  /// triangles on a grid of 8-pixel cells) on the first frame that shows either (top-right and bottom-left when
+  /// free), kept for the run.
   Corner legend_corner() const { return legend_corner_; }
   Corner trace_corner() const { return trace_corner_; }
   /// Whether the last draw() used the cached layer.
@@ -214,6 +215,11 @@ class Renderer {
   static Vec3 on_floor(const FrameView& view, const Vec3& p);
   Vec3 shadow_point(const FrameView& view, const Vec3& p) const;
   void annotate(const FrameView& view, uint8_t* rgba);
+  // which cells of kCoverCellPx pixels of the picture the view's mesh covers (cover_w() x cover_h(), row-major)
+  static constexpr int kCoverCellPx = 8;
+  int cover_w() const { return (ctx_->width() + kCoverCellPx - 1) / kCoverCellPx; }
+  int cover_h() const { return (ctx_->height() + kCoverCellPx - 1) / kCoverCellPx; }
+  std::vector<uint8_t> model_cover(const FrameView& view) const;
   // whether the view colours its vertices, and the colour of vertex v (its position p)
   static bool by_strain(const FrameView& view) { return view.vertex_value != nullptr && view.strain_range > 0.0; }
   static bool colored(const FrameView& view) {

@@ -182,6 +182,42 @@ void Renderer::draw_force(const GlApi& gl, const FrameView& view) {
   arrow_drawn_ = true;
 }
 
+std::vector<uint8_t> Renderer::model_cover(const FrameView& view) const {
+  const int gw = cover_w(), gh = cover_h();
+  std::vector<uint8_t> cover(static_cast<std::size_t>(gw) * gh, 0);
+  if (!view.vertices_m || !view.triangles) return cover;
+  const auto& v = *view.vertices_m;
+  std::vector<Eigen::Vector2d> at(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) at[i] = project(v[i]) / kCoverCellPx;  // in cells
+  auto mark = [&](double x, double y) {
+    const int cx = static_cast<int>(std::floor(x)), cy = static_cast<int>(std::floor(y));
+    if (cx >= 0 && cy >= 0 && cx < gw && cy < gh) cover[static_cast<std::size_t>(cy * gw + cx)] = 1;
+  };
+  for (const auto& t : *view.triangles) {
+    if (t[0] < 0 || t[1] < 0 || t[2] < 0 || static_cast<std::size_t>(std::max({t[0], t[1], t[2]})) >= v.size()) continue;
+    const Eigen::Vector2d &a = at[static_cast<std::size_t>(t[0])], &b = at[static_cast<std::size_t>(t[1])],
+                          &c = at[static_cast<std::size_t>(t[2])];
+    if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
+    for (const Eigen::Vector2d* p : {&a, &b, &c}) mark(p->x(), p->y());
+    // the cells whose centre the triangle holds
+    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
+    const int x1 = std::min(gw - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
+    const int y1 = std::min(gh - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+    auto side = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, double x, double y) {
+      return (q.x() - p.x()) * (y - p.y()) - (q.y() - p.y()) * (x - p.x());
+    };
+    for (int cy = y0; cy <= y1; ++cy)
+      for (int cx = x0; cx <= x1; ++cx) {
+        const double x = cx + 0.5, y = cy + 0.5;
+        const double s0 = side(a, b, x, y), s1 = side(b, c, x, y), s2 = side(c, a, x, y);
+        if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0))
+          cover[static_cast<std::size_t>(cy * gw + cx)] = 1;
+      }
+  }
+  return cover;
+}
+
 void Renderer::annotate(const FrameView& view, uint8_t* rgba) {
   const RgbaImage img{rgba, ctx_->width(), ctx_->height()};
   const int s = text_scale(img.h);
@@ -215,16 +251,17 @@ void Renderer::annotate(const FrameView& view, uint8_t* rgba) {
   const bool cut_faces = view.first_cut_vertex >= 0;
   const bool legend = view.show_legend && (!title.empty() || cut_faces || ref_N > 0.0);
   if (!insets_placed_ && (legend || trace) && view.vertices_m != nullptr && !view.vertices_m->empty()) {
-    // the insets' corners, once a run (its frames alike): those that cover the fewest of the model's vertices
+    // the insets' corners, once a run (its frames alike): those that cover the least of the model
     insets_placed_ = true;
+    const std::vector<uint8_t> cover = model_cover(view);
     auto covered = [&](const std::array<int, 4>& box) {
-      const auto& v = *view.vertices_m;
-      const std::size_t stride = std::max<std::size_t>(1, v.size() / 100000);  // a sample of a large mesh
       int64_t n = 0;
-      for (std::size_t i = 0; i < v.size(); i += stride) {
-        const Eigen::Vector2d p = project(v[i]);
-        n += p.x() >= box[0] && p.x() < box[2] && p.y() >= box[1] && p.y() < box[3];
-      }
+      for (int cy = 0; cy < cover_h(); ++cy)
+        for (int cx = 0; cx < cover_w(); ++cx) {
+          const int x = cx * kCoverCellPx + kCoverCellPx / 2, y = cy * kCoverCellPx + kCoverCellPx / 2;
+          n += cover[static_cast<std::size_t>(cy * cover_w() + cx)] && x >= box[0] && x < box[2] && y >= box[1] &&
+               y < box[3];
+        }
       return n;
     };
     constexpr Corner kLegendOrder[] = {Corner::kTopRight, Corner::kTopLeft, Corner::kBottomRight, Corner::kBottomLeft};

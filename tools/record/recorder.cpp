@@ -64,7 +64,25 @@ BrowserView browser_view(const Camera& cam, double aspect, double diagonal_m) {
 }  // namespace
 
 Camera scene_camera(const Scene& scene, const Aabb& model_box_m) {
-  return Camera::framing_part(model_box_m.min_m, model_box_m.max_m,
+  return scene_camera(scene, model_box_m, scene.device.driver);
+}
+
+Camera scene_camera(const Scene& scene, const Aabb& model_box_m, DeviceDriver driver) {
+  Aabb box = model_box_m;
+  // a scripted touch or pull: the tool where its keyframes put it too (a sphere above the model is drawn whole),
+  // each held within a quarter of the model's diagonal of its box so a far start does not shrink the model
+  if (driver == DeviceDriver::kScripted && scene.mode != InteractionMode::kCut &&
+      !(scene.render.frame_radius_m > 0.0) && model_box_m.extent().allFinite()) {
+    const Vec3 reach = Vec3::Constant(0.25 * model_box_m.extent().norm());
+    const Vec3 r = Vec3::Constant(std::max(scene.device.tool_radius_m, 0.0));
+    for (const Keyframe& k : scene.trajectory) {
+      if (!k.pos_m.allFinite()) continue;
+      const Vec3 p = k.pos_m.cwiseMax(model_box_m.min_m - reach).cwiseMin(model_box_m.max_m + reach);
+      box.min_m = box.min_m.cwiseMin(p - r);
+      box.max_m = box.max_m.cwiseMax(p + r);
+    }
+  }
+  return Camera::framing_part(box.min_m, box.max_m,
                               static_cast<double>(scene.render.width) / scene.render.height, scene.render.view_from,
                               scene.render.look_at_m, scene.render.frame_radius_m);
 }
@@ -215,7 +233,7 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
     const Aabb box = Aabb::of(model.rest.vertices_m);
     rec->renderer = std::make_unique<Renderer>(
         rec->gl.get(), style,
-        scene_camera(scene, box));
+        scene_camera(scene, box, plan.driver));
     rec->renderer->set_layered(!opt.full_redraw);
     rec->renderer->set_wire_min_edge_px(scene.render.wire_min_edge_px);
     rec->renderer->set_samples(std::max(scene.render.antialias, 0));
