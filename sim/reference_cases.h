@@ -1,7 +1,7 @@
 #pragma once
 /// Continuum references for the material calibration (sim/material.h): small lattices with closed-form answers,
 /// brought to rest by their own integrator (sim/settle.h). Shared by the tests and `palpate bench model` (whose
-/// third reference, Hertz indentation by the sphere tool, runs the servo and frame stage: tools/session/tool_hold.h).
+/// third reference, Hertz indentation by the sphere tool, runs the servo and frame stage: runtime/session/tool_hold.h).
 
 #include <array>
 #include <cstdint>

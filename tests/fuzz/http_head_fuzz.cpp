@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "tools/live/http_request.h"
+#include "runtime/live/http_request.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace palpate;

@@ -16,7 +16,7 @@
 
 #include "core/mesh_io.h"
 #include "core/scene.h"
-#include "tools/session/model.h"
+#include "runtime/session/model.h"
 
 #ifndef PALPATE_FUZZ_MESH_EXT
 #error "PALPATE_FUZZ_MESH_EXT (the file extension the reader is chosen by) must be defined"

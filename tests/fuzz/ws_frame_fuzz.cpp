@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "tools/live/browser_message.h"
-#include "tools/live/ws_frame.h"
+#include "runtime/live/browser_message.h"
+#include "runtime/live/ws_frame.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace palpate;

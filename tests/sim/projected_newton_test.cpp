@@ -1,6 +1,6 @@
 // The projected Newton step of implicit Euler (ImplicitEulerSolver::projected_step): the Neo-Hookean cell's
 // projected Hessian against the stress's derivative, the energy below kMinCellJ against the forces, the step against
-// converged backward Euler where nothing needs projecting (a deep press that needs it: tests/tools/recording_outcome_test.cpp).
+// converged backward Euler where nothing needs projecting (a deep press that needs it: tests/runtime/record/recording_outcome_test.cpp).
 
 #include <gtest/gtest.h>
 

@@ -12,9 +12,9 @@
 #include "haptics/replay_device.h"
 #include "tools/bench/feel_figures.h"
 #include "tools/bench/plot.h"
-#include "tools/session/device_factory.h"
-#include "tools/session/model.h"
-#include "tools/session/session.h"
+#include "runtime/session/device_factory.h"
+#include "runtime/session/model.h"
+#include "runtime/session/session.h"
 
 namespace palpate {
 namespace {

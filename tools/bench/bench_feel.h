@@ -9,7 +9,7 @@
 #include "core/result.h"
 #include "core/scene.h"
 #include "tools/bench/feel_figures.h"
-#include "tools/session/model.h"
+#include "runtime/session/model.h"
 
 namespace palpate {
 

@@ -8,9 +8,9 @@
 
 #include "core/atomic_file.h"
 #include "core/scene.h"
-#include "tools/session/device_factory.h"
-#include "tools/session/model.h"
-#include "tools/session/session.h"
+#include "runtime/session/device_factory.h"
+#include "runtime/session/model.h"
+#include "runtime/session/session.h"
 
 namespace palpate {
 namespace {

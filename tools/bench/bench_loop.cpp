@@ -15,12 +15,12 @@
 #include "core/scene.h"
 #include "haptics/servo_runner.h"
 #include "tools/bench/plot.h"
-#include "tools/session/device_factory.h"
-#include "tools/live/live_feed.h"
-#include "tools/live/live_server.h"
-#include "tools/session/model.h"
-#include "tools/record/recorder.h"
-#include "tools/session/session.h"
+#include "runtime/session/device_factory.h"
+#include "runtime/live/live_feed.h"
+#include "runtime/live/live_server.h"
+#include "runtime/session/model.h"
+#include "runtime/record/recorder.h"
+#include "runtime/session/session.h"
 
 namespace palpate {
 namespace {

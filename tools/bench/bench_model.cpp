@@ -18,8 +18,8 @@
 #include "sim/richardson.h"
 #include "tools/bench/bench_press.h"
 #include "tools/bench/plot.h"
-#include "tools/session/model.h"
-#include "tools/session/tool_hold.h"
+#include "runtime/session/model.h"
+#include "runtime/session/tool_hold.h"
 
 namespace palpate {
 namespace {

@@ -4,7 +4,7 @@
 /// (F L^3 / (3 E I)) and Hertz indentation by the sphere tool (F = 4/3 E* sqrt(R) d^(3/2)); at large strain 30 %
 /// compression against the Neo-Hookean closed form and a 40 mm pull against Richardson extrapolation over levels. Every equilibrium is
 /// the simulation's own: the lattice stepped by its integrator until it is at rest (sim/settle.h); Hertz runs the
-/// servo's sphere god-object and the frame stage with the device held still (tools/session/tool_hold.h).
+/// servo's sphere god-object and the frame stage with the device held still (runtime/session/tool_hold.h).
 
 #include <string>
 #include <vector>

@@ -18,8 +18,8 @@
 #include "core/scene.h"
 #include "core/stats.h"
 #include "render/png_io.h"
-#include "tools/record/frame_files.h"
-#include "tools/record/recorder.h"
+#include "runtime/record/frame_files.h"
+#include "runtime/record/recorder.h"
 
 namespace palpate {
 namespace {

@@ -6,7 +6,7 @@
 #include "core/scene.h"
 #include "sim/lattice.h"
 #include "sim/sphere_contact.h"
-#include "tools/session/model.h"
+#include "runtime/session/model.h"
 
 namespace palpate {
 

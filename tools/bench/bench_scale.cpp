@@ -17,7 +17,7 @@
 #include "core/atomic_file.h"
 #include "core/scene.h"
 #include "tools/bench/plot.h"
-#include "tools/record/recorder.h"
+#include "runtime/record/recorder.h"
 
 namespace palpate {
 namespace {

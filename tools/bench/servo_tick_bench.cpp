@@ -4,8 +4,8 @@
 #include <benchmark/benchmark.h>
 
 #include "core/scene.h"
-#include "tools/session/model.h"
-#include "tools/session/session.h"
+#include "runtime/session/model.h"
+#include "runtime/session/session.h"
 
 namespace palpate {
 namespace {

@@ -16,7 +16,7 @@
 #include "tools/commands/scene_command.h"
 #include "tools/commands/scene_target.h"
 #include "tools/commands/scene_trajectory.h"
-#include "tools/session/surface_queries.h"
+#include "runtime/session/surface_queries.h"
 
 namespace palpate {
 namespace {

@@ -14,11 +14,11 @@
 #include "core/printable.h"
 #include "core/scene.h"
 #include "tools/commands/cli_checks.h"
-#include "tools/live/live_feed.h"
-#include "tools/live/live_server.h"
-#include "tools/record/record_plan.h"
-#include "tools/record/material_report.h"
-#include "tools/record/recorder.h"
+#include "runtime/live/live_feed.h"
+#include "runtime/live/live_server.h"
+#include "runtime/record/record_plan.h"
+#include "runtime/record/material_report.h"
+#include "runtime/record/recorder.h"
 
 namespace palpate {
 namespace {

@@ -13,12 +13,12 @@
 #include "core/aabb.h"
 #include "core/atomic_file.h"
 #include "core/mesh_io.h"
-#include "tools/session/model.h"
+#include "runtime/session/model.h"
 #include "tools/commands/scene_material.h"
 #include "tools/commands/scene_target.h"
 #include "tools/commands/scene_trajectory.h"
 #include "tools/commands/subcommand.h"
-#include "tools/session/surface_queries.h"
+#include "runtime/session/surface_queries.h"
 
 namespace palpate {
 namespace fs = std::filesystem;

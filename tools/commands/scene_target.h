@@ -8,8 +8,8 @@
 
 #include "core/aabb.h"
 #include "core/types.h"
-#include "tools/session/model.h"
-#include "tools/session/surface_queries.h"
+#include "runtime/session/model.h"
+#include "runtime/session/surface_queries.h"
 
 namespace palpate {
 

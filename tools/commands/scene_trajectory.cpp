@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "render/camera.h"
-#include "tools/session/surface_queries.h"
+#include "runtime/session/surface_queries.h"
 
 namespace palpate {
 namespace {

@@ -11,7 +11,7 @@
 #include "core/scene.h"
 #include "core/types.h"
 #include "render/camera.h"
-#include "tools/session/model.h"
+#include "runtime/session/model.h"
 
 namespace palpate {
 

@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tools/record/frame_files.h"
-#include "tools/record/video_output.h"
+#include "runtime/record/frame_files.h"
+#include "runtime/record/video_output.h"
 
 namespace palpate {
 namespace fs = std::filesystem;

@@ -1,0 +1,75 @@
+#include "runtime/session/model.h"
+
+#include "core/limits.h"
+#include "core/mesh_io.h"
+#include "sim/lattice_estimate.h"
+#include "sim/stability.h"
+
+namespace palpate {
+
+Vec3 file_to_world_axes(const Vec3& v, char up_axis) {
+  if (up_axis == 'y') return {v.x(), -v.z(), v.y()};
+  if (up_axis == 'x') return {v.y(), v.z(), v.x()};
+  return v;
+}
+
+Result<Model> load_model(const Scene& scene) {
+  Model m;
+  std::string name = scene.mesh.file;
+  if (scene.mesh.file.empty()) {
+    m.rest = make_box_mesh(scene.mesh.box_size_m, scene.mesh.box_subdivisions);
+    name = "box";
+  } else {
+    auto mesh = load_mesh(scene.mesh.file);
+    if (!mesh) return mesh.error();
+    m.rest = std::move(mesh).value();
+    // contact starts on a face's front: faces wound inward or against their neighbours are turned first
+    m.orientation = orient_outward(&m.rest);
+  }
+  // triangles after subdividing, bounded before any subdivision allocates them
+  const auto triangles = static_cast<int64_t>(m.rest.triangles.size()) << (2 * scene.mesh.subdivisions);
+  if (triangles > kMaxTriangles)
+    return make_error("mesh '", name, "': ", std::to_string(m.rest.triangles.size()), " triangles with mesh.subdivisions ",
+                      std::to_string(scene.mesh.subdivisions), " make ", std::to_string(triangles),
+                      ", more than the limit of ", std::to_string(kMaxTriangles));
+  for (int i = 0; i < scene.mesh.subdivisions; ++i) m.rest = subdivide_midpoint(m.rest);
+  for (Vec3& v : m.rest.vertices_m) v = file_to_world_axes(v, scene.mesh.up_axis);
+  auto norm = normalize_mesh(&m.rest, scene.mesh.size_m, name);
+  if (!norm) return norm.error();
+  m.normalization = norm.value();
+  auto grid = GridHierarchy::build(m.rest, m.normalization.cube, scene.grid_levels);
+  if (!grid) return make_error("mesh '", name, "': ", grid.error().message);
+  m.grid = std::move(grid).value();
+  // the lattice the scene can reach, bounded before any lattice or output exists
+  if (auto st = check_lattice_limits(m.grid, scene); !st) return make_error("scene '", scene.path, "': ", st.error().message);
+  // an explicit scheme that cannot be stable on this material's cells: refused before any lattice or output exists
+  if (auto st = check_material_integrator(scene.lattice, m.grid.cell_size_m(scene.lattice.level),
+                                          scene.rates.frame_period_s());
+      !st)
+    return make_error("scene '", scene.path, "': ", st.error().message);
+  // a refined lattice indexes its cells at the fine level
+  m.bindings = bind_vertices(m.grid, scene.lattice.refine.level > 0 ? scene.lattice.refine.level : scene.lattice.level,
+                             m.rest.vertices_m);
+  m.leaf_cell_m = m.grid.cell_size_m(m.grid.levels());
+  m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);
+  // (asked only in touch, where the tool's side of the surface is checked every tick: O(edges x degree) at load)
+  m.closed = scene.mode == InteractionMode::kTouch && closed_surface(m.rest, m.adjacency);
+  return m;
+}
+
+bool closed_surface(const TriMesh& mesh, const VertexTriangles& adjacency) {
+  // each edge from each of its triangles: the triangles at its first vertex that also hold its second
+  for (const auto& tri : mesh.triangles)
+    for (int c = 0; c < 3; ++c) {
+      const int32_t a = tri[c], b = tri[(c + 1) % 3];
+      int sharing = 0;
+      for (int32_t k = adjacency.offsets[a]; k < adjacency.offsets[a + 1]; ++k) {
+        const auto& u = mesh.triangles[static_cast<std::size_t>(adjacency.triangles[k])];
+        sharing += u[0] == b || u[1] == b || u[2] == b;
+      }
+      if (sharing != 2) return false;
+    }
+  return true;
+}
+
+}  // namespace palpate
