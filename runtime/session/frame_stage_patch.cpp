@@ -16,26 +16,27 @@ void FrameStage::publish_patch() {
                         (scene_.device.sphere_tool ? scene_.device.tool_radius_m : 0.0);
   // touch: what the servo's god-object can reach this frame (the patch is ordered by it and covers it): in contact,
   // the god-object, however deep the tool is pressed; free, the tool and where the servo last saw it outside
+  const HapticSample& latest = feed_.latest();
   const bool touch = scene_.mode == InteractionMode::kTouch;
-  Vec3 box_lo = latest_.tool_pos_m.cwiseMin(latest_.proxy_pos_m);
-  Vec3 box_hi = latest_.tool_pos_m.cwiseMax(latest_.proxy_pos_m);
+  Vec3 box_lo = latest.tool_pos_m.cwiseMin(latest.proxy_pos_m);
+  Vec3 box_hi = latest.tool_pos_m.cwiseMax(latest.proxy_pos_m);
   Vec3 cover_lo = box_lo, cover_hi = box_hi;
   if (touch) {
-    box_lo = box_lo.cwiseMin(latest_.god_pos_m);
-    box_hi = box_hi.cwiseMax(latest_.god_pos_m);
-    const bool held = latest_.contact == ContactState::kTouch;
-    cover_lo = held ? latest_.god_pos_m : latest_.tool_pos_m.cwiseMin(latest_.god_pos_m);
-    cover_hi = held ? latest_.god_pos_m : latest_.tool_pos_m.cwiseMax(latest_.god_pos_m);
+    box_lo = box_lo.cwiseMin(latest.god_pos_m);
+    box_hi = box_hi.cwiseMax(latest.god_pos_m);
+    const bool held = latest.contact == ContactState::kTouch;
+    cover_lo = held ? latest.god_pos_m : latest.tool_pos_m.cwiseMin(latest.god_pos_m);
+    cover_hi = held ? latest.god_pos_m : latest.tool_pos_m.cwiseMax(latest.god_pos_m);
   }
   const Vec3 lo = box_lo - Vec3::Constant(margin);
   const Vec3 hi = box_hi + Vec3::Constant(margin);
-  region_->patch_candidates(latest_, vertices_m_, lo, hi, margin, &near_tris_);
+  region_->patch_candidates(latest, vertices_m_, lo, hi, margin, &near_tris_);
   // keep the held triangle first, then the nearest ones
-  const Vec3 tool = latest_.tool_pos_m;
+  const Vec3 tool = latest.tool_pos_m;
   const auto& tris = triangles();
   // nearest to the tool, or to the edge the region names (a blade: the triangles it crosses are always kept); in
   // touch, nearest to the box by the nearest any part of the triangle can be (a large face near the tool is kept)
-  const Vec3 edge = region_->patch_edge(latest_);
+  const Vec3 edge = region_->patch_edge(latest);
   auto dist = [&](int32_t t) {
     const auto& tr = tris[static_cast<std::size_t>(t)];
     const Vec3 c = (vertices_m_[tr[0]] + vertices_m_[tr[1]] + vertices_m_[tr[2]]) / 3.0;
@@ -47,7 +48,7 @@ void FrameStage::publish_patch() {
     const double u = edge.squaredNorm() > 0.0 ? std::clamp((c - tool).dot(edge) / edge.squaredNorm(), 0.0, 1.0) : 0.0;
     return (c - tool - u * edge).squaredNorm();
   };
-  const int32_t held = latest_.contact != ContactState::kFree ? latest_.contact_tri : -1;
+  const int32_t held = latest.contact != ContactState::kFree ? latest.contact_tri : -1;
   m.truncated = near_tris_.size() > static_cast<std::size_t>(LocalModel::kMaxTriangles);
   // the patch is whole within margin of the cover box (less what the surface has moved since rest: candidates come
   // from the rest grid, in margin of a box holding it), or, truncated, up to the nearest triangle left out
@@ -106,7 +107,7 @@ void FrameStage::publish_patch() {
   for (int i = 0; i < n; ++i) published_[m.tri_ids[i]] = {m.tri_m[i], m.shade_normal[i]};
   m.frame = frame_index_;
   m.t_s = t_s_;
-  fill_contact_model(&m);
+  lattice_contact_.fill_model(region_->lattice() ? &*region_->lattice() : nullptr, vertices_m_, feed_.frame(), &m);
   local_model_->publish();
 }
 
