@@ -12,6 +12,7 @@
 #include "haptics/servo_runner.h"
 #include "render/camera.h"
 #include "render/png_io.h"
+#include "runtime/record/scene_view.h"
 
 namespace palpate {
 
@@ -19,12 +20,6 @@ class LiveFeed;
 class BrowserLink;
 struct RecordPlan;
 
-/// The camera a scene's frames are drawn with, around the model's rest box: its render.view_from, framing the
-/// whole box or, with render.frame_radius_m, the sphere around render.look_at_m. A scripted touch or pull frames the
-/// tool at its keyframes too (held within a quarter of the box's diagonal of it), so it is drawn whole.
-Camera scene_camera(const Scene& scene, const Aabb& model_box_m);
-/// The same for a run whose poses come from `driver` (a command line's --device instead of the scene's).
-Camera scene_camera(const Scene& scene, const Aabb& model_box_m, DeviceDriver driver);
 
 /// PNG encoder threads of a lockstep recording (realtime recordings use one).
 inline constexpr int kLockstepPngThreads = 2;
