@@ -61,7 +61,7 @@ struct ServoParams {
   /// stepped symplectically, whose nodes carry their inertia from frame to frame: the static prediction put the held
   /// point up to 10 mm off for a few ticks each frame (steps of 2-4 N, the hand given energy it never put in, on the
   /// spring bunny_pull_springs shaken at 5 Hz). servo_params_for sets it from the scene's integrator.
-  bool predict_grab = true;
+  bool predict_grab = scene_defaults().lattice.integrator != IntegratorKind::kSymplecticEuler;
   bool surface_blend = true;              ///< a patch with blend_s > 0 moves over its frame; false takes each frame's
                                           ///< surface at its first tick (the comparison of `palpate bench force`)
 };

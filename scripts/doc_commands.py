@@ -1,9 +1,14 @@
 #!/usr/bin/env python3
 """Runs the commands of the README's and docs/'s fenced ```sh blocks as written and reports which fail.
 
+Every fence must say what it holds: ```sh (or ```bash) for commands, ```text (or another language) for output,
+transcripts and diagrams. An untagged fence is reported as a failure (its lines would be taken for neither), so a
+command cannot hide in one.
+
 Called by `scripts/readme_figures.sh --commands [--slow] [--timeout S] [--out DIR] [FILE.md...]` from the
 repository root. A command is one line of a ```sh (or ```bash) block, with lines ending in a backslash joined;
-blank lines and lines that are only a comment are not commands. A command whose comment says `# slow:` is skipped
+blank lines and lines that are only a comment are not commands. A line that only sets variables (`A=/usr/share/...`)
+is carried into the block's later commands, as a shell it is pasted into keeps it. A command whose comment says `# slow:` is skipped
 unless --slow is given; one whose comment says `# elsewhere:` (for another machine, such as an SSH tunnel) is
 never run. Each runs in `bash -c` from the repository root, in a process group of its own that is
 stopped when the command ends or its time is up, with its output kept in OUT/NNN.log.
@@ -19,21 +24,40 @@ import time
 
 SLOW = re.compile(r"#\s*slow:")
 ELSEWHERE = re.compile(r"#\s*elsewhere:")
-FENCE_OPEN = re.compile(r"^\s*```(sh|bash)\s*$")
+FENCE_ANY = re.compile(r"^\s*```(\S*)\s*$")
 FENCE_CLOSE = re.compile(r"^\s*```\s*$")
+ASSIGNMENTS = re.compile(r"""^(\s*[A-Za-z_][A-Za-z0-9_]*=("[^"]*"|'[^']*'|[^\s"']+))+\s*$""")
+
+
+def untagged_fences(path):
+    """Line numbers of the file's fences that open without a language."""
+    found, inside = [], False
+    with open(path, encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            m = FENCE_ANY.match(line.rstrip("\n"))
+            if not m:
+                continue
+            if not inside and m.group(1) == "":
+                found.append(number)
+            inside = not inside
+    return found
 
 
 def commands(path):
     """(line number, command) for every command of the file's ```sh blocks."""
-    found, inside, pending, start = [], False, "", 0
+    found, inside, shell, pending, start, env = [], False, False, "", 0, ""
     with open(path, encoding="utf-8") as f:
         for number, line in enumerate(f, 1):
             line = line.rstrip("\n")
+            m = FENCE_ANY.match(line)
             if not inside:
-                inside = bool(FENCE_OPEN.match(line))
+                if m:
+                    inside, shell, env = True, m.group(1) in ("sh", "bash"), ""
                 continue
             if FENCE_CLOSE.match(line):
                 inside = False
+                continue
+            if not shell:
                 continue
             if not pending:
                 start = number
@@ -41,8 +65,11 @@ def commands(path):
                 pending += line.rstrip()[:-1] + " "
                 continue
             command, pending = (pending + line).strip(), ""
+            if ASSIGNMENTS.match(command):
+                env += command.strip() + "; "
+                continue
             if command and not command.startswith("#"):
-                found.append((start, command))
+                found.append((start, env + command))
     return found
 
 
@@ -83,6 +110,9 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     failed, ran, skipped, index = [], 0, 0, 0
     for path in files:
+        for number in untagged_fences(path):
+            failed.append((f"{path}:{number}", "```", "an untagged fence: tag it sh (commands) or text (output)", "-"))
+            print(f"FAIL  {path}:{number}  an untagged fence: tag it sh (commands) or text (output)", flush=True)
         for number, command in commands(path):
             where = f"{path}:{number}"
             if "readme_figures.sh --commands" in command:  # this check itself

@@ -287,26 +287,3 @@ TEST(LatencyHistogram, WideBucketsCoverAFrameLoopsLatencies) {
 
 }  // namespace
 }  // namespace palpate
-
-namespace palpate {
-namespace {
-
-// The servo's defaults are the scene's (one owner, core/scene.h): a servo built without a scene behaves as one
-// built from a scene that sets nothing.
-TEST(ServoParams, DefaultsAreTheScenesOwn) {
-  const ServoParams p;
-  const Scene s;
-  EXPECT_EQ(p.mode, s.mode);
-  EXPECT_EQ(p.coupling_N_per_m, s.device.coupling_N_per_m);
-  EXPECT_EQ(p.coupling_damping_Ns_per_m, s.device.coupling_damping_Ns_per_m);
-  EXPECT_EQ(p.grab_radius_m, s.grab_radius_m);
-  EXPECT_EQ(p.passivity, s.device.passivity);
-  EXPECT_EQ(p.ramp_s, s.device.ramp_s);
-  EXPECT_EQ(p.blade_length_m, s.blade_length_m);
-  EXPECT_EQ(p.cut_resistance_Ns_per_m, s.cut_resistance_Ns_per_m);
-  EXPECT_EQ(p.jump_limit_N_per_tick, s.device.jump_limit_N_per_tick);
-  EXPECT_GT(p.jump_limit_N_per_tick, 0.0) << "the scene limits force steps by default; so does a servo";
-}
-
-}  // namespace
-}  // namespace palpate
