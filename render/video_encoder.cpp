@@ -1,5 +1,7 @@
 #include "render/video_encoder.h"
 
+#include "core/rates.h"
+
 #include <cstdarg>
 #include <filesystem>
 #include <optional>
@@ -55,7 +57,7 @@ struct VideoEncoder::Impl {
   std::optional<AtomicFile> file;  // owns the temporary until renamed
   int width = 0, height = 0;       // encoded size (even)
   int src_stride = 0;              // bytes per RGBA input row
-  int fps = 60;
+  int fps = static_cast<int>(kDefaultFrameRate_hz);  // open() sets the run's
   std::string encoder;
   AVFormatContext* fmt = nullptr;
   AVCodecContext* ctx = nullptr;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/rates.h"
 #include "core/result.h"
 #include "sim/integrator.h"
 #include "sim/lattice.h"
@@ -15,7 +16,7 @@ namespace palpate {
 /// Integrator, frame length and the rest test. Plain data.
 struct SettleOptions {
   StepOptions step;                 ///< the integrator and its substeps (kind default: implicit Euler)
-  double frame_s = 1.0 / 60.0;      ///< one step_lattice call
+  double frame_s = 1.0 / kDefaultFrameRate_hz;      ///< one step_lattice call
   int max_frames = 20000;           ///< error past this many frames
   double rest_rel = 1e-5;           ///< at rest: the largest free node's force imbalance below rest_rel x the largest
                                     ///< load on a node, and no node moving more than rest_rel x the largest

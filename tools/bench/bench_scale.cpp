@@ -128,7 +128,7 @@ std::string table(const std::vector<ScaleRun>& runs) {
   return t.str();
 }
 
-PlotSpec plot(const std::vector<ScaleRun>& runs, const std::string& scene_path) {
+PlotSpec plot(const std::vector<ScaleRun>& runs, const std::string& scene_path, double frame_hz) {
   PlotSpec spec;
   spec.title = "bench scale: ms per frame (median) against triangles";
   spec.what = "palpate bench scale " + scene_path + ": per-frame medians of each recording";
@@ -158,7 +158,7 @@ PlotSpec plot(const std::vector<ScaleRun>& runs, const std::string& scene_path) 
     add(r.full_redraw ? &fr : &lr, r, r.summary["render"]["ms"]["p50"].get<double>());
     if (!r.full_redraw) {
       add(&sim, r, r.summary["sim"]["ms"]["p50"].get<double>());
-      add(&wall, r, 1000.0 * r.summary["wall_s_per_scene_s"].get<double>() / 60.0);
+      add(&wall, r, 1000.0 * r.summary["wall_s_per_scene_s"].get<double>() / frame_hz);
     }
   }
   spec.series = {lr, fr, sim, wall};
@@ -215,7 +215,7 @@ Result<std::string> run_bench_scale(const std::string& scene_path, const BenchSc
     for (const ScaleRun& r : runs) j["rows"].push_back(row_json(r));
     if (auto st = write_file_atomic(opt.json_path, j.dump(2) + "\n", "bench json"); !st) return st.error();
   }
-  if (plot_spec != nullptr && !opt.plot_path.empty()) *plot_spec = plot(runs, scene_path);
+  if (plot_spec != nullptr && !opt.plot_path.empty()) *plot_spec = plot(runs, scene_path, scene.value().rates.frame_hz);
   return table(runs);
 }
 
