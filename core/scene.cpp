@@ -266,6 +266,12 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.name("driver", &d.driver);
   r.string("link", &d.link);
   r.number("watchdog_ms", &d.watchdog_ms, 0.1, 10000.0);
+  r.number("browser_send_ms", &d.browser_send_ms, 4.0, 100.0);
+  r.number("browser_stall_ms", &d.browser_stall_ms, 20.0, 10000.0);
+  if (err->empty() && d.browser_stall_ms < 3.0 * d.browser_send_ms)
+    r.fail("device.browser_stall_ms", fmt_num(d.browser_stall_ms) + " ms is less than three of the page's sends (" +
+                                          "device.browser_send_ms " + fmt_num(d.browser_send_ms) +
+                                          " ms): a page that steers would be taken for silent");
   r.number("max_speed_m_per_s", &d.max_speed_m_per_s, 0.01, 1000.0);
   r.number("max_force_N", &d.max_force_N, 0.0, 100.0);
   r.number("coupling_N_per_m", &d.coupling_N_per_m, 0.0, 1e5);

@@ -74,6 +74,9 @@ struct DeviceSetup {
   DeviceDriver driver = DeviceDriver::kScripted;  ///< where the poses come from (names: core/scene_enums.h)
   std::string link;                         ///< shm: link name; plugin: .so path; replay: haptic.csv or recording folder
   double watchdog_ms = 5.0;                 ///< shm: peer silent this long -> force zero, "disconnected"
+  double browser_stall_ms = 250.0;          ///< browser: the steering page silent this long -> its force fades out
+                                            ///< (a busy browser's main thread pauses for 100 ms and more)
+  double browser_send_ms = 15.0;            ///< browser: the page sends its pointer this often while its user steers
   double max_speed_m_per_s = 10.0;          ///< shm: poses implying a faster handle are rejected
   double max_force_N = 3.3;                 ///< force clamp
   double coupling_N_per_m = 300.0;          ///< k_c of the proxy spring

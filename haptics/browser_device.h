@@ -37,14 +37,21 @@ struct BrowserView {
 
 /// Watchdog and interpolation settings. Plain data.
 struct BrowserParams {
-  double stall_s = 0.25;           ///< no message this long: the page has stalled (a busy browser's main thread
-                                   ///< pauses for 100 ms and more; the page sends every 15 ms)
+  double stall_s = scene_defaults().device.browser_stall_ms * 1e-3;  ///< no message this long: the page has stalled
+                                                                      ///< (device.browser_stall_ms)
   double fade_s = 0.1;             ///< the force fades from full to zero over this (and back in, at the same rate)
   double min_interval_s = 0.004;   ///< the interpolation spans the measured message interval, at least this
   double max_interval_s = 0.05;    ///< and at most this
   /// Watchdog time: from a page's last message (or its close) to zero force, at most.
   double watchdog_s() const { return stall_s + fade_s; }
 };
+
+/// The watchdog of a scene's browser device (device.browser_stall_ms).
+inline BrowserParams browser_params(const Scene& scene) {
+  BrowserParams p;
+  p.stall_s = scene.device.browser_stall_ms * 1e-3;
+  return p;
+}
 
 /// Counters of what the device saw. Plain data.
 struct BrowserCounters {

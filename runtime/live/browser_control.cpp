@@ -63,7 +63,10 @@ BrowserControl::Page* BrowserControl::find(int64_t id) {
 }
 
 std::string BrowserControl::hello(const Page& page) const {
-  nlohmann::json j{{"t", "hello"}, {"role", page.id == controller_ ? "control" : "watch"}, {"steer", page.may_steer}};
+  nlohmann::json j{{"t", "hello"},
+                   {"role", page.id == controller_ ? "control" : "watch"},
+                   {"steer", page.may_steer},
+                   {"send_ms", params_.send_ms}};
   if (!page.may_steer)
     j["why"] = "this server listens beyond loopback: only a page opened with its token may steer (the address "
                "palpate printed, ending ?token=...)";
@@ -86,7 +89,7 @@ bool BrowserControl::controller_stale(int64_t now_ns) const {
   int64_t last = control_since_ns_;
   for (const Page& p : pages_)
     if (p.id == controller_) last = std::max(last, p.last_pose_ns);
-  return now_ns - last > params_.stale_ms * 1'000'000;
+  return static_cast<double>(now_ns - last) > params_.stale_ms * 1e6;
 }
 
 void BrowserControl::open(int64_t id, const HttpRequest& request) {

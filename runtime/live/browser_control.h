@@ -17,6 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/scene.h"
+#include "haptics/browser_device.h"
 #include "haptics/browser_link.h"
 #include "runtime/live/http_server.h"
 
@@ -25,7 +27,9 @@ namespace palpate {
 /// How the pages get control. Plain data.
 struct BrowserControlParams {
   std::string token;              ///< non-empty: a page steers only when its /ws request carries ?token=THIS
-  int64_t stale_ms = 350;         ///< a controller silent this long (the device's watchdog) yields to a page that steers
+  /// a controller silent this long (the device's watchdog: its stall and fade) yields to a page that steers
+  double stale_ms = 1e3 * BrowserParams{}.watchdog_s();
+  double send_ms = scene_defaults().device.browser_send_ms;  ///< the pointer's send interval the page is told
 };
 
 /// The /ws side of a live view. Not copyable.

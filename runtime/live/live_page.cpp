@@ -217,7 +217,7 @@ async function stats() {
 const HOLD_MS = 2000;
 const dev = { role: "none", steer: true, x: 0, y: 0, depth: 0, button: false, seq: 0, force: [0, 0, 0], fv: [0, 0, 0],
               hv: [0, 0, 0], hs: [0, 0], mm: [0, 0, 0], scale: 0, engaged: false, sent: 0, feedback: 0, inputAt: 0,
-              pending: [], frameWait: [], forceMs: -1, frameMs: -1, activeUntil: 0, synced: false, wheelMm: 1.0,
+              pending: [], frameWait: [], forceMs: -1, frameMs: -1, activeUntil: 0, synced: false, wheelMm: 1.0, sendMs: 15,
               ended: null, alive: 0, ticks: 0 };
 live.device = dev;
 let sock = null;
@@ -252,6 +252,7 @@ function connectDevice() {
     const m = JSON.parse(e.data);
     if (m.t === "hello") {
       dev.role = m.role; dev.steer = m.steer !== false; dev.synced = false;
+      if (m.send_ms > 0 && m.send_ms !== dev.sendMs) { clearInterval(sendTimer); dev.sendMs = m.send_ms; sendTimer = setInterval(send, m.send_ms); }
       $("device").style.display = "block";
       $("role").textContent = !dev.steer ? "watching: " + (m.why || "this page may not steer")
           : m.role === "control" ? "you steer it" : "watching (another page steers; steer here once it stops)";
@@ -426,7 +427,7 @@ function pollGamepad() {
 frames();
 stats();
 fetch("/ws" + location.search, { cache: "no-store" }).then((r) => { if (r.status !== 404) { deviceOn = true; setupInput(); connectDevice(); } }).catch(() => {});
-setInterval(send, 15);
+let sendTimer = setInterval(send, dev.sendMs);  // the server's hello says the scene's device.browser_send_ms
 setInterval(sendLatency, 250);
 </script>
 </body>

@@ -143,6 +143,7 @@ struct LiveServer::Impl {
   BrowserLink* link;
   HttpServer http;
   std::unique_ptr<BrowserControl> browser;
+  BrowserControlParams browser_params;  // set_browser_timing()'s (the token is added at start)
   int64_t next_collect_ns = 0;
   std::string host;
   int port = 0;
@@ -298,6 +299,11 @@ LiveServer::LiveServer(LiveFeed* feed, BrowserLink* browser) : impl_(std::make_u
 
 LiveServer::~LiveServer() { stop(); }
 
+void LiveServer::set_browser_timing(double stale_ms, double send_ms) {
+  impl_->browser_params.stale_ms = stale_ms;
+  impl_->browser_params.send_ms = send_ms;
+}
+
 Status LiveServer::start(const ServeAddress& address) {
   Impl& m = *impl_;
   m.loopback_only = address.host.rfind("127.", 0) == 0;
@@ -309,7 +315,11 @@ Status LiveServer::start(const ServeAddress& address) {
     if (m.token.empty()) return make_error("--serve ", address.host, ": no random token for a bind beyond loopback (",
                                            std::strerror(errno), ")");
   }
-  if (m.link) m.browser = std::make_unique<BrowserControl>(&m.http, m.link, BrowserControlParams{m.token});
+  if (m.link) {
+    BrowserControlParams p = m.browser_params;
+    p.token = m.token;
+    m.browser = std::make_unique<BrowserControl>(&m.http, m.link, p);
+  }
   if (auto st = m.http.start(address.host, address.port); !st) return st;
   m.port = m.http.port();
   return Ok{};

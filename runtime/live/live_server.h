@@ -46,6 +46,9 @@ class LiveServer {
   /// Binds and starts serving; errors name the address and the cause ("address in use", ...). A bind that is not
   /// loopback makes a random token: only a page opened with it (url()) may steer a browser device.
   Status start(const ServeAddress& address);
+  /// The browser device's timing (its watchdog and the page's send interval; the defaults are the default scene's):
+  /// set before start().
+  void set_browser_timing(double stale_ms, double send_ms);
   /// The page's address, e.g. "http://127.0.0.1:8080/", with "?token=..." when the server has a token (valid after
   /// start()).
   std::string url() const;

@@ -130,7 +130,7 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
         return make_error("device 'browser': the page is the device: it needs the live view (palpate record --serve "
                           "[ADDR:]PORT --mode realtime)");
       return std::unique_ptr<Device>(
-          std::make_unique<BrowserDevice>(specs, scene.hand, BrowserParams{}, browser, scene.rates));
+          std::make_unique<BrowserDevice>(specs, scene.hand, browser_params(scene), browser, scene.rates));
     case DeviceDriver::kReplay: {
       auto rows = load_haptic_csv(target);
       if (!rows) return rows.error();

@@ -20,6 +20,7 @@
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/http_get.h"
+#include "support/json_file.h"
 #include "support/read_file.h"
 #include "support/ws_client.h"
 
@@ -168,6 +169,44 @@ TEST(BrowserDevice, RemoteUseNeedsTheTokenForeignNamesAndOriginsAreRefused) {
   s = stats_until(rec, 5.0, [](const nlohmann::json& j) { return j["browser"]["messages"] >= 30; });
   EXPECT_EQ(s["browser"]["messages"], 30) << s["browser"].dump();
   EXPECT_TRUE(s["browser"]["engaged"].get<bool>()) << s["browser"].dump();
+}
+
+// The scene owns the browser device's timing: device.browser_send_ms reaches the page in its hello (it sends its
+// pointer that often), and device.browser_stall_ms is the device's watchdog: with 800 ms, a page silent for half a
+// second still has its force (the default 250 ms would have faded it), and the force fades once the 800 ms pass.
+TEST(BrowserDevice, TheScenesWatchdogAndSendIntervalReachTheDeviceAndThePage) {
+  const std::string dir = test::fresh_dir("browser_timing");
+  fs::create_directories(dir);
+  nlohmann::json scene = nlohmann::json::parse(read_file(test::source_path("scenes/bunny_touch.json")));
+  scene["mesh"]["file"] = test::source_path("scenes/bunny.obj");
+  scene["device"]["browser_stall_ms"] = 800;
+  scene["device"]["browser_send_ms"] = 30;
+  const std::string path = dir + "/timing.json";
+  test::write_text(path, scene.dump());
+  Recording rec(dir, path, 30.0);
+  ASSERT_FALSE(rec.url.empty()) << read_file(rec.log);
+  test::WsClient page;
+  ASSERT_EQ(page.open(rec.port, "/ws").rfind("HTTP/1.1 101", 0), 0u);
+  const auto hello = next_of(page, "hello");
+  EXPECT_EQ(hello["send_ms"], 30.0) << hello.dump();
+  for (int i = 1; i <= 20; ++i) {
+    ASSERT_TRUE(page.send_text("p " + std::to_string(i) + " " + std::to_string(0.002 * i) + " 0.5 -0.5 0"));
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  }
+  auto s = stats_until(rec, 5.0, [](const nlohmann::json& j) { return j["browser"]["force_scale"] >= 0.999; });
+  ASSERT_GE(s["browser"]["force_scale"].get<double>(), 0.999) << s["browser"].dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  s = rec.stats();
+  EXPECT_GE(s["browser"]["force_scale"].get<double>(), 0.999) << "faded after 0.5 s of silence: " << s["browser"].dump();
+  s = stats_until(rec, 3.0, [](const nlohmann::json& j) { return j["browser"]["force_scale"] <= 0.0; });
+  EXPECT_EQ(s["browser"]["force_scale"].get<double>(), 0.0) << s["browser"].dump();
+  // the live page itself takes the interval from its hello (its own default is 15 ms)
+  Browser browser;
+  ASSERT_TRUE(browser.launch("about:blank", dir));
+  ASSERT_TRUE(browser.attach("about:blank")) << read_file(dir + "/chromium.log");
+  browser.call("Page.navigate", {{"url", rec.url}}, true);
+  ASSERT_NE(test::role(browser), "none");
+  EXPECT_EQ(browser.eval("live.device.sendMs"), 30);
 }
 
 // Control follows the hand: a controller that stops steering (however often it says it is alive, or repeats an old

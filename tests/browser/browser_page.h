@@ -29,10 +29,11 @@ inline std::string palpate_bin() {
 
 // A recording with the browser device, killed at the end of the test unless it ended.
 struct Recording {
+  // scene: a path from the source folder, or an absolute one
   Recording(const std::string& dir, const std::string& scene, double duration_s, const std::string& serve = "127.0.0.1:0") {
     log = dir + "/record.log";
     out = dir + "/rec";
-    pid = spawn({palpate_bin(), "record", source_path(scene), "--device", "browser", "--serve",
+    pid = spawn({palpate_bin(), "record", scene.rfind('/', 0) == 0 ? scene : source_path(scene), "--device", "browser", "--serve",
                        serve, "--duration", std::to_string(duration_s), "--no-video", "--quiet", "--out", out},
                       log);
     for (auto end = Clock::now() + std::chrono::seconds(60); url.empty() && Clock::now() < end;) {

@@ -223,6 +223,13 @@ TEST(Scene, OutOfRangeAndWrongTypesNameKeyValueAndLimits) {
     EXPECT_EQ(named.value().render.antialias, a[1] == 'e' ? kAntialiasEdges : 0);
   }
   EXPECT_EQ(Scene{}.render.antialias, kAntialiasEdges);  // smoothed edges unless asked otherwise
+  // the browser device's timing: its watchdog must allow three of the page's sends
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"browser_send_ms": 40, "browser_stall_ms": 100}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.browser_stall_ms: 100 ms is less than three of the page's sends");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"browser_send_ms": 1}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.browser_send_ms: 1 out of range");
+  auto timing = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "device": {"browser_send_ms": 30, "browser_stall_ms": 800}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(timing) << timing.error().message;
+  EXPECT_EQ(timing.value().device.browser_stall_ms, 800.0);
+  EXPECT_EQ(timing.value().device.browser_send_ms, 30.0);
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "interaction": {"mode": "cut"}, "render": {"color": "strain"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "render.color: 'strain' is not drawn in interaction.mode 'cut'");
   auto strain = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "render": {"color": "strain", "strain_range": 0.05}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
   ASSERT_TRUE(strain) << strain.error().message;

@@ -357,5 +357,15 @@ TEST(BrowserDevice, ServoForceEndsAtTheWatchdogAndAllocatesNothing) {
   EXPECT_EQ(servo.last_sample().force_N.norm(), 0.0);
 }
 
+// The device's watchdog is the scene's (device.browser_stall_ms); one owner: BrowserParams' default is the default
+// scene's.
+TEST(BrowserDevice, TheWatchdogIsTheScenes) {
+  Scene scene;
+  scene.device.browser_stall_ms = 800.0;
+  EXPECT_EQ(browser_params(scene).stall_s, 0.8);
+  EXPECT_DOUBLE_EQ(browser_params(scene).watchdog_s(), 0.8 + BrowserParams{}.fade_s);
+  EXPECT_EQ(BrowserParams{}.stall_s, browser_params(Scene{}).stall_s);
+}
+
 }  // namespace
 }  // namespace palpate

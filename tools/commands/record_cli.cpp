@@ -195,6 +195,7 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     if (a.serve_linger_s > 0.0) feed->keep_frames();
     feed->set_out_dir(plan.out_dir);
     server = std::make_unique<LiveServer>(feed.get(), browser.get());
+    server->set_browser_timing(1e3 * browser_params(plan.scene).watchdog_s(), plan.scene.device.browser_send_ms);
     if (auto st = server->start(address.value()); !st) {
       std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
       return 2;
