@@ -13,6 +13,7 @@
 #include "render/png_io.h"
 #include "sim/mesh_split.h"
 #include "support/fixtures.h"
+#include "support/record_options.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/session/model.h"
 #include "runtime/record/recorder.h"
@@ -46,10 +47,7 @@ Scene block_cut_scene(double blade_z_m) {
 }
 
 RecordResult record(const Scene& scene, const std::string& name, bool render = false) {
-  RecordOptions opt;
-  opt.out_dir = fresh_dir(name);
-  opt.quiet = true;
-  opt.render = render;
+  RecordOptions opt = test::quiet_options(name, render);
   return record_scene(scene, opt).value();
 }
 

@@ -14,6 +14,7 @@
 #include "render/annotate.h"
 #include "render/png_io.h"
 #include "support/fixtures.h"
+#include "support/record_options.h"
 #include "runtime/record/recorder.h"
 
 namespace palpate {
@@ -21,9 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 nlohmann::json record_summary(const Scene& scene, const std::string& tag, std::string* frames = nullptr) {
-  RecordOptions opt;
-  opt.out_dir = test::fresh_dir(scene.name + "_" + tag);
-  opt.quiet = true;
+  RecordOptions opt = test::quiet_options(scene.name + "_" + tag);
   auto r = record_scene(scene, opt);
   EXPECT_TRUE(r) << r.error().message;
   if (!r) return {};

@@ -11,6 +11,7 @@
 #include "core/scene.h"
 #include "render/png_io.h"
 #include "support/fixtures.h"
+#include "support/record_options.h"
 #include "runtime/record/recorder.h"
 
 namespace palpate {
@@ -24,9 +25,7 @@ struct Recording {
 };
 
 Recording record(const Scene& scene, const std::string& tag, bool full_redraw) {
-  RecordOptions opt;
-  opt.out_dir = test::fresh_dir(scene.name + "_" + tag);
-  opt.quiet = true;
+  RecordOptions opt = test::quiet_options(scene.name + "_" + tag);
   opt.full_redraw = full_redraw;
   auto r = record_scene(scene, opt);
   EXPECT_TRUE(r) << r.error().message;

@@ -15,6 +15,7 @@
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
+#include "support/record_options.h"
 #include "runtime/record/recorder.h"
 
 namespace palpate {
@@ -46,10 +47,7 @@ TEST(ContactReport, PullThatNeverGrabsSaysWhereTheButtonWasPressed) {
     "interaction": {"mode": "pull", "grab_radius_m": 0.008},
     "trajectory": [{"t_s": 0, "pos_m": [0.0, 0.0, 0.07]}, {"t_s": 0.2, "pos_m": [0.0, 0.0, 0.07], "button": true}],
     "duration_s": 0.5})", "pull.json").value();
-  RecordOptions opt;
-  opt.out_dir = test::fresh_dir("scene_nograb");
-  opt.quiet = true;
-  opt.render = false;
+  RecordOptions opt = test::quiet_options("scene_nograb", false);
   auto r = record_scene(s, opt);
   ASSERT_TRUE(r) << r.error().message;
   EXPECT_EQ(r.value().no_contact, "no contact in 0.5 s: the button is pressed 20 mm from the surface at its closest "

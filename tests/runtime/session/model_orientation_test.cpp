@@ -13,6 +13,7 @@
 #include "core/scene.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
+#include "support/record_options.h"
 #include "runtime/record/recorder.h"
 #include "runtime/session/model.h"
 
@@ -55,10 +56,7 @@ RecordResult press_or_cut(const std::string& mesh, const std::string& mode, cons
                     { "t_s": 0.3, "pos_m": [-0.02, 0.006, 0.04])" + cut + R"( },
                     { "t_s": 0.6, "pos_m": [0.02, 0.006, 0.04])" + cut + R"( } ],
     "duration_s": 0.6 })";
-  RecordOptions opt;
-  opt.out_dir = test::fresh_dir(out);
-  opt.quiet = true;
-  opt.render = false;
+  RecordOptions opt = test::quiet_options(out, false);
   return record_scene(parse_scene(text, out + ".json").value(), opt).value();
 }
 

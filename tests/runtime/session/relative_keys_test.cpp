@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/fixtures.h"
+#include "support/record_options.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/record/recorder.h"
 
@@ -49,10 +50,7 @@ TEST(RelativeKeys, PosRelAndSurfaceResolveAgainstTheLoadedModel) {
                                  std::string(R"("box_m": [0.1, 0.06, 0.04])")}) {
     SCOPED_TRACE(mesh);
     const Scene scene = relative_scene(mesh, "rel.json");
-    RecordOptions opt;
-    opt.out_dir = test::fresh_dir("scene_rel");
-    opt.quiet = true;
-    opt.render = false;
+    RecordOptions opt = test::quiet_options("scene_rel", false);
     auto r = record_scene(scene, opt);
     ASSERT_TRUE(r) << r.error().message;
     const auto j = nlohmann::json::parse(r.value().summary_json);

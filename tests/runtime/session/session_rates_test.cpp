@@ -13,6 +13,7 @@
 
 #include "core/scene.h"
 #include "support/fixtures.h"
+#include "support/record_options.h"
 #include "tools/bench/bench_loop.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/session/lockstep.h"
@@ -137,9 +138,7 @@ TEST(Rates, TheVelocityFiltersCutOffIsTheSameAtEveryRate) {
 TEST(Rates, TheVideoIsWrittenAtTheFrameRateWhateverTheServoRate) {
   const Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
   for (double rate : {500.0, 1000.0, 2000.0, 4000.0}) {
-    RecordOptions opt;
-    opt.out_dir = test::fresh_dir("rate_video_" + std::to_string(static_cast<int>(rate)));
-    opt.quiet = true;
+    RecordOptions opt = test::quiet_options("rate_video_" + std::to_string(static_cast<int>(rate)));
     opt.duration_s = 0.1;
     opt.servo_rate_hz = rate;
     opt.video_path = (fs::path(opt.out_dir) / "v.mp4").string();
@@ -160,10 +159,7 @@ struct Track {
 
 Track record_at(double rate_hz) {
   const Scene scene = load_scene(test::source_path("scenes/cube_press.json")).value();
-  RecordOptions opt;
-  opt.out_dir = test::fresh_dir("rate_" + std::to_string(static_cast<int>(rate_hz)));
-  opt.quiet = true;
-  opt.render = false;
+  RecordOptions opt = test::quiet_options("rate_" + std::to_string(static_cast<int>(rate_hz)), false);
   opt.servo_rate_hz = rate_hz;
   Track tr;
   auto r = record_scene(scene, opt);
