@@ -3,7 +3,7 @@
 # the same header on the libraries saved about what building it cost, so they do without.
 #
 # PALPATE_PCH is OFF by default: with it, GCC 12 at -O2 reports a false -Warray-bounds inside std::string's copy in
-# tests/haptics/proxy_settle_test.cpp, which fails a -Werror build (CI's). With a compiler launcher (ccache) it
+# tests/haptics/force/proxy_settle_test.cpp, which fails a -Werror build (CI's). With a compiler launcher (ccache) it
 # would be of no use anyway: ccache caches a PCH build only with CCACHE_SLOPPINESS=pch_defines,time_macros and
 # -fpch-preprocess, and a warm cache beats a PCH. The header is force-included into every test file, so a test file
 # missing an #include still compiles with it; a PCH OFF build shows it.

@@ -16,7 +16,7 @@
 #include "tools/commands/cli_checks.h"
 
 #include "core/scene.h"
-#include "haptics/replay_device.h"
+#include "haptics/devices/replay_device.h"
 #include "tools/device/device_server.h"
 
 namespace {

@@ -18,8 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/scene.h"
-#include "haptics/browser_device.h"
-#include "haptics/browser_link.h"
+#include "haptics/devices/browser_device.h"
+#include "haptics/devices/browser_link.h"
 #include "runtime/live/http_server.h"
 
 namespace palpate {

@@ -12,8 +12,8 @@
 
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
-#include "haptics/haptic_sample.h"
-#include "haptics/latency_histogram.h"
+#include "haptics/servo/haptic_sample.h"
+#include "haptics/servo/latency_histogram.h"
 
 namespace palpate {
 

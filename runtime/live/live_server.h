@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "core/result.h"
-#include "haptics/browser_link.h"
+#include "haptics/devices/browser_link.h"
 #include "runtime/live/live_feed.h"
 
 namespace palpate {

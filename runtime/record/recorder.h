@@ -9,7 +9,7 @@
 #include "core/rates.h"
 #include "core/result.h"
 #include "core/scene.h"
-#include "haptics/servo_runner.h"
+#include "haptics/servo/servo_runner.h"
 #include "render/camera.h"
 #include "render/png_io.h"
 #include "runtime/record/scene_view.h"

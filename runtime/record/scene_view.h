@@ -4,7 +4,7 @@
 
 #include "core/aabb.h"
 #include "core/scene.h"
-#include "haptics/browser_device.h"
+#include "haptics/devices/browser_device.h"
 #include "render/camera.h"
 
 namespace palpate {

@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/scene.h"
-#include "haptics/device.h"
-#include "haptics/latency_histogram.h"
-#include "haptics/servo_runner.h"
+#include "haptics/devices/device.h"
+#include "haptics/servo/latency_histogram.h"
+#include "haptics/servo/servo_runner.h"
 #include "render/gl_context.h"
 #include "render/png_writer.h"
 #include "render/renderer.h"

@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "core/types.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 
 namespace palpate {
 

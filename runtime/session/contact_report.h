@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/scene.h"
-#include "haptics/replay_device.h"
+#include "haptics/devices/replay_device.h"
 #include "runtime/session/frame_stats.h"
 #include "runtime/session/model.h"
 

@@ -13,11 +13,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
-#include "haptics/browser_device.h"
-#include "haptics/plugin_device.h"
-#include "haptics/replay_device.h"
-#include "haptics/scripted_device.h"
-#include "haptics/shm_device.h"
+#include "haptics/devices/browser_device.h"
+#include "haptics/devices/plugin_device.h"
+#include "haptics/devices/replay_device.h"
+#include "haptics/devices/scripted_device.h"
+#include "haptics/devices/shm_device.h"
 
 namespace palpate {
 namespace {

@@ -10,10 +10,10 @@
 
 #include "core/result.h"
 #include "core/scene.h"
-#include "haptics/browser_link.h"
-#include "haptics/device.h"
-#include "haptics/servo.h"
-#include "haptics/servo_params.h"
+#include "haptics/devices/browser_link.h"
+#include "haptics/devices/device.h"
+#include "haptics/servo/servo.h"
+#include "haptics/servo/servo_params.h"
 
 namespace palpate {
 

@@ -5,7 +5,7 @@
 
 #include "core/atomic_file.h"
 #include "core/result.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 
 namespace palpate {
 

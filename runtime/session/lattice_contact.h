@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "core/scene.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 #include "runtime/session/contact_feed.h"
-#include "haptics/local_model.h"
+#include "haptics/servo/local_model.h"
 #include "runtime/session/frame_stats.h"
 #include "runtime/session/model.h"
 #include "sim/contact_compliance.h"

@@ -13,7 +13,7 @@
 
 #include "core/scene.h"
 #include "core/types.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 #include "render/renderer.h"
 #include "sim/cut_model.h"
 #include "sim/lattice.h"

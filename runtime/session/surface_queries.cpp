@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "haptics/triangle_queries.h"
+#include "haptics/force/triangle_queries.h"
 
 namespace palpate {
 namespace {

@@ -6,7 +6,7 @@
 /// surface is inside the deformed object, whatever the dent: never a false alarm. Thread: the sim thread only.
 
 #include "core/scene.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 #include "runtime/session/frame_stats.h"
 #include "runtime/session/model.h"
 #include "sim/lattice.h"

@@ -7,7 +7,7 @@
 #include <ctime>
 
 #include "core/rates.h"
-#include "haptics/device.h"
+#include "haptics/devices/device.h"
 #include "runtime/session/session.h"
 
 namespace palpate {

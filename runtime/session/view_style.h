@@ -3,7 +3,7 @@
 /// displacement colours' fixed range, the force arrow and the legend, set on a FrameView. Thread: the sim thread.
 
 #include "core/scene.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 #include "render/renderer.h"
 #include "runtime/session/model.h"
 

@@ -23,7 +23,7 @@
 #include "browser/browser_page.h"
 #include "browser/chromium.h"
 #include "browser/frame_pixels.h"
-#include "haptics/browser_device.h"
+#include "haptics/devices/browser_device.h"
 #include "support/cli_run.h"
 #include "support/fixtures.h"
 #include "support/http_get.h"

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "haptics/replay_device.h"
+#include "haptics/devices/replay_device.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

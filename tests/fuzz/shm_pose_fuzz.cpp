@@ -18,8 +18,8 @@
 #include <thread>
 
 #include "core/clock.h"
-#include "haptics/shm_device.h"
-#include "haptics/shm_segment.h"
+#include "haptics/devices/shm_device.h"
+#include "haptics/devices/shm_segment.h"
 
 namespace {
 

@@ -5,9 +5,9 @@
 
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
-#include "haptics/device.h"
-#include "haptics/local_model.h"
-#include "haptics/servo.h"
+#include "haptics/devices/device.h"
+#include "haptics/servo/local_model.h"
+#include "haptics/servo/servo.h"
 
 namespace palpate::test {
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "core/tri_mesh.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 
 namespace palpate::test {
 

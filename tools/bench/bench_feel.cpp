@@ -9,7 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/scene.h"
-#include "haptics/replay_device.h"
+#include "haptics/devices/replay_device.h"
 #include "tools/bench/feel_figures.h"
 #include "tools/bench/plot.h"
 #include "runtime/session/device_factory.h"

@@ -13,7 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/clock.h"
 #include "core/scene.h"
-#include "haptics/servo_runner.h"
+#include "haptics/servo/servo_runner.h"
 #include "tools/bench/plot.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/live/live_feed.h"

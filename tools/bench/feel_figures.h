@@ -9,7 +9,7 @@
 
 #include "core/rates.h"
 #include "core/types.h"
-#include "haptics/haptic_sample.h"
+#include "haptics/servo/haptic_sample.h"
 
 namespace palpate {
 

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "haptics/local_model.h"
+#include "haptics/servo/local_model.h"
 
 namespace palpate {
 

@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "core/clock.h"
-#include "haptics/device_link.h"
-#include "haptics/scripted_device.h"
-#include "haptics/shm_segment.h"
+#include "haptics/devices/device_link.h"
+#include "haptics/devices/scripted_device.h"
+#include "haptics/devices/shm_segment.h"
 
 namespace palpate {
 

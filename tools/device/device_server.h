@@ -10,7 +10,7 @@
 
 #include "core/result.h"
 #include "core/scene.h"
-#include "haptics/latency_histogram.h"
+#include "haptics/servo/latency_histogram.h"
 
 namespace palpate {
 

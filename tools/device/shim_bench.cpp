@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/clock.h"
-#include "haptics/shm_segment.h"
+#include "haptics/devices/shm_segment.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "haptics/scripted_device.h"
+#include "haptics/devices/scripted_device.h"
 #include "haptics/shim/palpate_plugin.h"
 
 namespace {

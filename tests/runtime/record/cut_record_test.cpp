@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/scene.h"
-#include "haptics/scripted_device.h"
-#include "haptics/servo.h"
+#include "haptics/devices/scripted_device.h"
+#include "haptics/servo/servo.h"
 #include "render/png_io.h"
 #include "sim/mesh_split.h"
 #include "support/fixtures.h"

@@ -2,13 +2,13 @@
 // 60 Hz stage publishes nothing for 200 ms; the handle must not oscillate with growing amplitude. A stall leaves
 // the servo's local model valid (stale, not wrong), so the loop stays passive by itself: the control run without
 // the passivity guard settles the same way, and the guard, run beside it, never acts (it dissipates only energy
-// the port created: tests/haptics/passivity_test.cpp drives it where it must).
+// the port created: tests/haptics/force/passivity_test.cpp drives it where it must).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
 #include "core/scene.h"
-#include "haptics/scripted_device.h"
+#include "haptics/devices/scripted_device.h"
 #include "support/fixtures.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/session/model.h"

@@ -9,8 +9,8 @@
 
 #include "core/rates.h"
 #include "core/scene.h"
-#include "haptics/scripted_device.h"
-#include "haptics/servo.h"
+#include "haptics/devices/scripted_device.h"
+#include "haptics/servo/servo.h"
 #include "support/haptic_fixtures.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/session/lockstep.h"

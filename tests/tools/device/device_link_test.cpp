@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "core/clock.h"
-#include "haptics/shm_segment.h"
+#include "haptics/devices/shm_segment.h"
 #include "render/png_io.h"
 #include "tools/device/device_process.h"
 
