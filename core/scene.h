@@ -24,7 +24,7 @@ struct MeshSpec {
 };
 
 /// The object in physical units (scene key "material"); when set, build_lattice() derives spring constants,
-/// node masses and damping from it (sim/material.h) instead of the raw lattice keys, which it excludes.
+/// node masses and damping from it (sim/material/material.h) instead of the raw lattice keys, which it excludes.
 struct MaterialSpec {
   bool enabled = false;                 ///< true when the scene has a "material" object
   double young_modulus_Pa = 1e5;        ///< E
@@ -35,7 +35,7 @@ struct MaterialSpec {
 };
 
 /// The local mass-spring lattice (paper section 4.2) and its dynamics.
-/// Refinement where the tool is (sim/refined_lattice.h, sim/graded_zone.h): the region's cells near the contact are
+/// Refinement where the tool is (sim/lattice/refined_lattice.h, sim/lattice/graded_zone.h): the region's cells near the contact are
 /// split a level at a time down to `level`, the rest stay at the lattice level. Plain data; level 0 = off.
 struct RefineSpec {
   int level = 0;          ///< fine grid level (> lattice.level); 0 = a uniform lattice
@@ -84,7 +84,7 @@ struct DeviceSetup {
   double tool_radius_m = 0.003;             ///< tool sphere radius: drawn, and the contact radius of a sphere tool
   bool sphere_tool = false;                 ///< touch with a sphere of tool_radius_m (key tool_shape "sphere"); else a point
   bool solved_contact = false;              ///< key contact "solved": the push goes where the surface, deformed by it,
-                                            ///< meets the tool's tip (a sphere of tool_radius_m; sim/solved_contact.h);
+                                            ///< meets the tool's tip (a sphere of tool_radius_m; sim/contact/solved_contact.h);
                                             ///< "prescribed" (default): a point load, or a sphere's Hertz pressure
   double workspace_half_m = 0.5;            ///< poses outside this cube around the origin are rejected
   double max_stiffness_N_per_m = 700.0;     ///< highest stable rendered stiffness; caps coupling_N_per_m

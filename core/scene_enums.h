@@ -12,7 +12,7 @@ namespace palpate {
 
 /// Which integrator steps the lattice.
 enum class IntegratorKind { kExplicitEuler, kSymplecticEuler, kImplicitEuler, kLocalGlobal, kRk4 };
-/// How a material lattice turns E and nu into forces (scene key material.model; sim/material.h): central springs
+/// How a material lattice turns E and nu into forces (scene key material.model; sim/material/material.h): central springs
 /// only (nu = 1/4 whatever is asked), springs for the shear modulus plus a per-cell volume term for the asked nu, or
 /// a per-cell Neo-Hookean solid (large strain) with a fifth of the stiffness left to the springs.
 enum class MaterialModel { kSprings, kVolumetric, kNeoHookean };

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include "sim/contact_model_error.h"
-#include "sim/material.h"
+#include "sim/contact/contact_model_error.h"
+#include "sim/material/material.h"
 
 namespace palpate {
 

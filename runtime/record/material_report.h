@@ -1,7 +1,7 @@
 #pragma once
 /// What a scene's material becomes on the lattice, said at start-up and in summary.json ("material" block):
 /// E, nu asked, nu represented, density, total mass, the calibration at the scene's level, and the model error the
-/// scene's contact carries according to the Hertz calibration of `palpate bench model` (sim/contact_model_error.h).
+/// scene's contact carries according to the Hertz calibration of `palpate bench model` (sim/contact/contact_model_error.h).
 
 #include <string>
 #include <vector>
@@ -27,7 +27,7 @@ std::string material_line(const nlohmann::json& material);
 std::vector<std::string> material_warnings(const Scene& scene);
 
 /// Once the model is loaded: the warning for a body too soft to carry its own weight in the scene's gravity, its
-/// height the rest mesh's extent along g (sim/material.h self_weight_warning); "" when it can.
+/// height the rest mesh's extent along g (sim/material/material.h self_weight_warning); "" when it can.
 std::string self_weight_notice(const Scene& scene, const std::vector<Vec3>& rest_vertices_m);
 
 /// Once the model is loaded: the warning for a lattice finer than the mesh's triangles in touch and pull (the surface

@@ -9,7 +9,7 @@
 #include <filesystem>
 
 #include "core/atomic_file.h"
-#include "sim/stability.h"
+#include "sim/solvers/stability.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/record/material_report.h"
 

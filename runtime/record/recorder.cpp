@@ -26,7 +26,7 @@
 #include "haptics/devices/replay_device.h"
 #include "haptics/servo/servo_runner.h"
 #include "render/gl_context_factory.h"
-#include "sim/frame_budget.h"
+#include "sim/solvers/frame_budget.h"
 #include "runtime/session/contact_report.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/live/live_feed.h"

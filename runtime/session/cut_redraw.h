@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "core/types.h"
-#include "sim/cut_model.h"
-#include "sim/lattice.h"
+#include "sim/cut/cut_model.h"
+#include "sim/lattice/lattice.h"
 
 namespace palpate {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/tri_mesh.h"
-#include "sim/cut.h"
+#include "sim/cut/cut.h"
 
 namespace palpate {
 

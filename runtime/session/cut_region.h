@@ -2,16 +2,16 @@
 /// CutRegion (cut): one lattice over every solid cell of the object, built with the region and never moved (the
 /// blade may go anywhere and cuts must persist). The blade's sweeps cut its springs and split the mesh, at most
 /// kCutWorkPerFrame triangles and vertices near the sweep tested a frame (the rest of a long stroke on the frames after);
-/// pieces cut free fall onto the body (sim/piece_contact.h) or a floor at the lowest node plane. The body keeps its
-/// rest shape: only the pieces cut free are stepped (sim/cut_pieces.h).
+/// pieces cut free fall onto the body (sim/contact/piece_contact.h) or a floor at the lowest node plane. The body keeps its
+/// rest shape: only the pieces cut free are stepped (sim/cut/cut_pieces.h).
 
 #include <cstdint>
 #include <optional>
 #include <vector>
 
-#include "sim/cut_model.h"
-#include "sim/cut_pieces.h"
-#include "sim/piece_contact.h"
+#include "sim/cut/cut_model.h"
+#include "sim/cut/cut_pieces.h"
+#include "sim/contact/piece_contact.h"
 #include "runtime/session/cut_redraw.h"
 #include "runtime/session/region_policy.h"
 

@@ -17,7 +17,7 @@
 #include "runtime/session/frame_stats.h"
 #include "runtime/session/model.h"
 #include "runtime/session/view_style.h"
-#include "sim/frame_budget.h"
+#include "sim/solvers/frame_budget.h"
 
 namespace palpate {
 

@@ -7,7 +7,7 @@
 #include "core/clock.h"
 #include "core/state_hash.h"
 #include "haptics/servo/cpu_steal.h"
-#include "sim/rest.h"
+#include "sim/solvers/rest.h"
 #include "runtime/session/region_policy_factory.h"
 #include "runtime/session/surface_queries.h"
 

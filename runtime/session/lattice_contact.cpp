@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "sim/compliance_estimate.h"
-#include "sim/lattice_estimate.h"
+#include "sim/contact/compliance_estimate.h"
+#include "sim/lattice/lattice_estimate.h"
 
 namespace palpate {
 namespace {
@@ -90,7 +90,7 @@ std::optional<Mat3> LatticeContact::needed_estimate(const Lattice& lat, const Po
   // frame's dent was still deep, and the next frames' surface met it again a millimetre up: steps of 0.25 N
   if (scene_.device.sphere_tool) return std::nullopt;
   const Mat3 c = estimate_compliance(lat, w, &estimate_scratch_);
-  // only where the sampled force alone would overshoot (sim/compliance_estimate.h: kEstimateNeededGain); on a stiffer
+  // only where the sampled force alone would overshoot (sim/contact/compliance_estimate.h: kEstimateNeededGain); on a stiffer
   // surface it settles as before, and an estimate several times too compliant would make the servo lag it
   if (!(scene_.device.coupling_N_per_m * c.trace() / 3.0 >= kEstimateNeededGain)) return std::nullopt;
   return c;

@@ -2,7 +2,7 @@
 /// LatticeContact: the contact between the hand and the lattice, both ways, once a frame. The frame's mean device
 /// force goes onto the lattice's nodes (spread over the contact point's cell nodes, a sphere's patch, or where the
 /// solved contact puts it: device.contact), and the lattice's linearised response at the contact goes to the servo
-/// (LocalModel's contact model: sim/contact_response.h), which uses it between frames. Owns the contact compliance's
+/// (LocalModel's contact model: sim/contact/contact_response.h), which uses it between frames. Owns the contact compliance's
 /// factor and the solved contact's state. Thread: the sim thread only.
 
 #include <optional>
@@ -14,15 +14,15 @@
 #include "haptics/servo/local_model.h"
 #include "runtime/session/frame_stats.h"
 #include "runtime/session/model.h"
-#include "sim/contact_compliance.h"
-#include "sim/contact_load.h"
-#include "sim/contact_response.h"
-#include "sim/lattice.h"
-#include "sim/solved_contact.h"
+#include "sim/contact/contact_compliance.h"
+#include "sim/contact/contact_load.h"
+#include "sim/contact/contact_response.h"
+#include "sim/lattice/lattice.h"
+#include "sim/contact/solved_contact.h"
 
 namespace palpate {
 
-/// The contact of sample s as the contact load reads it (sim/contact_load.h), with the scene's tool.
+/// The contact of sample s as the contact load reads it (sim/contact/contact_load.h), with the scene's tool.
 ToolContact tool_contact(const Scene& scene, const HapticSample& s);
 
 class LatticeContact {
@@ -53,7 +53,7 @@ class LatticeContact {
   const RestObject& rest_;
   FrameStats* stats_;
   ContactCompliance compliance_;          // static condensation of the lattice at the contact
-  std::vector<double> estimate_scratch_;  // per-node storage of the estimated compliance (sim/compliance_estimate.h)
+  std::vector<double> estimate_scratch_;  // per-node storage of the estimated compliance (sim/contact/compliance_estimate.h)
   SolvedContactLoad solved_;              // device.contact "solved": the push's weights from the contact
   PointWeights solved_w_;                 // those of this frame (valid while solved_this_frame_)
   bool solved_this_frame_ = false;

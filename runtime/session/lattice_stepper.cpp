@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "sim/rest.h"
+#include "sim/solvers/rest.h"
 
 namespace palpate {
 

@@ -12,9 +12,9 @@
 
 #include "core/scene.h"
 #include "runtime/session/frame_stats.h"
-#include "sim/frame_budget.h"
-#include "sim/integrator.h"
-#include "sim/lattice.h"
+#include "sim/solvers/frame_budget.h"
+#include "sim/solvers/integrator.h"
+#include "sim/lattice/lattice.h"
 
 namespace palpate {
 

@@ -5,9 +5,9 @@
 
 #include "core/tri_mesh.h"
 #include "core/vertex_triangles.h"
-#include "sim/refined_lattice.h"
-#include "sim/region.h"
-#include "sim/strain.h"
+#include "sim/lattice/refined_lattice.h"
+#include "sim/lattice/region.h"
+#include "sim/material/strain.h"
 
 namespace palpate {
 

@@ -7,7 +7,7 @@
 
 #include "core/grid_hierarchy.h"
 #include "core/vertex_triangles.h"
-#include "sim/deformer.h"
+#include "sim/lattice/deformer.h"
 #include "runtime/session/region_policy.h"
 
 namespace palpate {

@@ -2,8 +2,8 @@
 
 #include "core/limits.h"
 #include "core/mesh_io.h"
-#include "sim/lattice_estimate.h"
-#include "sim/stability.h"
+#include "sim/lattice/lattice_estimate.h"
+#include "sim/solvers/stability.h"
 
 namespace palpate {
 

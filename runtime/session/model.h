@@ -32,7 +32,7 @@ Vec3 file_to_world_axes(const Vec3& v, char up_axis);
 
 /// Loads the scene's mesh (or generates its box), turns a mesh file's faces outward (orient_outward) and builds
 /// grid and bindings. Errors name the mesh file, or the
-/// scene when its lattice could pass kMaxLatticeNodes / kMaxLatticeSprings (sim/lattice_estimate.h).
+/// scene when its lattice could pass kMaxLatticeNodes / kMaxLatticeSprings (sim/lattice/lattice_estimate.h).
 Result<Model> load_model(const Scene& scene);
 
 /// Whether every edge of mesh is shared by exactly two of its triangles (a closed surface, with an inside).

@@ -15,8 +15,8 @@
 #include "core/types.h"
 #include "haptics/servo/haptic_sample.h"
 #include "render/renderer.h"
-#include "sim/cut_model.h"
-#include "sim/lattice.h"
+#include "sim/cut/cut_model.h"
+#include "sim/lattice/lattice.h"
 #include "runtime/session/frame_stats.h"
 #include "runtime/session/model.h"
 

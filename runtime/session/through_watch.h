@@ -9,7 +9,7 @@
 #include "haptics/servo/haptic_sample.h"
 #include "runtime/session/frame_stats.h"
 #include "runtime/session/model.h"
-#include "sim/lattice.h"
+#include "sim/lattice/lattice.h"
 
 namespace palpate {
 

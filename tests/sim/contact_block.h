@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "core/binding.h"
-#include "sim/contact_load.h"
-#include "sim/lattice.h"
+#include "sim/contact/contact_load.h"
+#include "sim/lattice/lattice.h"
 #include "sim_test_util.h"
 
 namespace palpate::test {

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "core/binding.h"
-#include "sim/cut_model.h"
-#include "sim/lattice.h"
+#include "sim/cut/cut_model.h"
+#include "sim/lattice/lattice.h"
 #include "sim_test_util.h"
 
 namespace palpate::test {

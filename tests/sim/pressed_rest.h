@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <vector>
 
-#include "sim/forces.h"
-#include "sim/hanging.h"
-#include "sim/integrator.h"
+#include "sim/lattice/forces.h"
+#include "sim/lattice/hanging.h"
+#include "sim/solvers/integrator.h"
 
 namespace palpate::test {
 

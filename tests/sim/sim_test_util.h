@@ -6,9 +6,9 @@
 #include <random>
 #include <vector>
 
-#include "sim/forces.h"
-#include "sim/integrator.h"
-#include "sim/lattice.h"
+#include "sim/lattice/forces.h"
+#include "sim/solvers/integrator.h"
+#include "sim/lattice/lattice.h"
 #include "support/fixtures.h"
 
 namespace palpate::test {

@@ -10,12 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
-#include "sim/frame_budget.h"
-#include "sim/hertz_reference.h"
-#include "sim/material.h"
-#include "sim/pull_reference.h"
-#include "sim/reference_cases.h"
-#include "sim/richardson.h"
+#include "sim/solvers/frame_budget.h"
+#include "sim/reference/hertz_reference.h"
+#include "sim/material/material.h"
+#include "sim/reference/pull_reference.h"
+#include "sim/reference/reference_cases.h"
+#include "sim/reference/richardson.h"
 #include "tools/bench/bench_press.h"
 #include "tools/bench/plot.h"
 #include "runtime/session/model.h"
@@ -174,7 +174,7 @@ Result<std::string> run_bench_model(const BenchModelOptions& o, PlotSpec* plot) 
     if (ref == "compression") row.lateral = c.poisson_effective;
     return row;
   };
-  // Hertz with the contact solved under the sphere (sim/hertz_reference.h): prescribed depth, solved force; one row
+  // Hertz with the contact solved under the sphere (sim/reference/hertz_reference.h): prescribed depth, solved force; one row
   // per depth, CPU ms of the whole static solve in the CPU column and its Newton steps in the last; graded from
   // `coarse` (> 0) to `level` near the contact (printed coarse>level)
   auto run_solved = [&](const MaterialSpec& mat, int level, int coarse = 0) -> Status {

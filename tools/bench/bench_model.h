@@ -3,7 +3,7 @@
 /// level costs — uniaxial compression (shortening = strain x side), a cantilever's tip deflection
 /// (F L^3 / (3 E I)) and Hertz indentation by the sphere tool (F = 4/3 E* sqrt(R) d^(3/2)); at large strain 30 %
 /// compression against the Neo-Hookean closed form and a 40 mm pull against Richardson extrapolation over levels. Every equilibrium is
-/// the simulation's own: the lattice stepped by its integrator until it is at rest (sim/settle.h); Hertz runs the
+/// the simulation's own: the lattice stepped by its integrator until it is at rest (sim/reference/settle.h); Hertz runs the
 /// servo's sphere god-object and the frame stage with the device held still (runtime/session/tool_hold.h).
 
 #include <string>
@@ -11,7 +11,7 @@
 
 #include "core/result.h"
 #include "core/scene.h"
-#include "sim/hertz_reference.h"
+#include "sim/reference/hertz_reference.h"
 #include "tools/bench/plot.h"
 
 namespace palpate {
@@ -39,7 +39,7 @@ struct BenchModelOptions {
   int adaptive_fine_level = 6;                       ///< the fine level of those rows (and the uniform level they aim at)
   double adaptive_radius_m = 0.004;                  ///< cells closer than this to the contact are split to the fine level
                                                      ///< (0.8 contact radii; twice as far into the body; coarser rings
-                                                     ///< within twice the next one's radius: sim/graded_zone.h)
+                                                     ///< within twice the next one's radius: sim/lattice/graded_zone.h)
   bool adaptive_uniform_fine = true;                 ///< run the uniform fine level beside them (most of their time)
   bool solved_contact = false;                       ///< the "hertz" and adaptive rows' sphere loads the lattice where
                                                      ///< the contact puts it (device.contact "solved"), not by Hertz
@@ -78,7 +78,7 @@ struct HertzToolCheck {
 /// A block 8 x 8 x 4 cm of `material` (floor fixed) at lattice `level`, pressed by a sphere tool of radius 10 cm
 /// whose device is held so the sphere goes about 0.25 mm deep (contact radius 5 mm), run until at rest; with
 /// refine.level > 0 the lattice is refined near the tool (lattice.refine); solved_contact: the scene's
-/// device.contact "solved" (the push goes where the surface meets the sphere, sim/solved_contact.h).
+/// device.contact "solved" (the push goes where the surface meets the sphere, sim/contact/solved_contact.h).
 Result<HertzToolCheck> check_hertz_tool(const MaterialSpec& material, int level, IntegratorKind integrator,
                                         const RefineSpec& refine = {}, bool solved_contact = false);
 

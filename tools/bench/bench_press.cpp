@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "core/scene.h"
-#include "sim/lattice.h"
-#include "sim/sphere_contact.h"
+#include "sim/lattice/lattice.h"
+#include "sim/contact/sphere_contact.h"
 #include "runtime/session/model.h"
 
 namespace palpate {

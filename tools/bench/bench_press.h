@@ -1,7 +1,7 @@
 #pragma once
 /// The solved press of a scene's tool: the scene's lattice (at each asked level) and its tool treated as a rigid
 /// sphere of the tool's radius (a point tool too), the sphere free on the device's coupling spring in series with the
-/// hand's, anchored at the trajectory's deepest point, solved jointly with the lattice (sim/sphere_contact.h). The
+/// hand's, anchored at the trajectory's deepest point, solved jointly with the lattice (sim/contact/sphere_contact.h). The
 /// static figure a recording holds there, with the contact found from the deformation rather than a load by formula.
 
 #include <cstddef>

@@ -14,7 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/scene.h"
 #include "core/stats.h"
-#include "sim/forces.h"
+#include "sim/lattice/forces.h"
 #include "tools/bench/plot.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/session/model.h"

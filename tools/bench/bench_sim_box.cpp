@@ -13,9 +13,9 @@
 #include "core/limits.h"
 #include "core/scene.h"
 #include "core/stats.h"
-#include "sim/forces.h"
-#include "sim/integrator.h"
-#include "sim/lattice.h"
+#include "sim/lattice/forces.h"
+#include "sim/solvers/integrator.h"
+#include "sim/lattice/lattice.h"
 #include "tools/bench/bench_sim.h"
 
 namespace palpate {

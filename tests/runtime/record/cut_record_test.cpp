@@ -11,7 +11,7 @@
 #include "haptics/devices/scripted_device.h"
 #include "haptics/servo/servo.h"
 #include "render/png_io.h"
-#include "sim/mesh_split.h"
+#include "sim/cut/mesh_split.h"
 #include "support/fixtures.h"
 #include "support/record_options.h"
 #include "runtime/session/device_factory.h"

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "core/binding.h"
-#include "sim/cut.h"
-#include "sim/integrator.h"
-#include "sim/static_solve.h"
+#include "sim/cut/cut.h"
+#include "sim/solvers/integrator.h"
+#include "sim/solvers/static_solve.h"
 #include "support/fixtures.h"
 #include "runtime/session/cut_redraw.h"
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/scene.h"
-#include "sim/contact_load.h"
+#include "sim/contact/contact_load.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/session/model.h"
 #include "runtime/session/session.h"

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "core/scene.h"
-#include "sim/contact_model_error.h"
+#include "sim/contact/contact_model_error.h"
 #include "tools/bench/bench_model.h"
 #include "runtime/session/model.h"
 #include "runtime/session/tool_hold.h"

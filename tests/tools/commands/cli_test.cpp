@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sim/contact_model_error.h"
+#include "sim/contact/contact_model_error.h"
 #include "support/cli_run.h"
 #include "support/temp_root.h"
 #include "support/fixtures.h"
