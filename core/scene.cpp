@@ -240,7 +240,19 @@ std::string refine_conflict(const Scene& s) {
 // The top-level "material" object; exclusive with the raw spring, mass and damping keys of "lattice".
 void read_material(ObjectReader& top, const Json& lattice_json, Scene* s, std::string* err) {
   if (!top.has("material")) return;
-  ObjectReader r(top.object("material"), "material.", err);
+  const Json& mj = top.object("material");
+  ObjectReader r(mj, "material.", err);
+  // the surface's friction against the tool is the material's too; an object of friction alone leaves the lattice
+  // to its raw keys
+  r.number("static_friction", &s->static_friction, 0.0, 10.0);
+  r.number("dynamic_friction", &s->dynamic_friction, 0.0, 10.0);
+  bool mechanical = false;
+  for (const char* key : {"young_modulus_Pa", "poisson_ratio", "density_kg_per_m3", "stiffness_damping_s", "model"})
+    mechanical = mechanical || (mj.is_object() && mj.contains(key));
+  if (!mechanical) {
+    r.finish();
+    return;
+  }
   MaterialSpec& m = s->lattice.material;
   m.enabled = true;
   for (const char* key : {"young_modulus_Pa", "poisson_ratio", "density_kg_per_m3"}) r.require(key);
@@ -420,8 +432,18 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
     r.number("blade_length_m", &s.blade_length_m, 1e-4, 10.0);
     r.number("blade_width_m", &s.blade_width_m, 0.0, 0.01);
     r.number("cut_resistance_Ns_per_m", &s.cut_resistance_Ns_per_m, 0.0, 1e4);
-    r.number("static_friction", &s.static_friction, 0.0, 10.0);
-    r.number("dynamic_friction", &s.dynamic_friction, 0.0, 10.0);
+    // friction's old place: read, with a warning (and refused beside the new one, which would be ambiguous)
+    for (const char* key : {"static_friction", "dynamic_friction"}) {
+      if (!r.has(key)) continue;
+      const Json& mj = top.object("material");
+      if (mj.is_object() && mj.contains(key)) {
+        r.fail(r.path(key), std::string("given twice, here and as material.") + key + " (keep that one)");
+        continue;
+      }
+      r.number(key, std::string(key) == "static_friction" ? &s.static_friction : &s.dynamic_friction, 0.0, 10.0);
+      s.warnings.push_back(std::string("interaction.") + key + " is read as material." + key +
+                           ", where friction is set now: move it there");
+    }
     r.finish();
   }
   const Json& servo = top.object("servo");
@@ -442,7 +464,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   if (err.empty() && s.device.sphere_tool && s.mode != InteractionMode::kTouch)
     err = std::string("device.tool_shape: 'sphere' is a touch tool; interaction.mode is '") + mode_name(s.mode) + "'";
   if (err.empty() && s.dynamic_friction > s.static_friction)
-    err = "interaction.dynamic_friction " + fmt_num(s.dynamic_friction) + " exceeds interaction.static_friction " +
+    err = "material.dynamic_friction " + fmt_num(s.dynamic_friction) + " exceeds material.static_friction " +
           fmt_num(s.static_friction) + " (sliding friction is at most sticking friction)";
   // the volume term acts on whole cells: the local/global solver's constant matrix does not hold it, and a cut
   // (which removes springs) would leave it holding the cut cells together
@@ -481,5 +503,10 @@ bool integrator_from_name(const std::string& name, IntegratorKind* kind) {
 }
 
 const char* mode_name(InteractionMode mode) { return name_of(mode); }
+
+void report_scene_warnings(const Scene& scene, std::FILE* to) {
+  for (const std::string& w : scene.warnings)
+    std::fprintf(to, "warning: scene '%s': %s\n", scene.path.c_str(), w.c_str());
+}
 
 }  // namespace palpate

@@ -1,6 +1,7 @@
 #pragma once
 /// Scene: everything a recording needs, parsed strictly from JSON (unknown keys and out-of-range values are errors).
 
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -160,12 +161,15 @@ struct Scene {
   double blade_length_m = 0.03;     ///< cut: blade edge from the tool tip along the tool's local +z axis
   double blade_width_m = 0.0;       ///< cut: the cut's two sides are set this far apart (0: they meet in the groove)
   double cut_resistance_Ns_per_m = 4.0;  ///< cut: material's viscous resistance to the blade moving through it
-  double static_friction = 0.0;     ///< touch: mu_s, the proxy sticks until the pull across exceeds mu_s F_n
-  double dynamic_friction = 0.0;    ///< touch: mu_d <= mu_s, the force against sliding is mu_d F_n
+  double static_friction = 0.0;     ///< material.static_friction (touch): mu_s, the proxy sticks until the pull
+                                    ///< across exceeds mu_s F_n
+  double dynamic_friction = 0.0;    ///< material.dynamic_friction (touch): mu_d <= mu_s, the force against sliding
+                                    ///< is mu_d F_n
   std::vector<Keyframe> trajectory;
   RenderSpec render;
   RunMode run_mode = RunMode::kLockstep;
   double duration_s = 1.0;
+  std::vector<std::string> warnings;  ///< keys read from an old place, said once by the command that loads it
   Rates rates;                      ///< servo ticks (key servo.rate_hz) and frames per (scene-)second; the one copy
                                     ///< a run reads (--servo-rate is applied to it once, by the record plan)
 };
@@ -188,6 +192,8 @@ const char* integrator_name(IntegratorKind kind);
 bool integrator_from_name(const std::string& name, IntegratorKind* kind);
 /// Name of an interaction mode as written in scenes.
 const char* mode_name(InteractionMode mode);
+/// Writes the scene's warnings, one line each ("warning: scene 'x.json': ...").
+void report_scene_warnings(const Scene& scene, std::FILE* to);
 
 /// Whether the scene's frames colour the surface by displacement (render.color, auto: not in cut mode).
 inline bool colors_by_displacement(const Scene& scene) {

@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "palpate-device: %s\n", scene.error().message.c_str());
       return 1;
     }
+    palpate::report_scene_warnings(scene.value(), stderr);
     o.hand = scene.value().hand;
     o.trajectory = scene.value().trajectory;
     o.max_force_N = scene.value().device.max_force_N;

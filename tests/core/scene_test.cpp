@@ -98,17 +98,45 @@ TEST(Scene, FrictionAndJumpLimitKeys) {
   ASSERT_TRUE(plain) << plain.error().message;
   EXPECT_EQ(plain.value().static_friction, 0.0);  // frictionless unless asked
   EXPECT_EQ(plain.value().dynamic_friction, 0.0);
+  EXPECT_TRUE(plain.value().warnings.empty());
   EXPECT_EQ(plain.value().device.jump_limit_N_per_tick, 0.02);
+  // friction is the surface material's: an object of friction alone leaves the lattice to its raw keys
   auto f = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "device": {"jump_limit_N_per_tick": 0.05},
-                           "interaction": {"static_friction": 0.5, "dynamic_friction": 0.3},
+                           "material": {"static_friction": 0.5, "dynamic_friction": 0.3},
                            "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
   ASSERT_TRUE(f) << f.error().message;
   EXPECT_EQ(f.value().static_friction, 0.5);
   EXPECT_EQ(f.value().dynamic_friction, 0.3);
+  EXPECT_FALSE(f.value().lattice.material.enabled);
+  EXPECT_TRUE(f.value().warnings.empty());
   EXPECT_EQ(f.value().device.jump_limit_N_per_tick, 0.05);
+  // beside the mechanical keys, which a material object then needs in full
+  auto full = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "material": {"young_modulus_Pa": 3e5, "poisson_ratio": 0.45,
+                              "density_kg_per_m3": 1070, "static_friction": 0.6, "dynamic_friction": 0.4},
+                              "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(full) << full.error().message;
+  EXPECT_TRUE(full.value().lattice.material.enabled);
+  EXPECT_EQ(full.value().static_friction, 0.6);
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "material": {"young_modulus_Pa": 3e5, "static_friction": 0.6},
+                   "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "material.poisson_ratio");
+  // the old place is read, with a warning that names both places
+  auto old = parse_scene(R"({"mesh": {"box_m": [1,1,1]}, "interaction": {"static_friction": 0.5, "dynamic_friction": 0.3},
+                             "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "s.json");
+  ASSERT_TRUE(old) << old.error().message;
+  EXPECT_EQ(old.value().static_friction, 0.5);
+  EXPECT_EQ(old.value().dynamic_friction, 0.3);
+  ASSERT_EQ(old.value().warnings.size(), 2u);
+  EXPECT_NE(old.value().warnings[0].find("interaction.static_friction is read as material.static_friction"),
+            std::string::npos) << old.value().warnings[0];
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "material": {"static_friction": 0.5},
+                   "interaction": {"static_friction": 0.5}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "interaction.static_friction: given twice, here and as material.static_friction");
+  expect_error(R"({"mesh": {"box_m": [1,1,1]}, "material": {"static_friction": 0.2, "dynamic_friction": 0.3},
+                   "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "material.dynamic_friction 0.3 exceeds material.static_friction 0.2");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "interaction": {"static_friction": 0.2, "dynamic_friction": 0.3},
                    "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
-               "interaction.dynamic_friction 0.3 exceeds interaction.static_friction 0.2");
+               "material.dynamic_friction 0.3 exceeds material.static_friction 0.2");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"jump_limit_N_per_tick": -1},
                    "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.jump_limit_N_per_tick");
 }

@@ -227,6 +227,7 @@ int run_bench_loop(const BenchLoopOptions& o) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
     return 1;
   }
+  report_scene_warnings(scene.value(), stderr);
   const double one_rate_hz = o.rate_hz > 0.0 ? o.rate_hz : scene.value().rates.servo_hz;
   std::vector<double> rates = o.sweep ? std::vector<double>{1000, 2000, 5000, 10000} : std::vector<double>{one_rate_hz};
   std::printf("servo loop: scene %s, %.1f s per run, load %s\n", o.scene.c_str(), o.seconds, o.load.c_str());

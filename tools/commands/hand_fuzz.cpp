@@ -249,8 +249,8 @@ Hand make_hand(const ModelBase& b, uint64_t seed) {
     }
     if (uniform(g, 0.0, 1.0) < 0.5) {
       const double mus = uniform(g, 0.2, 0.8);
-      h.scene["interaction"]["static_friction"] = std::round(mus * 100) / 100;
-      h.scene["interaction"]["dynamic_friction"] = std::round(mus * uniform(g, 0.5, 1.0) * 100) / 100;
+      h.scene["material"]["static_friction"] = std::round(mus * 100) / 100;
+      h.scene["material"]["dynamic_friction"] = std::round(mus * uniform(g, 0.5, 1.0) * 100) / 100;
     }
   }
   h.scene["name"] = "hand_" + std::to_string(seed) + "_" + h.kind;

@@ -143,6 +143,7 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     std::fprintf(stderr, "palpate: %s\n", scene.error().message.c_str());
     return 1;
   }
+  report_scene_warnings(scene.value(), stderr);
   // what the frames show besides the model (the scene's render.color, color_range_m, force_arrow, legend)
   RenderSpec& look = scene.value().render;
   if (!a.color.empty()) look.color = from_name<RenderColor>(a.color).value_or(RenderColor::kAuto);

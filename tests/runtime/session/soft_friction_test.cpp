@@ -40,10 +40,10 @@ FrictionRun stroke(double young_Pa, double mu_s, double mu_d, double z_m) {
     "lattice": {"level": 5, "radius_cells": 3, "fix_floor": true, "integrator": "implicit_euler",
                 "gravity_m_per_s2": [0, 0, 0]},
     "material": {"young_modulus_Pa": %g, "poisson_ratio": 0.45, "density_kg_per_m3": 1070,
-                 "stiffness_damping_s": 2e-3},
+                 "stiffness_damping_s": 2e-3, "static_friction": %g, "dynamic_friction": %g},
     "device": {"max_force_N": 3.3, "coupling_N_per_m": 300, "coupling_damping_Ns_per_m": 0.5,
                "tool_shape": "sphere", "tool_radius_m": 0.005, "workspace_half_m": 0.2},
-    "interaction": {"mode": "touch", "static_friction": %g, "dynamic_friction": %g},
+    "interaction": {"mode": "touch"},
     "trajectory": [{"t_s": 0.0, "pos_m": [-0.02, 0.0, 0.045]}, {"t_s": 0.6, "pos_m": [-0.02, 0.0, %g]},
                    {"t_s": 1.2, "pos_m": [-0.02, 0.0, %g]}, {"t_s": 5.2, "pos_m": [0.02, 0.0, %g]}],
     "duration_s": 5.2
