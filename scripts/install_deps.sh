@@ -8,6 +8,9 @@
 # folder is configured for Ninja: it keeps both cores busy across targets where make's recursion idles one).
 # libmetis-dev orders the local/global solver's sparse factor (nested dissection: shorter downdate paths).
 # cpp-httplib serves the live view (record --serve); Chromium runs its page headless in the `browser` tests.
+# pybind11-dev and python3-dev build the Python module (python/); python3-numpy holds its arrays, python3-pytest runs
+# its tests, python3-pandas gives a sweep's table as a DataFrame, python3-dask and python3-distributed run sweeps on a
+# Dask cluster (a LocalCluster in the tests).
 # Runs apt-get as root (or through sudo); does nothing when everything is present.
 set -euo pipefail
 
@@ -22,6 +25,7 @@ packages=(
   libcpp-httplib-dev
   chromium
   clang
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-pandas python3-dask python3-distributed
 )
 
 missing=()

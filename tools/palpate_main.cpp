@@ -12,6 +12,7 @@
 #include "tools/commands/cli_checks.h"
 #include "tools/commands/record_cli.h"
 #include "tools/commands/subcommand.h"
+#include "tools/commands/sweep_command.h"
 #include "tools/commands/tool_cli.h"
 
 int main(int argc, char** argv) {
@@ -24,7 +25,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const palpate::Subcommand commands[] = {palpate::add_record_command(app), palpate::add_video_command(app),
                                           palpate::add_info_command(app), palpate::add_scene_command(app),
-                                          palpate::add_bench_command(app)};
+                                          palpate::add_bench_command(app),
+                                          palpate::add_sweep_command(app)};
   app.footer(palpate::kLimitsHelp);  // after the subcommands, which would copy it: printed here only
   try {
     app.parse(argc, argv);

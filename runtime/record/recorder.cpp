@@ -204,6 +204,7 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   rec->video = std::move(video_r).value();
 
   rec->csv_path = plan.haptic_csv_path;
+  rec->log.keep_samples(opt.samples);
   return rec->log.open(rec->csv_path);
 }
 

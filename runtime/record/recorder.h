@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <string>
+#include <vector>
 
 #include "core/aabb.h"
 #include "core/rates.h"
@@ -49,6 +50,8 @@ struct RecordOptions {
   int png_threads = 0;           ///< PNG encoder threads; 0 = kLockstepPngThreads in lockstep, 1 in realtime
   PngCodec png_codec = PngCodec::kLibdeflate;  ///< the frames' compressor (comparisons: bench png --record)
   bool png_keep_alpha = false;   ///< RGBA frames even when opaque (comparisons: the format before RGB frames)
+  std::vector<HapticSample>* samples = nullptr;  ///< also keeps haptic.csv's rows here, as they are logged (null:
+                                                 ///< none; e.g. the Python module's arrays)
   const std::atomic<bool>* stop = nullptr;  ///< set (e.g. by a signal handler) to end the run after the frame under
                                             ///< way, keeping and finishing every output (null = run to the end)
 };

@@ -87,17 +87,22 @@ std::string plugin_config(const Scene& scene) {
   return c;
 }
 
-Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, BrowserLink* browser) {
-  auto choice = device_choice(scene, spec);
-  if (!choice) return choice.error();
-  const DeviceDriver driver = choice.value().driver;
-  const std::string& target = choice.value().target;
+DeviceSpecs device_specs_for(const Scene& scene, DeviceDriver driver) {
   DeviceSpecs specs;
   specs.max_force_N = scene.device.max_force_N;
   specs.max_stiffness_N_per_m = scene.device.max_stiffness_N_per_m;
   specs.workspace_half_m = scene.device.workspace_half_m;
   // the scripted handle is held by the emulated hand: its damping is the hand's
   specs.damping_Ns_per_m = driver == DeviceDriver::kScripted ? scene.hand.damping_Ns_per_m : scene.device.damping_Ns_per_m;
+  return specs;
+}
+
+Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::string& spec, BrowserLink* browser) {
+  auto choice = device_choice(scene, spec);
+  if (!choice) return choice.error();
+  const DeviceDriver driver = choice.value().driver;
+  const std::string& target = choice.value().target;
+  const DeviceSpecs specs = device_specs_for(scene, driver);
   // model-relative keys are resolved where the model is loaded (resolve_relative_keys); never played as zeros
   if (driver == DeviceDriver::kScripted || driver == DeviceDriver::kPlugin)
     for (std::size_t i = 0; i < scene.trajectory.size(); ++i)

@@ -17,6 +17,10 @@
 
 namespace palpate {
 
+/// What a device of `driver` can do in this scene: its force, stiffness and workspace from device.*, its damping the
+/// hand's when the scene's hand holds it (scripted), else the device's.
+DeviceSpecs device_specs_for(const Scene& scene, DeviceDriver driver);
+
 /// Creates the device named by `spec`: "scripted", "shm:NAME", "plugin:PATH.so", "replay:PATH" (a haptic.csv or
 /// a recording folder), "browser" (the live page, through `browser`, which must then be given and outlive the
 /// device), or empty for the scene's device.driver (+ device.link). Errors name the driver and the problem.

@@ -29,15 +29,26 @@ int64_t count_rows(const std::string& path) {
 
 }  // namespace
 
+void haptic_log_values(const HapticSample& s, double out[kHapticLogWidth]) {
+  const double v[kHapticLogWidth] = {static_cast<double>(s.tick), s.t_s, s.tool_pos_m.x(), s.tool_pos_m.y(),
+                                     s.tool_pos_m.z(), s.proxy_pos_m.x(), s.proxy_pos_m.y(), s.proxy_pos_m.z(),
+                                     s.force_N.x(), s.force_N.y(), s.force_N.z(), static_cast<double>(s.contact),
+                                     static_cast<double>(s.buttons), static_cast<double>(s.input_rejected),
+                                     static_cast<double>(s.drain_frame), static_cast<double>(s.model_frame),
+                                     s.force_scale};
+  for (int i = 0; i < kHapticLogWidth; ++i) out[i] = v[i];
+}
+
 Status HapticLog::open(const std::string& path) {
   auto f = AtomicFile::open(path, "log", ".partial");
   if (!f) return f.error();
   file_ = std::move(f).value();
-  file_.write("tick,t_s,tool_x_m,tool_y_m,tool_z_m,proxy_x_m,proxy_y_m,proxy_z_m,force_x_N,force_y_N,force_z_N,contact,buttons,rejected,frame,model_frame,force_scale\n");
+  file_.write(std::string(kHapticLogColumns) + "\n");
   return Ok{};
 }
 
 void HapticLog::append(const HapticSample& s) {
+  if (keep_) keep_->push_back(s);
   if (!file_.good()) return;
   const int n = std::fprintf(file_.stream(), "%lld,%.6f,%.17g,%.17g,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%u,%d,%lld,%lld,%.17g\n",
                              static_cast<long long>(s.tick), s.t_s, s.tool_pos_m.x(), s.tool_pos_m.y(), s.tool_pos_m.z(),

@@ -22,6 +22,7 @@ namespace {
 Result<FeelRun> run_scene(const std::string& path, const BenchFeelOptions& o) {
   auto scene = load_scene(path);
   if (!scene) return scene.error();
+  report_scene_warnings(scene.value(), stderr);
   if (o.force_shading_deg >= 0.0) scene.value().device.force_shading_deg = o.force_shading_deg;
   auto model = load_model(scene.value());
   if (!model) return model.error();
@@ -86,9 +87,7 @@ Result<FeelRun> run_feel(const Scene& sc, const Model& model, const BenchFeelOpt
   return run;
 }
 
-namespace {
-
-nlohmann::json to_json(const FeelRun& r) {
+nlohmann::json feel_run_json(const FeelRun& r) {
   const FeelFigures& f = r.figures;
   nlohmann::json ev = nlohmann::json::object();
   for (int k = 0; k < kFeelEvents; ++k)
@@ -107,6 +106,8 @@ nlohmann::json to_json(const FeelRun& r) {
           {"energy_into_hand_J", f.energy_into_hand_J},
           {"events", ev}};
 }
+
+namespace {
 
 void print_tables(const std::vector<FeelRun>& runs, const BenchFeelOptions& o) {
   std::printf("steady contact (steps |dF| per tick; excess: beyond k_c |dP_t| + b_c |dv|)\n");
@@ -213,7 +214,7 @@ int run_bench_feel(const BenchFeelOptions& o) {
   if (!o.json_path.empty()) {
     nlohmann::json out{{"step_threshold_N", o.step_threshold_N}, {"excess_threshold_N", o.excess_threshold_N},
                        {"scenes", nlohmann::json::array()}};
-    for (const FeelRun& r : runs) out["scenes"].push_back(to_json(r));
+    for (const FeelRun& r : runs) out["scenes"].push_back(feel_run_json(r));
     if (auto st = write_file_atomic(o.json_path, out.dump(2) + "\n", "bench json"); !st) {
       std::fprintf(stderr, "palpate: bench feel: %s\n", st.error().message.c_str());
       return 1;

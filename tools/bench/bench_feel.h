@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/result.h"
 #include "core/scene.h"
 #include "tools/bench/feel_figures.h"
@@ -42,6 +44,9 @@ struct FeelRun {
 /// Runs scene (its model loaded) in lockstep with the hand options.device names for options.duration_s (or the
 /// scene's, or a replayed log's length), no rendering. Errors name the device or the scene.
 Result<FeelRun> run_feel(const Scene& scene, const Model& model, const BenchFeelOptions& options);
+
+/// One run's figures as `bench feel --json` writes them for each scene.
+nlohmann::json feel_run_json(const FeelRun& run);
 
 /// Runs the scenes, prints the tables; returns the process exit code.
 int run_bench_feel(const BenchFeelOptions& options);
