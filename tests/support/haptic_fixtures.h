@@ -1,7 +1,11 @@
 #pragma once
-// Shared haptics test fixtures: a device held wherever the test puts it, and flat surface patches.
+// Shared haptics test fixtures: a device held wherever the test puts it, flat surface patches, and the rig of a servo
+// (its device, sample queue, triple buffer and rates).
 
+#include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <utility>
 
 #include "core/spsc_queue.h"
 #include "core/triple_buffer.h"
@@ -81,24 +85,43 @@ inline ServoParams static_surface_params(double k_N_per_m) {
   return p;
 }
 
-/// A servo of params p over the floor of publish_floor_at (z = 0 as frame 0; blend as given), its device held
-/// wherever the test puts it (max force 100 N). tick(i) runs tick i at i servo periods and drains the samples.
-struct FloorRig {
-  FloorRig(const ServoParams& p, bool blend) {
-    dev.specs_.max_force_N = 100;
-    publish_floor_at(tb.get(), 0.0, 0.0, 0, 0.0, blend);
-    servo = std::make_unique<Servo>(p, kTestRates, &dev, &q, tb.get());
+/// A test's servo and what it trades with: its device (a Dev built from dev_args, or with Dev a reference, a device
+/// the test holds), the sample queue of queue_size, the triple buffer the test publishes its surfaces into, the rates
+/// (the servo keeps a reference to the rig's copy, which a test may change) and the servo of params p.
+/// tick(i) runs tick i at i servo periods and drains the samples; make_servo(p) is another servo over the same parts.
+template <typename Dev = FixedDevice>
+struct ServoRig {
+  template <typename... DevArgs>
+  explicit ServoRig(const ServoParams& p, std::size_t queue_size = 4096, const Rates& servo_rates = kTestRates,
+                    DevArgs&&... dev_args)
+      : dev(std::forward<DevArgs>(dev_args)...), q(queue_size), rates(servo_rates), servo(make_servo(p)) {}
+  std::unique_ptr<Servo> make_servo(const ServoParams& p) {
+    return std::make_unique<Servo>(p, rates, &dev, &q, tb.get());
   }
-  void tick(int i) {
-    servo->tick(i, i * kTestRates.servo_period_s());
+  void tick(int64_t i) { tick(i, static_cast<double>(i) * rates.servo_period_s()); }
+  void tick(int64_t i, double t_s) {
+    servo->tick(i, t_s);
+    drain();
+  }
+  void drain() {
     HapticSample s;
     while (q.try_pop(&s)) {
     }
   }
-  FixedDevice dev;
-  SpscQueue<HapticSample> q{4096};
+  Dev dev;
+  SpscQueue<HapticSample> q;
   std::unique_ptr<TripleBuffer<LocalModel>> tb = std::make_unique<TripleBuffer<LocalModel>>();
+  Rates rates;
   std::unique_ptr<Servo> servo;
+};
+
+/// A ServoRig of params p over the floor of publish_floor_at (z = 0 as frame 0; blend as given), its device held
+/// wherever the test puts it (max force 100 N).
+struct FloorRig : ServoRig<> {
+  FloorRig(const ServoParams& p, bool blend) : ServoRig(p) {
+    dev.specs_.max_force_N = 100;
+    publish_floor_at(tb.get(), 0.0, 0.0, 0, 0.0, blend);
+  }
 };
 
 }  // namespace palpate::test

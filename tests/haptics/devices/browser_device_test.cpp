@@ -124,20 +124,16 @@ struct Takeover {
 Takeover take_over(bool hidden_tab) {
   Rig r;
   r.dev.set_start(Vec3(0.0, 0.0, 0.01));
-  SpscQueue<HapticSample> q(64);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  test::publish_floor(tb.get());
-  Servo servo(test::static_surface_params(300.0), test::kTestRates, &r.dev, &q, tb.get());
-  HapticSample sink;
+  test::ServoRig<BrowserDevice&> rig(test::static_surface_params(300.0), 64, test::kTestRates, r.dev);
+  test::publish_floor(rig.tb.get());
+  const Servo& servo = *rig.servo;
   Takeover out;
   Vec3 last = Vec3::Zero();
   int64_t tick = 0;
   auto step = [&] {
     g_now_ns += 1'000'000;
-    servo.tick(tick, static_cast<double>(tick) * 1e-3);
+    rig.tick(tick);
     ++tick;
-    while (q.try_pop(&sink)) {
-    }
     const Vec3 f = servo.last_sample().force_N;
     if ((f - last).norm() > out.max_step_N) {
       out.max_step_N = (f - last).norm();
@@ -321,12 +317,9 @@ TEST(BrowserDevice, ASilentPagesFadeIsARampNeverAStep) {
 TEST(BrowserDevice, ServoForceEndsAtTheWatchdogAndAllocatesNothing) {
   Rig r;
   r.dev.set_start(Vec3(0.0, 0.0, 0.01));
-  SpscQueue<HapticSample> q(64);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  test::publish_floor(tb.get());
-  ServoParams sp = test::static_surface_params(300.0);
-  Servo servo(sp, test::kTestRates, &r.dev, &q, tb.get());
-  HapticSample sink;
+  test::ServoRig<BrowserDevice&> rig(test::static_surface_params(300.0), 64, test::kTestRates, r.dev);
+  test::publish_floor(rig.tb.get());
+  Servo& servo = *rig.servo;
   int64_t allocs = 0;
   {
     test::AllocationGuard guard;
@@ -334,9 +327,7 @@ TEST(BrowserDevice, ServoForceEndsAtTheWatchdogAndAllocatesNothing) {
       // anchored at the view's centre 1 cm above the floor, then down to 2 cm below it (y is the world's z here)
       if (i % 16 == 0) r.post(0.0, i < 500 ? 0.2 : -0.4);
       g_now_ns += 1'000'000;
-      servo.tick(i, i * 1e-3);
-      while (q.try_pop(&sink)) {
-      }
+      rig.tick(i);
     }
     allocs = guard.count();
   }

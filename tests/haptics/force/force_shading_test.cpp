@@ -93,29 +93,24 @@ struct Stroke {
 template <typename At, typename Normal>
 Stroke stroke(const Surface& s, double shading_deg, double radius, At at, Normal normal, const Vec3& across,
               int ticks) {
-  test::FixedDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  publish(s, 60.0, tb.get());
   ServoParams p = test::static_surface_params(kK);
   p.tool_radius_m = radius;
   p.force_shading_deg = shading_deg;
-  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  test::ServoRig<> rig(p);
+  rig.dev.specs_.max_force_N = 100;
+  publish(s, 60.0, rig.tb.get());
   Stroke out;
-  HapticSample sink, prev;
+  HapticSample prev;
   double sum2 = 0.0;
   std::vector<double> angles;
   Vec3 lat_prev = Vec3::Zero();
   const int approach = 100;
   for (int i = 0; i < approach + ticks; ++i) {
     const Vec3 start = at(0.0);
-    dev.pos_m = i < approach ? Vec3(start + normal(start) * 0.006 * (1.0 - i / (approach - 1.0)))
-                             : at(static_cast<double>(i - approach) / ticks);
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    const HapticSample& now = servo.last_sample();
+    rig.dev.pos_m = i < approach ? Vec3(start + normal(start) * 0.006 * (1.0 - i / (approach - 1.0)))
+                                 : at(static_cast<double>(i - approach) / ticks);
+    rig.tick(i);
+    const HapticSample& now = rig.servo->last_sample();
     EXPECT_EQ(now.contact, i < approach ? now.contact : ContactState::kTouch) << i;
     if (i > approach + 10) {
       const double cosang = std::clamp(now.force_N.normalized().dot(normal(now.tool_pos_m)), -1.0, 1.0);
@@ -193,20 +188,14 @@ TEST(ForceShading, ACubesFacesStayFlatAndItsEdgesSharp) {
 // the servo's samples over `ticks` with the device at path(i); the surface published with crease normals of 60 degrees
 template <typename Path>
 std::vector<HapticSample> run(const Surface& s, const ServoParams& p, Path path, int ticks) {
-  test::FixedDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  publish(s, 60.0, tb.get());
-  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  test::ServoRig<> rig(p);
+  rig.dev.specs_.max_force_N = 100;
+  publish(s, 60.0, rig.tb.get());
   std::vector<HapticSample> out;
-  HapticSample sink;
   for (int i = 0; i < ticks; ++i) {
-    dev.pos_m = path(i);
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    out.push_back(servo.last_sample());
+    rig.dev.pos_m = path(i);
+    rig.tick(i);
+    out.push_back(rig.servo->last_sample());
   }
   return out;
 }

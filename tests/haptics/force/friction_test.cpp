@@ -23,29 +23,22 @@ struct Stroke {
 
 // the tool pressed kDepth into the floor z = 0, then stroked along +x at speed_m_per_s for 0.6 s
 Stroke stroke(double radius, double speed_m_per_s, double trail_drop_m, int ticks = 900) {
-  test::FixedDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  test::publish_floor(tb.get());
   ServoParams p = test::static_surface_params(kK);
   p.tool_radius_m = radius;
   p.friction.static_coefficient = kMuS;
   p.friction.dynamic_coefficient = kMuD;
   p.friction.trail_drop_m = trail_drop_m;
-  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  test::FloorRig rig(p, false);
   Stroke s;
-  HapticSample sink, prev;
+  HapticSample prev;
   bool slipped = false;
   int slip_tick = -1;
   for (int i = 0; i < ticks; ++i) {
     const double z = radius + 0.002 - std::min(1.0, i / 100.0) * (0.002 + kDepth);
     const double x = i < 300 ? 0.0 : speed_m_per_s * (i - 300) * 1e-3;
-    dev.pos_m = Vec3(x, 0.001, z);
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    const HapticSample& now = servo.last_sample();
+    rig.dev.pos_m = Vec3(x, 0.001, z);
+    rig.tick(i);
+    const HapticSample& now = rig.servo->last_sample();
     EXPECT_EQ(now.contact, i < 100 ? now.contact : ContactState::kTouch) << i;
     if (i == 299) s.normal_N = now.force_N.z();
     if (i >= 300) {
@@ -95,21 +88,14 @@ TEST(Friction, SlowStrokeSlidesWithoutStickSlip) {
 }
 
 TEST(Friction, NoCoefficientsIsFrictionless) {
-  test::FixedDevice dev;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  test::publish_floor(tb.get());
-  ServoParams p = test::static_surface_params(kK);
-  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
-  HapticSample sink;
+  test::ServoRig<> rig(test::static_surface_params(kK));
+  test::publish_floor(rig.tb.get());
   for (int i = 0; i < 400; ++i) {
-    dev.pos_m = Vec3(i < 200 ? 0.0 : 1e-5 * (i - 200), 0.001, 0.002 - std::min(1.0, i / 100.0) * 0.004);
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
+    rig.dev.pos_m = Vec3(i < 200 ? 0.0 : 1e-5 * (i - 200), 0.001, 0.002 - std::min(1.0, i / 100.0) * 0.004);
+    rig.tick(i);
   }
-  EXPECT_NEAR(dev.force_N.x(), 0.0, 1e-9);
-  EXPECT_NEAR(dev.force_N.z(), kK * kDepth, 1e-9);
+  EXPECT_NEAR(rig.dev.force_N.x(), 0.0, 1e-9);
+  EXPECT_NEAR(rig.dev.force_N.z(), kK * kDepth, 1e-9);
 }
 
 TEST(Friction, StrokedOutOfADentTheProxyTrailsWithoutJumps) {
@@ -120,11 +106,14 @@ TEST(Friction, StrokedOutOfADentTheProxyTrailsWithoutJumps) {
   // A point tool, which rolls over the convex facet edges of the dent's rim in bounded steps, does the same.
   for (double radius : {0.0, 0.005}) {
     SCOPED_TRACE(radius > 0 ? "sphere tool" : "point tool");
-    test::FixedDevice dev;
-    dev.specs_.max_force_N = 100;
-    SpscQueue<HapticSample> q(4096);
-    auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-    LocalModel& m = tb->write_buffer();
+    ServoParams p = test::static_surface_params(kK);
+    p.tool_radius_m = radius;
+    p.friction.static_coefficient = kMuS;
+    p.friction.dynamic_coefficient = kMuD;
+    p.friction.trail_drop_m = 0.02 / kK;
+    test::ServoRig<> rig(p);
+    rig.dev.specs_.max_force_N = 100;
+    LocalModel& m = rig.tb->write_buffer();
     m.num_triangles = 0;
     const double cell = 0.002, half = 0.015;
     auto z = [](double x, double y) { return -0.002 * std::exp(-(x * x + y * y) / (0.003 * 0.003)); };
@@ -134,23 +123,15 @@ TEST(Friction, StrokedOutOfADentTheProxyTrailsWithoutJumps) {
         test::add_quad(&m, at(x, y), at(x + cell, y), at(x + cell, y + cell), at(x, y + cell));
       }
     m.frame = 0;
-    tb->publish();
-    ServoParams p = test::static_surface_params(kK);
-    p.tool_radius_m = radius;
-    p.friction.static_coefficient = kMuS;
-    p.friction.dynamic_coefficient = kMuD;
-    p.friction.trail_drop_m = 0.02 / kK;
-    Servo servo(p, test::kTestRates, &dev, &q, tb.get());
-    HapticSample sink, prev;
+    rig.tb->publish();
+    HapticSample prev;
     double worst_excess_N = 0.0, travel_m = 0.0;
     int contact = 0;
     for (int i = 0; i < 700; ++i) {
       const double x = 0.0003 + (i < 300 ? 0.0 : 2e-5 * (i - 300));
-      dev.pos_m = Vec3(x, 0.0004, radius - 0.002 + 0.002 - std::min(1.0, i / 100.0) * 0.0035);
-      servo.tick(i, i * 1e-3);
-      while (q.try_pop(&sink)) {
-      }
-      const HapticSample& now = servo.last_sample();
+      rig.dev.pos_m = Vec3(x, 0.0004, radius - 0.002 + 0.002 - std::min(1.0, i / 100.0) * 0.0035);
+      rig.tick(i);
+      const HapticSample& now = rig.servo->last_sample();
       contact += now.contact == ContactState::kTouch;
       if (i > 120) {
         const double dtool = (now.tool_pos_m - prev.tool_pos_m).norm();
@@ -176,31 +157,26 @@ TEST(Friction, BreakawayFollowsTheNormalForceOnATiltedFaceInAnyDirection) {
       SCOPED_TRACE("depth " + std::to_string(depth) + " m, direction " + std::to_string(dir_deg) + " deg");
       const double a = dir_deg * 3.14159265358979323846 / 180.0;
       const Vec3 u = std::cos(a) * e1 + std::sin(a) * e2;
-      test::FixedDevice dev;
-      dev.specs_.max_force_N = 100;
-      SpscQueue<HapticSample> q(4096);
-      auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-      LocalModel& m = tb->write_buffer();
+      ServoParams p = test::static_surface_params(kK);
+      p.friction.static_coefficient = kMuS;
+      p.friction.dynamic_coefficient = kMuD;
+      test::ServoRig<> rig(p);
+      rig.dev.specs_.max_force_N = 100;
+      LocalModel& m = rig.tb->write_buffer();
       m.num_triangles = 0;
       const double h = 0.05;
       test::add_quad(&m, -h * e1 - h * e2, h * e1 - h * e2, h * e1 + h * e2, -h * e1 + h * e2);
       m.frame = 0;
-      tb->publish();
-      ServoParams p = test::static_surface_params(kK);
-      p.friction.static_coefficient = kMuS;
-      p.friction.dynamic_coefficient = kMuD;
-      Servo servo(p, test::kTestRates, &dev, &q, tb.get());
-      HapticSample sink, prev;
+      rig.tb->publish();
+      HapticSample prev;
       double breakaway = 0.0, normal = 0.0;
       bool slipped = false;
       for (int i = 0; i < 700 && !slipped; ++i) {
         const double in = 0.002 - std::min(1.0, i / 100.0) * (0.002 + depth);
         const double across = i < 200 ? 0.0 : 1e-5 * (i - 200);  // 10 mm/s
-        dev.pos_m = in * n + across * u;
-        servo.tick(i, i * 1e-3);
-        while (q.try_pop(&sink)) {
-        }
-        const HapticSample& now = servo.last_sample();
+        rig.dev.pos_m = in * n + across * u;
+        rig.tick(i);
+        const HapticSample& now = rig.servo->last_sample();
         if (i >= 200) {
           if ((now.proxy_pos_m - prev.proxy_pos_m).norm() > 1e-12) {
             slipped = true;

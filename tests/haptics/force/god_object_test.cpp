@@ -16,8 +16,8 @@ namespace {
 using PathDevice = test::FixedDevice;
 using test::add_quad;
 
-std::unique_ptr<Servo> make_servo(PathDevice* dev, SpscQueue<HapticSample>* q, TripleBuffer<LocalModel>* tb,
-                                  double tool_radius_m = 0.0, double jump_limit_N_per_tick = 0.0) {
+// A touch servo of coupling 300 N/m on the static surface: no damping, ramp or passivity guard.
+ServoParams touch_params(double tool_radius_m = 0.0, double jump_limit_N_per_tick = 0.0) {
   ServoParams p;
   p.jump_limit_N_per_tick = jump_limit_N_per_tick;
   p.tool_radius_m = tool_radius_m;
@@ -26,32 +26,26 @@ std::unique_ptr<Servo> make_servo(PathDevice* dev, SpscQueue<HapticSample>* q, T
   p.ramp_s = 0;
   p.passivity = false;
   p.force_model = ForceModel::kStaticSurface;
-  return std::make_unique<Servo>(p, test::kTestRates, dev, q, tb);
+  return p;
 }
 
 TEST(GodObject, ToolPushedThroughAThinSlabStaysOnTheEntryFace) {
   // a 2 mm slab: top z = +1 mm facing up, bottom z = -1 mm facing down
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  LocalModel& m = tb->write_buffer();
+  test::ServoRig<PathDevice> rig(touch_params());
+  rig.dev.specs_.max_force_N = 100;
+  LocalModel& m = rig.tb->write_buffer();
   const double h = 0.05, t = 0.001;
   add_quad(&m, Vec3(-h, -h, t), Vec3(h, -h, t), Vec3(h, h, t), Vec3(-h, h, t));
   add_quad(&m, Vec3(-h, -h, -t), Vec3(-h, h, -t), Vec3(h, h, -t), Vec3(h, -h, -t));
   m.frame = 0;
-  tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get());
-  HapticSample sink;
+  rig.tb->publish();
   for (int i = 0; i <= 100; ++i) {
-    dev.pos_m = Vec3(0.003, 0.002, 0.004 - 1e-4 * i);  // from 4 mm above down to 6 mm below
-    servo->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    if (dev.pos_m.z() < t - 1e-9) {
-      ASSERT_EQ(servo->last_sample().contact, ContactState::kTouch) << "tick " << i;
-      EXPECT_NEAR(servo->last_sample().proxy_pos_m.z(), t, 1e-12) << "tick " << i;
-      EXPECT_NEAR(dev.force_N.z(), 300 * (t - dev.pos_m.z()), 1e-9) << "tick " << i;
+    rig.dev.pos_m = Vec3(0.003, 0.002, 0.004 - 1e-4 * i);  // from 4 mm above down to 6 mm below
+    rig.tick(i);
+    if (rig.dev.pos_m.z() < t - 1e-9) {
+      ASSERT_EQ(rig.servo->last_sample().contact, ContactState::kTouch) << "tick " << i;
+      EXPECT_NEAR(rig.servo->last_sample().proxy_pos_m.z(), t, 1e-12) << "tick " << i;
+      EXPECT_NEAR(rig.dev.force_N.z(), 300 * (t - rig.dev.pos_m.z()), 1e-9) << "tick " << i;
     }
   }
 }
@@ -92,35 +86,30 @@ TEST(GodObject, ASphereOnASheetWhoseNormalsPointAwayStaysOnItsSide) {
 
 TEST(GodObject, SlidingAcrossAConvexRidgeKeepsContact) {
   // a roof: two faces meeting along the y axis at z = 0, sloping down 30 degrees to each side
-  PathDevice dev;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  LocalModel& m = tb->write_buffer();
+  test::ServoRig<PathDevice> rig(touch_params());
+  LocalModel& m = rig.tb->write_buffer();
   const double w = 0.05, drop = w * std::tan(0.5235987755982988);
   add_quad(&m, Vec3(-w, -w, -drop), Vec3(0, -w, 0), Vec3(0, w, 0), Vec3(-w, w, -drop));
   add_quad(&m, Vec3(0, -w, 0), Vec3(w, -w, -drop), Vec3(w, w, -drop), Vec3(0, w, 0));
   m.frame = 0;
-  tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get());
-  HapticSample sink;
-  dev.pos_m = Vec3(-0.01, 0, 0.01);
-  servo->tick(0, 0);
+  rig.tb->publish();
+  rig.dev.pos_m = Vec3(-0.01, 0, 0.01);
+  rig.tick(0);
   int in_contact = 0;
   for (int i = 1; i <= 200; ++i) {
     // 1 mm under the roof line, from x = -10 mm to +10 mm
     const double x = -0.01 + 1e-4 * i;
-    dev.pos_m = Vec3(x, 0.0, -std::abs(x) * std::tan(0.5235987755982988) - 0.001);
-    servo->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    in_contact += servo->last_sample().contact == ContactState::kTouch;
+    rig.dev.pos_m = Vec3(x, 0.0, -std::abs(x) * std::tan(0.5235987755982988) - 0.001);
+    rig.tick(i);
+    in_contact += rig.servo->last_sample().contact == ContactState::kTouch;
     if (i > 1) {
-      EXPECT_EQ(servo->last_sample().contact, ContactState::kTouch) << "x " << x;
-      EXPECT_GT(dev.force_N.z(), 0.0) << "x " << x;
+      EXPECT_EQ(rig.servo->last_sample().contact, ContactState::kTouch) << "x " << x;
+      EXPECT_GT(rig.dev.force_N.z(), 0.0) << "x " << x;
       // a god-object holds to a face while the device's projection lies on it, so it is never further from the
       // device than the face's nearest point (1 mm deep on a face; at most the ridge line's distance near it)
       const double ridge = std::hypot(x, std::abs(x) * std::tan(0.5235987755982988) + 0.001);
-      EXPECT_LE((servo->last_sample().proxy_pos_m - dev.pos_m).norm(), std::max(0.001, ridge) + 1e-9) << "x " << x;
+      EXPECT_LE((rig.servo->last_sample().proxy_pos_m - rig.dev.pos_m).norm(), std::max(0.001, ridge) + 1e-9)
+          << "x " << x;
     }
   }
   EXPECT_EQ(in_contact, 200);
@@ -131,11 +120,9 @@ TEST(GodObject, SlidingRoundACylinderFollowsTheSmoothNormalPastNinetyDegrees) {
   // side (+x) to the bottom (theta = 180 deg), with smooth radial vertex normals; the tool slides round it 1 mm
   // deep. The side of the surface the contact holds to must turn with it: an entry-face normal would drop every
   // facet past 90 degrees and leave the proxy behind at the side.
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  LocalModel& m = tb->write_buffer();
+  test::ServoRig<PathDevice> rig(touch_params());
+  rig.dev.specs_.max_force_N = 100;
+  LocalModel& m = rig.tb->write_buffer();
   const double r = 0.02, w = 0.02, pi = 3.14159265358979323846;
   auto at = [&](double th, double y) { return Vec3(r * std::sin(th), y, r * std::cos(th)); };
   auto radial = [](double th) { return Vec3(std::sin(th), 0, std::cos(th)); };
@@ -152,32 +139,26 @@ TEST(GodObject, SlidingRoundACylinderFollowsTheSmoothNormalPastNinetyDegrees) {
     ++m.num_triangles;
   }
   m.frame = 0;
-  tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get());
-  HapticSample sink;
+  rig.tb->publish();
   const double th0 = 10 * pi / 180;
-  dev.pos_m = (r + 0.002) * radial(th0);
-  servo->tick(0, 0);
+  rig.dev.pos_m = (r + 0.002) * radial(th0);
+  rig.tick(0);
   int64_t tick = 1, lost = 0, off = 0;
   // in through the surface, then round it to 170 degrees
   for (int i = 1; i <= 30; ++i, ++tick) {
-    dev.pos_m = (r + 0.002 - 1e-4 * i) * radial(th0);
-    servo->tick(tick, tick * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
+    rig.dev.pos_m = (r + 0.002 - 1e-4 * i) * radial(th0);
+    rig.tick(tick);
   }
-  ASSERT_EQ(servo->last_sample().contact, ContactState::kTouch);
+  ASSERT_EQ(rig.servo->last_sample().contact, ContactState::kTouch);
   double worst_m = 0.0;
   for (int i = 0; i <= 320; ++i, ++tick) {
     const double th = th0 + (160 * pi / 180) * i / 320;
-    dev.pos_m = (r - 0.001) * radial(th);
-    servo->tick(tick, tick * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    lost += servo->last_sample().contact != ContactState::kTouch ? 1 : 0;
+    rig.dev.pos_m = (r - 0.001) * radial(th);
+    rig.tick(tick);
+    lost += rig.servo->last_sample().contact != ContactState::kTouch ? 1 : 0;
     // the proxy is the surface point over the tool: on the radius (facet chords sag 19 um), at the tool's angle
     const Vec3 expect = r * radial(th);
-    const double err = (servo->last_sample().proxy_pos_m - expect).norm();
+    const double err = (rig.servo->last_sample().proxy_pos_m - expect).norm();
     worst_m = std::max(worst_m, err);
     off += err > 1e-4 ? 1 : 0;
   }
@@ -200,23 +181,19 @@ TEST(SphereTool, PressedOnAFlatFaceItsCentreRestsOneRadiusAbove) {
   // floor z = 0; a 5 mm sphere: contact starts when the centre comes within 5 mm (before it crosses the face), and
   // however deep the device goes the centre stays at z = r, right above the device; a point tool's proxy is on
   // the face itself
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  test::publish_floor(tb.get());
   const double r = 0.005;
-  auto sphere = make_servo(&dev, &q, tb.get(), r);
-  auto point = make_servo(&dev, &q, tb.get());
-  HapticSample sink;
+  test::ServoRig<PathDevice> rig(touch_params(r));
+  rig.dev.specs_.max_force_N = 100;
+  test::publish_floor(rig.tb.get());
+  Servo* const sphere = rig.servo.get();
+  const std::unique_ptr<Servo> point = rig.make_servo(touch_params());  // over the same device
   for (int i = 0; i <= 150; ++i) {
-    dev.pos_m = Vec3(0.003, -0.002, 0.010 - 1e-4 * i);  // from 10 mm above down to 5 mm below
+    rig.dev.pos_m = Vec3(0.003, -0.002, 0.010 - 1e-4 * i);  // from 10 mm above down to 5 mm below
     sphere->tick(i, i * 1e-3);
     const HapticSample s = sphere->last_sample();
     point->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    const double z = dev.pos_m.z();
+    rig.drain();
+    const double z = rig.dev.pos_m.z();
     if (z > r + 1e-9) {
       EXPECT_EQ(s.contact, ContactState::kFree) << "z " << z;
       continue;
@@ -233,35 +210,29 @@ TEST(SphereTool, PressedOnAFlatFaceItsCentreRestsOneRadiusAbove) {
     }
   }
   // lifted until the sphere no longer reaches the face: free
-  dev.pos_m = Vec3(0.003, -0.002, r + 1e-4);
+  rig.dev.pos_m = Vec3(0.003, -0.002, r + 1e-4);
   sphere->tick(151, 0.151);
   EXPECT_EQ(sphere->last_sample().contact, ContactState::kFree);
-  EXPECT_EQ(dev.force_N, Vec3::Zero());
+  EXPECT_EQ(rig.dev.force_N, Vec3::Zero());
 }
 
 TEST(SphereTool, PushedThroughAThinSlabStaysOnTheEntryFace) {
   // the 2 mm slab of the point-tool test and a 3 mm sphere: pushed 6 mm under the slab, the centre stays 3 mm
   // above its top face
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  LocalModel& m = tb->write_buffer();
   const double h = 0.05, t = 0.001, r = 0.003;
+  test::ServoRig<PathDevice> rig(touch_params(r));
+  rig.dev.specs_.max_force_N = 100;
+  LocalModel& m = rig.tb->write_buffer();
   add_quad(&m, Vec3(-h, -h, t), Vec3(h, -h, t), Vec3(h, h, t), Vec3(-h, h, t));
   add_quad(&m, Vec3(-h, -h, -t), Vec3(-h, h, -t), Vec3(h, h, -t), Vec3(h, -h, -t));
   m.frame = 0;
-  tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get(), r);
-  HapticSample sink;
+  rig.tb->publish();
   for (int i = 0; i <= 130; ++i) {
-    dev.pos_m = Vec3(0.003, 0.002, 0.007 - 1e-4 * i);  // from 7 mm above down to 6 mm below
-    servo->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    if (dev.pos_m.z() < t + r - 1e-9) {
-      ASSERT_EQ(servo->last_sample().contact, ContactState::kTouch) << "tick " << i;
-      EXPECT_NEAR(servo->last_sample().proxy_pos_m.z(), t + r, 1e-12) << "tick " << i;
+    rig.dev.pos_m = Vec3(0.003, 0.002, 0.007 - 1e-4 * i);  // from 7 mm above down to 6 mm below
+    rig.tick(i);
+    if (rig.dev.pos_m.z() < t + r - 1e-9) {
+      ASSERT_EQ(rig.servo->last_sample().contact, ContactState::kTouch) << "tick " << i;
+      EXPECT_NEAR(rig.servo->last_sample().proxy_pos_m.z(), t + r, 1e-12) << "tick " << i;
     }
   }
 }
@@ -271,36 +242,30 @@ TEST(SphereTool, RollsOverAConvexRidgeOneRadiusFromTheSurface) {
   // a 4 mm sphere: in contact all the way, its centre exactly one radius from the roof (never inside it), and it
   // rolls over the ridge line (its centre passes r above it) instead of jumping from one face's offset to the
   // other's (a jump of 1.22 r; the spring drags it over the top in steps well below that)
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  LocalModel& m = tb->write_buffer();
   const double w = 0.05, slope = 0.5235987755982988, drop = w * std::tan(slope), r = 0.004;
+  test::ServoRig<PathDevice> rig(touch_params(r, 0.02));  // the jump limit bounds the proxy's step
+  rig.dev.specs_.max_force_N = 100;
+  LocalModel& m = rig.tb->write_buffer();
   add_quad(&m, Vec3(-w, -w, -drop), Vec3(0, -w, 0), Vec3(0, w, 0), Vec3(-w, w, -drop));
   add_quad(&m, Vec3(0, -w, 0), Vec3(w, -w, -drop), Vec3(w, w, -drop), Vec3(0, w, 0));
   m.frame = 0;
-  tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get(), r, 0.02);  // the jump limit bounds the proxy's step
-  HapticSample sink;
-  dev.pos_m = Vec3(-0.01, 0, 0.01);
-  servo->tick(0, 0);
+  rig.tb->publish();
+  rig.dev.pos_m = Vec3(-0.01, 0, 0.01);
+  rig.tick(0);
   int in_contact = 0;
   double worst_gap = 0.0, largest_step = 0.0, highest = -1.0;
   Vec3 prev_centre = Vec3::Constant(NAN);
   for (int i = 1; i <= 200; ++i) {
     const double x = -0.01 + 1e-4 * i;
-    dev.pos_m = Vec3(x, 0.0, -std::abs(x) * std::tan(slope) - 0.001);
-    servo->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    const HapticSample& s = servo->last_sample();
+    rig.dev.pos_m = Vec3(x, 0.0, -std::abs(x) * std::tan(slope) - 0.001);
+    rig.tick(i);
+    const HapticSample& s = rig.servo->last_sample();
     in_contact += s.contact == ContactState::kTouch;
-    worst_gap = std::max(worst_gap, std::abs(distance_to_patch(tb->read(), s.proxy_pos_m) - r));
+    worst_gap = std::max(worst_gap, std::abs(distance_to_patch(rig.tb->read(), s.proxy_pos_m) - r));
     if (i > 1) largest_step = std::max(largest_step, (s.proxy_pos_m - prev_centre).norm());
     prev_centre = s.proxy_pos_m;
     highest = std::max(highest, s.proxy_pos_m.z());
-    EXPECT_GT(dev.force_N.z(), 0.0) << "x " << x;
+    EXPECT_GT(rig.dev.force_N.z(), 0.0) << "x " << x;
   }
   EXPECT_EQ(in_contact, 200);
   EXPECT_LT(worst_gap, 1e-9);
@@ -314,27 +279,21 @@ TEST(SphereTool, RollsOverAConvexRidgeOneRadiusFromTheSurface) {
 TEST(SphereTool, InAConcaveCornerItTouchesBothFaces) {
   // a V-shaped groove: two faces at 45 degrees meeting along the y axis at z = 0, a 3 mm sphere pushed straight
   // down into it sits with its centre r / sin 45 above the groove line, touching both faces
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  LocalModel& m = tb->write_buffer();
   const double w = 0.03, r = 0.003;
+  test::ServoRig<PathDevice> rig(touch_params(r));
+  rig.dev.specs_.max_force_N = 100;
+  LocalModel& m = rig.tb->write_buffer();
   add_quad(&m, Vec3(-w, -w, w), Vec3(0, -w, 0), Vec3(0, w, 0), Vec3(-w, w, w));
   add_quad(&m, Vec3(0, -w, 0), Vec3(w, -w, w), Vec3(w, w, w), Vec3(0, w, 0));
   m.frame = 0;
-  tb->publish();
-  auto servo = make_servo(&dev, &q, tb.get(), r);
-  HapticSample sink;
+  rig.tb->publish();
   for (int i = 0; i <= 120; ++i) {
-    dev.pos_m = Vec3(0.0005, 0.0, 0.010 - 1e-4 * i);
-    servo->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
+    rig.dev.pos_m = Vec3(0.0005, 0.0, 0.010 - 1e-4 * i);
+    rig.tick(i);
   }
-  const HapticSample& s = servo->last_sample();
+  const HapticSample& s = rig.servo->last_sample();
   ASSERT_EQ(s.contact, ContactState::kTouch);
-  EXPECT_NEAR(distance_to_patch(tb->read(), s.proxy_pos_m), r, 1e-6);
+  EXPECT_NEAR(distance_to_patch(rig.tb->read(), s.proxy_pos_m), r, 1e-6);
   EXPECT_NEAR(s.proxy_pos_m.z(), r * std::sqrt(2.0), 1e-5);
   EXPECT_NEAR(s.proxy_pos_m.x(), 0.0, 1e-5);
 }
@@ -376,36 +335,30 @@ TEST(GodObject, ABoundedMovePastAConvexEdgeDropsOntoTheNextFaceNotTowardTheGoal)
 // face there: the next patch that covers it judges its whole path from where it was last seen outside, and the touch
 // begins on the outside. Judged from the last tick only, the tool was already under the face: free, inside, for good.
 TEST(GodObject, AToolThatPassedUnseenIsCaughtByTheNextPatchThatSeesItsPath) {
-  PathDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  test::ServoRig<PathDevice> rig(touch_params());
+  rig.dev.specs_.max_force_N = 100;
   auto publish = [&](const Vec3& at, int64_t frame) {
-    LocalModel& m = tb->write_buffer();
+    LocalModel& m = rig.tb->write_buffer();
     m = LocalModel{};
     const double h = 0.004;
     add_quad(&m, at + Vec3(-h, -h, 0), at + Vec3(h, -h, 0), at + Vec3(h, h, 0), at + Vec3(-h, h, 0));
     m.cover_lo_m = m.cover_hi_m = at;
     m.cover_radius_m = h;
     m.frame = frame;
-    tb->publish();
+    rig.tb->publish();
   };
   publish(Vec3::Zero(), 0);  // the patch round the origin only
-  auto servo = make_servo(&dev, &q, tb.get());
-  HapticSample sink;
   const Vec3 x(0.02, 0.0, 0.0);
   for (int i = 0; i <= 40; ++i) {
-    dev.pos_m = x + Vec3(0.0, 0.0, 0.003 - 1.5e-4 * i);  // down through the surface at x = 20 mm, unseen
-    servo->tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    EXPECT_EQ(servo->last_sample().contact, ContactState::kFree);
+    rig.dev.pos_m = x + Vec3(0.0, 0.0, 0.003 - 1.5e-4 * i);  // down through the surface at x = 20 mm, unseen
+    rig.tick(i);
+    EXPECT_EQ(rig.servo->last_sample().contact, ContactState::kFree);
   }
   publish(x, 1);  // the next frame's patch covers the tool
-  servo->tick(41, 0.041);
-  EXPECT_EQ(servo->last_sample().contact, ContactState::kTouch);
-  EXPECT_GE(servo->last_sample().god_pos_m.z(), 0.0);
-  EXPECT_GT(dev.force_N.z(), 0.0);
+  rig.tick(41);
+  EXPECT_EQ(rig.servo->last_sample().contact, ContactState::kTouch);
+  EXPECT_GE(rig.servo->last_sample().god_pos_m.z(), 0.0);
+  EXPECT_GT(rig.dev.force_N.z(), 0.0);
 }
 
 }  // namespace

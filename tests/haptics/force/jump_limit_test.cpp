@@ -21,26 +21,18 @@ struct Steps {
 
 // touch: pressed 2 mm into the floor, held, then the tool leaves 5 mm in one tick
 Steps release(double rate) {
-  test::FixedDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  test::publish_floor(tb.get());
   ServoParams p = test::static_surface_params(kK);
   p.jump_limit_N_per_tick = rate;
-  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  test::FloorRig rig(p, false);
   Steps s;
-  HapticSample sink;
   Vec3 prev = Vec3::Zero();
   for (int i = 0; i < 400; ++i) {
-    dev.pos_m = Vec3(0.001, 0.002, i < 300 ? 0.002 - std::min(1.0, i / 100.0) * 0.004 : 0.005);
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    if (i > 100) s.largest_N = std::max(s.largest_N, (dev.force_N - prev).norm());
-    if (i == 299) s.pressed_N = dev.force_N.z();
-    if (i >= 300 && dev.force_N.norm() > 0.0) s.ticks_to_zero = i - 299;
-    prev = dev.force_N;
+    rig.dev.pos_m = Vec3(0.001, 0.002, i < 300 ? 0.002 - std::min(1.0, i / 100.0) * 0.004 : 0.005);
+    rig.tick(i);
+    if (i > 100) s.largest_N = std::max(s.largest_N, (rig.dev.force_N - prev).norm());
+    if (i == 299) s.pressed_N = rig.dev.force_N.z();
+    if (i >= 300 && rig.dev.force_N.norm() > 0.0) s.ticks_to_zero = i - 299;
+    prev = rig.dev.force_N;
   }
   return s;
 }
@@ -58,28 +50,20 @@ TEST(JumpLimit, ReleaseComesDownAtTheStatedRate) {
 TEST(JumpLimit, GrabStartsAtTheStatedRate) {
   // pull: the button pressed 4 mm above the floor grabs the point under the tool: k 4 mm = 1.2 N at once unlimited
   for (double rate : {kRate, 0.0}) {
-    test::FixedDevice dev;
-    dev.specs_.max_force_N = 100;
-    SpscQueue<HapticSample> q(4096);
-    auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-    test::publish_floor(tb.get());
     ServoParams p = test::static_surface_params(kK);
     p.mode = InteractionMode::kPull;
     p.jump_limit_N_per_tick = rate;
-    Servo servo(p, test::kTestRates, &dev, &q, tb.get());
-    HapticSample sink;
+    test::FloorRig rig(p, false);
     double largest = 0.0;
     Vec3 prev = Vec3::Zero();
     for (int i = 0; i < 200; ++i) {
-      dev.pos_m = Vec3(0.001, 0.002, 0.004);
-      dev.buttons = i >= 20 ? 1u : 0u;
-      servo.tick(i, i * 1e-3);
-      while (q.try_pop(&sink)) {
-      }
-      largest = std::max(largest, (dev.force_N - prev).norm());
-      prev = dev.force_N;
+      rig.dev.pos_m = Vec3(0.001, 0.002, 0.004);
+      rig.dev.buttons = i >= 20 ? 1u : 0u;
+      rig.tick(i);
+      largest = std::max(largest, (rig.dev.force_N - prev).norm());
+      prev = rig.dev.force_N;
     }
-    EXPECT_NEAR(dev.force_N.z(), -kK * 0.004, 1e-9);  // held: the whole force in the end
+    EXPECT_NEAR(rig.dev.force_N.z(), -kK * 0.004, 1e-9);  // held: the whole force in the end
     EXPECT_NEAR(largest, rate > 0 ? rate : kK * 0.004, 1e-9);
   }
 }
@@ -90,36 +74,28 @@ TEST(JumpLimit, ContactEntryComesInAtTheStatedRate) {
   // what the device's step explains (k |dx| + b_c |dv|); limited, the entry brings the rate and no step goes beyond
   // the explained one by more than the rate
   for (double rate : {kRate, 0.0}) {
-    test::FixedDevice dev;
-    dev.specs_.max_force_N = 100;
-    SpscQueue<HapticSample> q(4096);
-    auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-    test::publish_floor(tb.get());
     ServoParams p = test::static_surface_params(kK);
     p.coupling_damping_Ns_per_m = 0.5;
     p.jump_limit_N_per_tick = rate;
-    Servo servo(p, test::kTestRates, &dev, &q, tb.get());
-    HapticSample sink;
+    test::FloorRig rig(p, false);
     double worst_excess_N = 0.0, entry_step_N = 0.0;
     Vec3 prev_force = Vec3::Zero(), prev_pos = Vec3::Zero(), prev_step = Vec3::Zero();
     for (int i = 0; i < 200; ++i) {
       // from 11.95 mm above (the velocity estimate settles on the way), 0.2 mm a tick, down to 2 mm deep and held
-      dev.pos_m = Vec3(0.001, 0.002, std::max(-0.002, 0.01195 - 0.0002 * i));
-      servo.tick(i, i * 1e-3);
-      while (q.try_pop(&sink)) {
-      }
-      const Vec3 step = dev.pos_m - prev_pos;
+      rig.dev.pos_m = Vec3(0.001, 0.002, std::max(-0.002, 0.01195 - 0.0002 * i));
+      rig.tick(i);
+      const Vec3 step = rig.dev.pos_m - prev_pos;
       if (i > 0) {
         const double explained = kK * step.norm() + 0.5 * (step - prev_step).norm() / 1e-3;
-        worst_excess_N = std::max(worst_excess_N, (dev.force_N - prev_force).norm() - explained);
+        worst_excess_N = std::max(worst_excess_N, (rig.dev.force_N - prev_force).norm() - explained);
       }
-      if (servo.last_sample().contact == ContactState::kTouch && prev_force.isZero())
-        entry_step_N = dev.force_N.norm();
-      prev_force = dev.force_N;
+      if (rig.servo->last_sample().contact == ContactState::kTouch && prev_force.isZero())
+        entry_step_N = rig.dev.force_N.norm();
+      prev_force = rig.dev.force_N;
       prev_step = step;
-      prev_pos = dev.pos_m;
+      prev_pos = rig.dev.pos_m;
     }
-    EXPECT_NEAR(dev.force_N.z(), kK * 0.002, 1e-9);  // held: the whole force in the end
+    EXPECT_NEAR(rig.dev.force_N.z(), kK * 0.002, 1e-9);  // held: the whole force in the end
     if (rate > 0) {
       EXPECT_NEAR(entry_step_N, rate, 1e-12);
       EXPECT_LE(worst_excess_N, rate + 1e-9);

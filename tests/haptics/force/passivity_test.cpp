@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <vector>
 
 #include "haptics/devices/scripted_device.h"
 #include "haptics/servo/servo.h"
@@ -29,10 +30,6 @@ WallRun run_wall(bool passivity) {
   hand.mass_kg = 0.12;
   hand.stiffness_N_per_m = 150;
   hand.damping_Ns_per_m = 0.05;
-  ScriptedDevice dev(specs, hand, {{0.0, Vec3(0, 0, 0.004), false}, {0.2, Vec3(0, 0, -0.01), false}});
-  SpscQueue<HapticSample> q(16);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  publish_floor(tb.get(), 0.1);
   ServoParams p;
   p.mode = InteractionMode::kTouch;
   p.coupling_N_per_m = 700;
@@ -40,23 +37,21 @@ WallRun run_wall(bool passivity) {
   p.passivity = passivity;
   p.ramp_s = 0;
   p.jump_limit_N_per_tick = 0;
-  const Rates rates;  // 1 kHz
-  Servo servo(p, rates, &dev, &q, tb.get());
+  const std::vector<Keyframe> press = {{0.0, Vec3(0, 0, 0.004), false}, {0.2, Vec3(0, 0, -0.01), false}};
+  test::ServoRig<ScriptedDevice> rig(p, 16, test::kTestRates, specs, hand, press);  // at 1 kHz
+  publish_floor(rig.tb.get(), 0.1);
   WallRun r;
   double lo1 = 1, hi1 = -1, lo2 = 1, hi2 = -1;
-  HapticSample sink;
   for (int i = 0; i < 4000; ++i) {
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    const double z = servo.last_sample().tool_pos_m.z();
+    rig.tick(i);
+    const double z = rig.servo->last_sample().tool_pos_m.z();
     if (i >= 1000 && i < 1500) lo1 = std::min(lo1, z), hi1 = std::max(hi1, z);
     if (i >= 3500) lo2 = std::min(lo2, z), hi2 = std::max(hi2, z);
-    r.max_force_N = std::max(r.max_force_N, servo.last_sample().force_N.norm());
+    r.max_force_N = std::max(r.max_force_N, rig.servo->last_sample().force_N.norm());
   }
   r.early_swing_m = hi1 - lo1;
   r.late_swing_m = hi2 - lo2;
-  r.activations = servo.counters().passivity_activations;
+  r.activations = rig.servo->counters().passivity_activations;
   return r;
 }
 

@@ -81,23 +81,18 @@ struct Run {
 
 // the device comes in along -dir to `depth` past `site` (the tool's centre `radius` further out), then holds
 Run press_and_hold(const Surface& s, const Vec3& site, const Vec3& dir, double radius, double depth) {
-  test::FixedDevice dev;
-  dev.specs_.max_force_N = 100;
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  publish(s, site, tb.get());
   ServoParams p = test::static_surface_params(kK);
   p.tool_radius_m = radius;
-  Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+  test::ServoRig<> rig(p);
+  rig.dev.specs_.max_force_N = 100;
+  publish(s, site, rig.tb.get());
   const Vec3 out = site + dir * (radius + 0.003), in = site + dir * (radius - depth);
   Run run;
-  HapticSample sink, prev;
+  HapticSample prev;
   for (int i = 0; i < 400; ++i) {
-    dev.pos_m = out + std::min(1.0, i / 100.0) * (in - out);
-    servo.tick(i, i * 1e-3);
-    while (q.try_pop(&sink)) {
-    }
-    const HapticSample& now = servo.last_sample();
+    rig.dev.pos_m = out + std::min(1.0, i / 100.0) * (in - out);
+    rig.tick(i);
+    const HapticSample& now = rig.servo->last_sample();
     run.contact_ticks += now.contact == ContactState::kTouch;
     if (i > 150) {
       run.max_still_move_m = std::max(run.max_still_move_m, (now.proxy_pos_m - prev.proxy_pos_m).norm());
@@ -199,28 +194,23 @@ TEST(ProxySettle, SlowStrokeAcrossConvexEdgesOfTheBunnyMovesOnlyAsTheDeviceDoes)
       const Vec3 n = (e.na + e.nb).normalized();
       const Vec3 t = along.cross(n) * (along.cross(n).dot(e.na) < 0 ? 1.0 : -1.0);  // from the first face's side
       auto at = [&](double u) -> Vec3 { return mid + (u - leg) * t - (depth - radius) * n; };
-      test::FixedDevice dev;
-      dev.specs_.max_force_N = 100;
-      SpscQueue<HapticSample> q(4096);
-      auto tb_buf = std::make_unique<TripleBuffer<LocalModel>>();
-      publish(s, mid, tb_buf.get());
       ServoParams p = test::static_surface_params(kK);
       p.tool_radius_m = radius;
-      Servo servo(p, test::kTestRates, &dev, &q, tb_buf.get());
+      test::ServoRig<> rig(p);
+      rig.dev.specs_.max_force_N = 100;
+      publish(s, mid, rig.tb.get());
       const Vec3 start = at(0.0), out = start + n * (radius + 0.003);
       const int approach = 100, ticks = approach + 50 + static_cast<int>(2 * leg / step);
-      HapticSample sink, prev;
+      HapticSample prev;
       double worst_excess_N = 0.0;
       int flips = 0, contact = 0;
       Vec3 lat_prev = Vec3::Zero();
       const Vec3 across = (e.na - e.nb).normalized();
       for (int i = 0; i < ticks; ++i) {
-        dev.pos_m = i < approach ? Vec3(out + (start - out) * (i / (approach - 1.0)))
-                                 : at(step * std::max(0, i - approach - 50));
-        servo.tick(i, i * 1e-3);
-        while (q.try_pop(&sink)) {
-        }
-        const HapticSample& now = servo.last_sample();
+        rig.dev.pos_m = i < approach ? Vec3(out + (start - out) * (i / (approach - 1.0)))
+                                     : at(step * std::max(0, i - approach - 50));
+        rig.tick(i);
+        const HapticSample& now = rig.servo->last_sample();
         if (i >= approach) {
           contact += now.contact == ContactState::kTouch;
           const double dtool = (now.tool_pos_m - prev.tool_pos_m).norm();
@@ -274,28 +264,23 @@ TEST(ProxySettle, SlowStrokeOverAFacetedSphereMovesOnlyAsTheDeviceDoes) {
     }
   for (double radius : {0.0, 0.005}) {
     SCOPED_TRACE(radius > 0 ? "sphere tool" : "point tool");
-    test::FixedDevice dev;
-    dev.specs_.max_force_N = 100;
-    SpscQueue<HapticSample> q(4096);
-    auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-    publish(s, Vec3(0, 0, big), tb.get());
     ServoParams p = test::static_surface_params(kK);
     p.tool_radius_m = radius;
-    Servo servo(p, test::kTestRates, &dev, &q, tb.get());
+    test::ServoRig<> rig(p);
+    rig.dev.specs_.max_force_N = 100;
+    publish(s, Vec3(0, 0, big), rig.tb.get());
     // in along the radius at 0.5 rad from the pole (0.1 s), then 0.8 s round toward the equator at 20 mm/s
     const double rt = big + radius - 0.001;
     auto at = [&](double th) { return Vec3(std::sin(th), 0.0, std::cos(th)); };
-    HapticSample sink, prev;
+    HapticSample prev;
     double worst_move = 0.0, worst_excess_N = 0.0;
     int flips = 0, contact = 0;
     Vec3 lat_prev = Vec3::Zero();
     for (int i = 0; i < 900; ++i) {
       const double th = 0.5 + 2e-5 / rt * std::max(0, i - 100);
-      dev.pos_m = i < 100 ? Vec3(at(0.5) * (rt + 0.004 * (1.0 - i / 99.0))) : Vec3(at(th) * rt);
-      servo.tick(i, i * 1e-3);
-      while (q.try_pop(&sink)) {
-      }
-      const HapticSample& now = servo.last_sample();
+      rig.dev.pos_m = i < 100 ? Vec3(at(0.5) * (rt + 0.004 * (1.0 - i / 99.0))) : Vec3(at(th) * rt);
+      rig.tick(i);
+      const HapticSample& now = rig.servo->last_sample();
       contact += i >= 100 && now.contact == ContactState::kTouch;
       if (i > 110) {
         const double dtool = (now.tool_pos_m - prev.tool_pos_m).norm();

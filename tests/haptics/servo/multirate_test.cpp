@@ -14,18 +14,16 @@ using StillDevice = test::FixedDevice;
 TEST(Servo, LocalModelGivesTheSeriesSpringOfCouplingAndObject) {
   // floor z = 0 whose contact point yields with compliance c along z: pressing d deep, the device feels the
   // series stiffness k_c k_o / (k_c + k_o) instead of k_c against a rigid (stale) surface
-  StillDevice dev;
-  SpscQueue<HapticSample> q(64);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  test::ServoRig<StillDevice> rig(ServoParams{}, 64);  // one servo a force model, over one device and surface
   const double k_c = 300, k_o = 100, d = 0.004;
-  LocalModel& m = tb->write_buffer();
+  LocalModel& m = rig.tb->write_buffer();
   test::add_quad(&m, Vec3(-0.1, -0.1, 0), Vec3(0.1, -0.1, 0), Vec3(0.1, 0.1, 0), Vec3(-0.1, 0.1, 0));
   m.has_contact_model = true;
   m.contact_p0_m = Vec3::Zero();
   m.compliance_m_per_N = Mat3::Identity() / k_o;
   m.model_radius_m = 0.01;
   m.frame = 0;
-  tb->publish();
+  rig.tb->publish();
   for (ForceModel fm : {ForceModel::kStaticSurface, ForceModel::kLocalModel}) {
     ServoParams p;
     p.coupling_N_per_m = k_c;
@@ -34,15 +32,14 @@ TEST(Servo, LocalModelGivesTheSeriesSpringOfCouplingAndObject) {
     p.jump_limit_N_per_tick = 0;  // the first contact tick's force itself, not its ramp
     p.passivity = false;
     p.force_model = fm;
-    const Rates rates;  // 1 kHz
-    Servo servo(p, rates, &dev, &q, tb.get());
-    dev.pos_m = Vec3(0, 0, 0.01);
-    servo.tick(0, 0.0);
-    dev.pos_m = Vec3(0, 0, -d);
-    servo.tick(1, 0.001);
-    servo.tick(2, 0.002);
+    rig.servo = rig.make_servo(p);  // at 1 kHz
+    rig.dev.pos_m = Vec3(0, 0, 0.01);
+    rig.tick(0);
+    rig.dev.pos_m = Vec3(0, 0, -d);
+    rig.tick(1);
+    rig.tick(2);
     const double want = fm == ForceModel::kLocalModel ? k_c * k_o / (k_c + k_o) * d : k_c * d;
-    EXPECT_NEAR(dev.force_N.z(), want, 1e-9) << static_cast<int>(fm);
+    EXPECT_NEAR(rig.dev.force_N.z(), want, 1e-9) << static_cast<int>(fm);
   }
 }
 

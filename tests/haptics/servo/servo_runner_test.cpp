@@ -171,15 +171,10 @@ class SlowReadDevice final : public Device {
   int64_t busy_ns_;
 };
 
-struct RunnerRig {
-  SlowReadDevice dev;
-  SpscQueue<HapticSample> q{100000};
-  std::unique_ptr<TripleBuffer<LocalModel>> tb = std::make_unique<TripleBuffer<LocalModel>>();
-  std::unique_ptr<Servo> servo;
-  Rates rates;  // the servo's; a runner gets its own
-  RunnerRig(int slow_read, int64_t busy_ns) : dev(slow_read, busy_ns) {
+// a servo of default params over the floor, reading a SlowReadDevice
+struct RunnerRig : test::ServoRig<SlowReadDevice> {
+  RunnerRig(int slow_read, int64_t busy_ns) : ServoRig(ServoParams{}, 100000, Rates{}, slow_read, busy_ns) {
     test::publish_floor(tb.get());
-    servo = std::make_unique<Servo>(ServoParams{}, rates, &dev, &q, tb.get());
   }
   // the rates with the servo at rate_hz (servo and runner read the same Rates)
   const Rates& at(double rate_hz) {

@@ -19,27 +19,26 @@ namespace {
 using test::FixedDevice;
 using test::publish_floor;
 
-struct ServoRig {
-  FixedDevice dev;
-  SpscQueue<HapticSample> q{100000};
-  std::unique_ptr<TripleBuffer<LocalModel>> tb = std::make_unique<TripleBuffer<LocalModel>>();
+// Coupling 300 N/m without damping, ramp or jump limit.
+ServoParams floor_params(InteractionMode mode) {
   ServoParams p;
-  std::unique_ptr<Servo> servo;
-  explicit ServoRig(InteractionMode mode) {
-    p.mode = mode;
-    p.coupling_N_per_m = 300;
-    p.coupling_damping_Ns_per_m = 0.0;
-    p.ramp_s = 0.0;
-    p.jump_limit_N_per_tick = 0.0;  // the coupling's own force, tick by tick (the limit: jump_limit_test.cpp)
-    servo = std::make_unique<Servo>(p, test::kTestRates, &dev, &q, tb.get());
-    publish_floor(tb.get());
-  }
+  p.mode = mode;
+  p.coupling_N_per_m = 300;
+  p.coupling_damping_Ns_per_m = 0.0;
+  p.ramp_s = 0.0;
+  p.jump_limit_N_per_tick = 0.0;  // the coupling's own force, tick by tick (the limit: jump_limit_test.cpp)
+  return p;
+}
+
+// A servo of floor_params over the floor of publish_floor; tick() runs the next tick.
+struct FloorServo : test::ServoRig<> {
+  explicit FloorServo(InteractionMode mode) : ServoRig(floor_params(mode), 100000) { publish_floor(tb.get()); }
   int64_t t = 0;
-  void tick() { servo->tick(t, static_cast<double>(t) * 1e-3), ++t; }
+  void tick() { ServoRig::tick(t++); }
 };
 
 TEST(Servo, TouchForceIsCouplingSpringToTheSurface) {
-  ServoRig r(InteractionMode::kTouch);
+  FloorServo r(InteractionMode::kTouch);
   r.dev.pos_m = Vec3(0.01, 0.0, 0.01);
   r.tick();
   EXPECT_EQ(r.servo->last_sample().contact, ContactState::kFree);
@@ -61,7 +60,7 @@ TEST(Servo, TouchForceIsCouplingSpringToTheSurface) {
 }
 
 TEST(Servo, ForceIsClampedToTheDeviceMaximum) {
-  ServoRig r(InteractionMode::kTouch);
+  FloorServo r(InteractionMode::kTouch);
   r.dev.pos_m = Vec3(0, 0, 0.01);
   r.tick();
   r.dev.pos_m = Vec3(0, 0, -0.04);  // 300 N/m * 4 cm = 12 N > 3.3 N
@@ -71,7 +70,7 @@ TEST(Servo, ForceIsClampedToTheDeviceMaximum) {
 }
 
 TEST(Servo, PullForceIsClampedToALowerDeviceMaximumToo) {
-  ServoRig r(InteractionMode::kPull);
+  FloorServo r(InteractionMode::kPull);
   r.dev.specs_.max_force_N = 1.0;
   r.dev.pos_m = Vec3(0.01, 0.02, 0.001);
   r.tick();
@@ -88,10 +87,10 @@ TEST(Servo, PullForceIsClampedToALowerDeviceMaximumToo) {
 TEST(Servo, ForceRampsBackInAfterTheDeviceWentSilent) {
   // pressed 2 mm into the floor (0.6 N); the link goes silent for 10 ticks, then comes back: zero force while
   // silent, then a linear ramp over ramp_s from the first good reading, not a step back to 0.6 N
-  ServoRig r(InteractionMode::kTouch);
-  ServoParams p = r.p;
+  FloorServo r(InteractionMode::kTouch);
+  ServoParams p = floor_params(InteractionMode::kTouch);
   p.ramp_s = 0.05;
-  r.servo = std::make_unique<Servo>(p, test::kTestRates, &r.dev, &r.q, r.tb.get());
+  r.servo = r.make_servo(p);
   r.dev.pos_m = Vec3(0.01, 0.0, 0.01);
   r.tick();
   r.dev.pos_m = Vec3(0.01, 0.0, -0.002);
@@ -114,7 +113,7 @@ TEST(Servo, ForceRampsBackInAfterTheDeviceWentSilent) {
 }
 
 TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
-  ServoRig r(InteractionMode::kPull);
+  FloorServo r(InteractionMode::kPull);
   ServoParams p;
   p.mode = InteractionMode::kPull;
   p.coupling_N_per_m = 300;
@@ -122,7 +121,7 @@ TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
   p.grab_radius_m = 0.01;
   p.ramp_s = 0.0;
   p.jump_limit_N_per_tick = 0.0;
-  r.servo = std::make_unique<Servo>(p, test::kTestRates, &r.dev, &r.q, r.tb.get());
+  r.servo = r.make_servo(p);
   r.dev.pos_m = Vec3(0.01, 0.02, 0.005);
   r.tick();
   r.dev.buttons = 1;
@@ -144,7 +143,7 @@ TEST(Servo, PullGrabsOnPressAndHoldsTheMaterialPoint) {
 }
 
 TEST(Servo, NonFiniteOrOutOfWorkspaceInputIsRejectedWithZeroForce) {
-  ServoRig r(InteractionMode::kTouch);
+  FloorServo r(InteractionMode::kTouch);
   r.dev.pos_m = Vec3(0, 0, 0.01);
   r.tick();
   r.dev.pos_m = Vec3(0, 0, -0.002);
@@ -161,22 +160,20 @@ TEST(Servo, NonFiniteOrOutOfWorkspaceInputIsRejectedWithZeroForce) {
 }
 
 TEST(Servo, FullQueueDropsAndCounts) {
-  FixedDevice dev;
-  SpscQueue<HapticSample> q(5);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  Servo s(ServoParams{}, test::kTestRates, &dev, &q, tb.get());
-  for (int i = 0; i < 12; ++i) s.tick(i, i * 1e-3);
-  EXPECT_EQ(s.counters().dropped_samples, 7);
-  EXPECT_EQ(s.counters().ticks, 12);
+  test::ServoRig<> rig(ServoParams{}, 5);
+  for (int i = 0; i < 12; ++i) rig.servo->tick(i, i * 1e-3);  // nothing drains the queue
+  EXPECT_EQ(rig.servo->counters().dropped_samples, 7);
+  EXPECT_EQ(rig.servo->counters().ticks, 12);
 }
 
 TEST(Servo, TenThousandTicksAllocateNothing) {
   Scene scene;
   scene.trajectory = {{0.0, Vec3(0, 0, 0.01), false}, {5.0, Vec3(0.01, 0, -0.01), true}, {10.0, Vec3(0, 0, 0.01), false}};
-  ScriptedDevice dev(DeviceSpecs{}, HandSpec{}, scene.trajectory);
-  SpscQueue<HapticSample> q(1024);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
-  publish_floor(tb.get());
+  // one servo a run, over the rig's device, queue and buffer
+  test::ServoRig<ScriptedDevice> rig(ServoParams{}, 1024, test::kTestRates, DeviceSpecs{}, HandSpec{},
+                                     scene.trajectory);
+  TripleBuffer<LocalModel>* tb = rig.tb.get();
+  publish_floor(tb);
   {
     // with the multirate contact model published, so its per-tick solve is counted too
     LocalModel& m = tb->write_buffer();
@@ -221,9 +218,7 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
     p.friction.dynamic_coefficient = 0.7 * mu;
     p.friction.trail_drop_m = 1e-4;
     p.jump_limit_N_per_tick = jump;
-    const Rates rates;  // 1 kHz
-    Servo servo(p, rates, &dev, &q, tb.get());
-    HapticSample sink;
+    const std::unique_ptr<Servo> servo = rig.make_servo(p);  // at 1 kHz
     int64_t allocs = 0;
     {
       test::AllocationGuard guard;
@@ -238,16 +233,14 @@ TEST(Servo, TenThousandTicksAllocateNothing) {
             for (int c = 0; c < 3; ++c) w.tri_m[t][c].z() = 1e-4 * ((i / 17) % 3);
           tb->publish();
         }
-        servo.tick(i, i * 1e-3);
-        if (i % 17 == 0)
-          while (q.try_pop(&sink)) {
-          }
+        servo->tick(i, i * 1e-3);
+        if (i % 17 == 0) rig.drain();
       }
       allocs = guard.count();
     }
     EXPECT_EQ(allocs, 0) << "mode " << mode_name(mode) << ", tool radius " << radius << ", friction " << mu
                          << ", jump limit " << jump << ", blend " << blend << ", shading " << shading;
-    EXPECT_EQ(servo.counters().ticks, 10000);
+    EXPECT_EQ(servo->counters().ticks, 10000);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "render/png_io.h"
 #include "sim/cut/mesh_split.h"
 #include "support/fixtures.h"
+#include "support/haptic_fixtures.h"
 #include "support/record_options.h"
 #include "runtime/session/device_factory.h"
 #include "runtime/session/model.h"
@@ -66,31 +67,27 @@ TEST(CutScene, ParsesModeBladeAndOrientation) {
 
 TEST(CutServo, ReportsTheBladeAndResistsItsMotionInsideTheMaterialOnly) {
   const Scene s = block_cut_scene(0.013);
-  ScriptedDevice dev(DeviceSpecs{}, s.hand, s.trajectory);
-  SpscQueue<HapticSample> q(4096);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();
+  ServoParams p;
+  p.mode = InteractionMode::kCut;
+  p.blade_length_m = s.blade_length_m;
+  p.cut_resistance_Ns_per_m = 5.0;
+  p.ramp_s = 0.0;
+  test::ServoRig<ScriptedDevice> rig(p, 4096, test::kTestRates, DeviceSpecs{}, s.hand, s.trajectory);  // at 1 kHz
   {
     // a wall at x = 0 facing +x, which the blade (moving toward -x) enters
-    LocalModel& m = tb->write_buffer();
+    LocalModel& m = rig.tb->write_buffer();
     const Vec3 a(0, -0.2, -0.2), b(0, 0.2, -0.2), c(0, 0.2, 0.2), d(0, -0.2, 0.2);
     m.num_triangles = 2;
     m.tri_m[0] = {a, b, c};
     m.tri_m[1] = {a, c, d};
     m.normal[0] = m.normal[1] = {Vec3::UnitX(), Vec3::UnitX(), Vec3::UnitX()};
     m.frame = 0;
-    tb->publish();
+    rig.tb->publish();
   }
-  ServoParams p;
-  p.mode = InteractionMode::kCut;
-  p.blade_length_m = s.blade_length_m;
-  p.cut_resistance_Ns_per_m = 5.0;
-  p.ramp_s = 0.0;
-  const Rates rates;  // 1 kHz
-  Servo servo(p, rates, &dev, &q, tb.get());
   bool saw_outside = false, saw_inside = false;
   for (int i = 0; i < 450; ++i) {
-    servo.tick(i, i * 1e-3);
-    const HapticSample& smp = servo.last_sample();
+    rig.tick(i);
+    const HapticSample& smp = rig.servo->last_sample();
     EXPECT_NEAR((smp.blade_axis - Vec3::UnitY()).norm(), 0.0, 1e-6);
     EXPECT_LE(smp.force_N.norm(), DeviceSpecs{}.max_force_N + 1e-12);
     if (i < 20) continue;  // the hand gets going

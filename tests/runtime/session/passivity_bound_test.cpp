@@ -56,31 +56,26 @@ WallRun run_wall(double rate_hz, bool capped) {
   ServoParams sp = servo_params_for(scene, device.specs());
   const CouplingLimit limit = coupling_limit(scene, device.specs());
   if (!capped) sp.coupling_N_per_m = scene.device.coupling_N_per_m;
-  SpscQueue<HapticSample> samples(64);
-  auto floor = std::make_unique<TripleBuffer<LocalModel>>();
-  test::publish_floor(floor.get(), 0.1);
-  Servo servo(sp, scene.rates, &device, &samples, floor.get());
+  test::ServoRig<Device&> rig(sp, 64, scene.rates, device);
+  test::publish_floor(rig.tb.get(), 0.1);
 
   WallRun r;
   r.coupling_N_per_m = sp.coupling_N_per_m;
   r.bound = limit.bound;
   double lo1 = 1, hi1 = -1, lo2 = 1, hi2 = -1;
   Vec3 prev_pos = Vec3::Zero(), prev_force = Vec3::Zero();
-  HapticSample sink;
   run_lockstep(
       scene.rates, 4.0, [](int64_t, double) {},
       [&](int64_t i, double t) {
-        servo.tick(i, t);
-        while (samples.try_pop(&sink)) {
-        }
-        const Vec3 pos = servo.last_sample().tool_pos_m;
+        rig.tick(i, t);
+        const Vec3 pos = rig.servo->last_sample().tool_pos_m;
         const double z = pos.z();
         if (t >= 0.3 && t < 0.8) lo1 = std::min(lo1, z), hi1 = std::max(hi1, z);
         if (t >= 3.5) lo2 = std::min(lo2, z), hi2 = std::max(hi2, z);
         // the force sent last tick was held on the handle while it moved from prev_pos to pos
         if (t >= 1.0) r.wall_work_J += prev_force.dot(pos - prev_pos);
         prev_pos = pos;
-        prev_force = servo.last_sample().force_N;
+        prev_force = rig.servo->last_sample().force_N;
       });
   r.early_swing_m = hi1 - lo1;
   r.late_swing_m = hi2 - lo2;

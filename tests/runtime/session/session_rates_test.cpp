@@ -13,6 +13,7 @@
 
 #include "core/scene.h"
 #include "support/fixtures.h"
+#include "support/haptic_fixtures.h"
 #include "support/record_options.h"
 #include "tools/bench/bench_loop.h"
 #include "runtime/session/device_factory.h"
@@ -98,23 +99,18 @@ double velocity_gain(double rate_hz, double frequency_hz) {
   constexpr double kAmplitude_m = 1e-3;
   Rates rates;
   rates.servo_hz = rate_hz;
-  SwingDevice dev(frequency_hz, kAmplitude_m);
-  SpscQueue<HapticSample> q(16);
-  auto tb = std::make_unique<TripleBuffer<LocalModel>>();  // an empty patch: the tool is always free
-  Servo servo(ServoParams{}, rates, &dev, &q, tb.get());
+  // nothing published: an empty patch, the tool is always free
+  test::ServoRig<SwingDevice> rig(ServoParams{}, 16, rates, frequency_hz, kAmplitude_m);
   const double omega = 2.0 * std::numbers::pi * frequency_hz;
   const double t_fit_s = 0.2, span_s = 20.0 / frequency_hz;
   double s_sin = 0.0, s_cos = 0.0;
   int64_t n = 0;
-  HapticSample sink;
   for (int64_t i = 0; i < rates.ticks(t_fit_s + span_s); ++i) {
     const double t = static_cast<double>(i) / rates.servo_hz;
-    servo.tick(i, t);
-    while (q.try_pop(&sink)) {
-    }
+    rig.tick(i, t);
     if (t < t_fit_s) continue;
     // the estimate of the velocity half a tick back (a first difference), projected on sin and cos
-    const double v = servo.tool_velocity_m_per_s().x();
+    const double v = rig.servo->tool_velocity_m_per_s().x();
     s_sin += v * std::sin(omega * t);
     s_cos += v * std::cos(omega * t);
     ++n;
