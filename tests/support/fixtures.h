@@ -1,5 +1,5 @@
 #pragma once
-// Shared test fixtures: a box model filling its grid cube, tolerances.
+// Shared test fixtures: a box model filling its grid cube, tolerances, a soft material.
 
 #include <filesystem>
 #include <string>
@@ -44,6 +44,17 @@ inline LatticeSpec spec_for(int level, double ks, double kh, double kb) {
   s.damping_Ns_per_m = 0.05;
   s.gravity_m_per_s2 = Vec3::Zero();
   return s;
+}
+
+/// A soft solid (silicone, tissue): E 100 kPa, Poisson ratio nu, the given model, 1070 kg/m^3, no Rayleigh damping.
+inline MaterialSpec soft_material(double nu = 0.25, MaterialModel model = MaterialModel::kSprings) {
+  MaterialSpec m;
+  m.enabled = true;
+  m.young_modulus_Pa = 1e5;
+  m.poisson_ratio = nu;
+  m.model = model;
+  m.density_kg_per_m3 = 1070.0;
+  return m;
 }
 
 /// An empty folder under this test process's temp_root() (removed with it at exit).

@@ -9,15 +9,13 @@
 #include "tools/bench/bench_model.h"
 #include "runtime/session/model.h"
 #include "runtime/session/tool_hold.h"
+#include "support/fixtures.h"
 
 namespace palpate {
 namespace {
 
 MaterialSpec soft_solid() {
-  MaterialSpec m;
-  m.enabled = true;
-  m.young_modulus_Pa = 1e5;
-  m.density_kg_per_m3 = 1070;
+  MaterialSpec m = test::soft_material();
   m.stiffness_damping_s = 0.02;
   return m;
 }

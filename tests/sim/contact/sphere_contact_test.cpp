@@ -6,25 +6,16 @@
 #include "sim/reference/reference_cases.h"
 #include "sim/solvers/static_solve.h"
 #include "sim/contact/sphere_contact.h"
+#include "support/fixtures.h"
 
 namespace palpate {
 namespace {
-
-MaterialSpec material(MaterialModel model, double nu) {
-  MaterialSpec m;
-  m.enabled = true;
-  m.young_modulus_Pa = 1e5;
-  m.poisson_ratio = nu;
-  m.model = model;
-  m.density_kg_per_m3 = 1070.0;
-  return m;
-}
 
 // Level 5 of the 8 x 8 x 4 cm Hertz block (5 mm cells), springs (nu 1/4), the sphere R 10 cm pressed 0.25 and 1 mm:
 // contact radius sqrt(R d) = 5 and 10 mm, 1 and 2 cells. The force comes from the deformation alone; measured here
 // +43.8 % and +34.5 % over Hertz (the block's fixed floor and the coarse patch; docs/contact.md), exponent 1.45.
 TEST(SphereContact, HertzForceFollowsTheThreeHalvesPowerLaw) {
-  const MaterialSpec m = material(MaterialModel::kSprings, 0.25);
+  const MaterialSpec m = test::soft_material(0.25, MaterialModel::kSprings);
   constexpr double kR = 0.1, kD1 = 2.5e-4, kD2 = 1e-3;
   auto shallow = solve_hertz_block(m, 5, kR, kD1);
   auto deep = solve_hertz_block(m, 5, kR, kD2);
@@ -55,7 +46,7 @@ TEST(SphereContact, HertzForceFollowsTheThreeHalvesPowerLaw) {
 // With the centre free on a spring to a device position, the spring balances the contact force there, and a
 // solve with the centre prescribed at that point gives the same force.
 TEST(SphereContact, SurfaceConformsAndTheForcesBalance) {
-  auto built = box_lattice(material(MaterialModel::kVolumetric, 0.45), 0.08, 4, {8, 8, 4});
+  auto built = box_lattice(test::soft_material(0.45, MaterialModel::kVolumetric), 0.08, 4, {8, 8, 4});
   ASSERT_TRUE(built) << built.error().message;
   Lattice lat = std::move(built).value();
   for (std::size_t i = 0; i < lat.num_nodes(); ++i) lat.fixed[i] = lat.rest_m[i].z() < 1e-9 ? 1 : 0;

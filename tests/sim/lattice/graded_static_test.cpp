@@ -32,9 +32,7 @@ LatticeSpec spec_at(int level) {
   LatticeSpec s;
   s.level = level;
   s.radius_cells = 64;
-  s.material.enabled = true;
-  s.material.young_modulus_Pa = 1e5;
-  s.material.poisson_ratio = 0.25;
+  s.material = test::soft_material();
   s.material.density_kg_per_m3 = 1000.0;
   return s;
 }

@@ -30,9 +30,7 @@ LatticeSpec graded_spec() {
   s.radius_cells = 64;
   s.fix_floor = true;
   s.integrator = IntegratorKind::kImplicitEuler;
-  s.material.enabled = true;
-  s.material.young_modulus_Pa = 1e5;
-  s.material.poisson_ratio = 0.25;
+  s.material = test::soft_material();
   s.material.density_kg_per_m3 = 1000.0;
   s.material.stiffness_damping_s = 0.02;
   return s;

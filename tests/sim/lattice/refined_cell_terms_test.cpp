@@ -27,10 +27,8 @@ LatticeSpec cell_term_spec(MaterialModel model, double nu, int level) {
   s.level = level;
   s.radius_cells = 64;
   s.integrator = IntegratorKind::kImplicitEuler;
-  s.material.enabled = true;
-  s.material.model = model;
+  s.material = test::soft_material(nu, model);
   s.material.young_modulus_Pa = kE_Pa;
-  s.material.poisson_ratio = nu;
   s.material.density_kg_per_m3 = 1000.0;
   s.material.stiffness_damping_s = 0.02;
   return s;

@@ -6,19 +6,16 @@
 #include "sim/reference/reference_cases.h"
 #include "sim/solvers/stability.h"
 #include "sim/sim_test_util.h"
+#include "support/fixtures.h"
 
 namespace palpate {
 namespace {
 
 // The shipped silicone phantom's material with the model asked.
 MaterialSpec phantom(double e_Pa, MaterialModel model) {
-  MaterialSpec m;
-  m.enabled = true;
+  MaterialSpec m = test::soft_material(0.45, model);
   m.young_modulus_Pa = e_Pa;
-  m.poisson_ratio = 0.45;
-  m.density_kg_per_m3 = 1070.0;
   m.stiffness_damping_s = 2e-3;
-  m.model = model;
   return m;
 }
 

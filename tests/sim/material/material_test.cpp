@@ -20,11 +20,7 @@ namespace palpate {
 namespace {
 
 MaterialSpec silicone(double nu = 0.25) {
-  MaterialSpec m;
-  m.enabled = true;
-  m.young_modulus_Pa = 1e5;
-  m.poisson_ratio = nu;
-  m.density_kg_per_m3 = 1070.0;
+  MaterialSpec m = test::soft_material(nu);
   m.stiffness_damping_s = 1e-3;
   return m;
 }

@@ -7,6 +7,7 @@
 #include "sim/reference/pull_reference.h"
 #include "sim/reference/reference_cases.h"
 #include "sim/reference/richardson.h"
+#include "support/fixtures.h"
 
 namespace palpate {
 namespace {
@@ -35,13 +36,8 @@ TEST(Richardson, RefusesLevelsThatDoNotConvergeMonotonically) {
 }
 
 MaterialSpec tissue() {
-  MaterialSpec m;
-  m.enabled = true;
-  m.young_modulus_Pa = 1e5;
-  m.poisson_ratio = 0.45;
-  m.density_kg_per_m3 = 1070.0;
+  MaterialSpec m = test::soft_material(0.45, MaterialModel::kNeoHookean);
   m.stiffness_damping_s = 0.02;
-  m.model = MaterialModel::kNeoHookean;
   return m;
 }
 

@@ -16,17 +16,14 @@
 #include "sim/reference/reference_cases.h"
 #include "sim/material/volume_term.h"
 #include "sim/sim_test_util.h"
+#include "support/fixtures.h"
 
 namespace palpate {
 namespace {
 
 MaterialSpec tissue(double nu) {
-  MaterialSpec m;
-  m.enabled = true;
-  m.model = MaterialModel::kNeoHookean;
+  MaterialSpec m = test::soft_material(nu, MaterialModel::kNeoHookean);
   m.young_modulus_Pa = 1e4;
-  m.poisson_ratio = nu;
-  m.density_kg_per_m3 = 1070.0;
   m.stiffness_damping_s = 1e-3;
   return m;
 }
