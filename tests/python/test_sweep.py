@@ -15,7 +15,8 @@ MODELS = ["/usr/share/assimp/models/PLY/Wuson.ply", "/usr/share/assimp/models/ST
 
 
 def spec(tmp_path):
-    """A 0.6 s press 6 mm into any model (the keys placed on the model's box and surface), E x lattice level x 2 models."""
+    """A 0.6 s press 6 mm into any model (the keys placed on the model's box and surface): 3 moduli x 3 region sizes
+    x 2 models."""
     scene = {
         "mesh": {"file": MODELS[0], "size_m": 0.06},
         "grid": {"levels": 5},
@@ -30,7 +31,7 @@ def spec(tmp_path):
     }
     (tmp_path / "press.json").write_text(json.dumps(scene))
     s = {"scene": "press.json", "models": MODELS,
-         "grid": {"material.young_modulus_Pa": [5e4, 1e5, 3e5]}, "list": []}
+         "grid": {"material.young_modulus_Pa": [5e4, 1e5, 3e5], "lattice.radius_cells": [1, 2, 3]}, "list": []}
     (tmp_path / "sweep.json").write_text(json.dumps(s))
     return tmp_path / "sweep.json"
 
@@ -46,21 +47,27 @@ def test_a_sweep_on_a_dask_cluster_equals_the_serial_one(tmp_path):
 
     path = spec(tmp_path)
     serial = palpate.sweep(str(path), workers=1, progress=False)
-    assert len(serial) == 6
-    assert list(serial["status"]) == ["ok"] * 6, serial["error"].tolist()
+    assert len(serial) == 18
+    assert list(serial["status"]) == ["ok"] * 18, serial["error"].tolist()
     assert serial["max_force_N"].min() > 0.1  # every press reached its model
     assert serial["contact_ticks"].min() > 50
-    assert serial["model"].tolist() == [MODELS[0]] * 3 + [MODELS[1]] * 3
-    # stiffer presses the same depth harder, on each model
-    for m in MODELS:
-        f = serial[serial["model"] == m].sort_values("material.young_modulus_Pa")["max_force_N"].tolist()
-        assert f[0] < f[2], f
+    assert serial["model"].tolist() == [MODELS[0]] * 9 + [MODELS[1]] * 9
+    # stiffer presses the same depth harder, on each model and region
+    for (m, r), rows in serial.groupby(["model", "lattice.radius_cells"]):
+        f = rows.sort_values("material.young_modulus_Pa")["max_force_N"].tolist()
+        assert f[0] < f[2], (m, r, f)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
         on_dask = palpate.sweep(str(path), out=tmp_path / "dask", scheduler=client, progress=False)
+        # the command line on the same cluster, by its address
+        cli = palpate_cli("sweep", str(path), "--out", str(tmp_path / "cli"), "--scheduler",
+                          cluster.scheduler_address, "-q")
     same(serial, on_dask)
+    assert "(18 runs, 0 failed)" in cli.stdout
+    text = {c: str for c in ("run", "model", "mode", "status", "error", "state_hash", "out")}
+    same(serial, pd.read_csv(tmp_path / "cli" / "sweep.csv", keep_default_na=False, dtype=text))
     table = pd.read_csv(tmp_path / "dask" / "sweep.csv")
-    assert len(table) == 6 and (tmp_path / "dask" / "runs").is_dir()
+    assert len(table) == 18 and (tmp_path / "dask" / "runs").is_dir()
 
 
 @pytest.mark.skipif(not all(os.path.exists(m) for m in MODELS), reason="assimp-testmodels missing")
