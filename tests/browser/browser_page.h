@@ -187,21 +187,28 @@ inline double press_onto_bunny(Browser& b, const std::vector<double>& rect, cons
 // surface (a force above 0.05 N). The button and Space stay down; *y_out: where the drag is. The last browser stats
 // (empty when it never grabbed).
 inline nlohmann::json grab_bunny(Browser& b, const std::vector<double>& rect, const Recording& rec, double* y_out) {
-  if (!tool_to(b, rect, 0.0, 0.7, 0.0)) return nullptr;
-  double y = 0.7;
-  mouse(b, rect, "mousePressed", 0.0, y, true);
-  bool key_down = false;
-  nlohmann::json last;
-  for (int step = 0; y > -0.6; ++step, y -= 0.01) {
-    mouse(b, rect, "mouseMoved", 0.0, y, true);
-    if ((step % 4 < 2) != key_down) space(b, key_down = !key_down);
-    std::this_thread::sleep_for(std::chrono::milliseconds(16));
-    const auto st = rec.stats();
-    if (st.is_object() && st.contains("browser")) last = st["browser"];
-    if (key_down && last.is_object() && norm(last["force_N"]) > 0.05) {
-      *y_out = y;
-      return last;
+  // a loaded machine can leave the tool behind the drag so that the sweep passes the back before a press with Space
+  // down lands on it: then the drag is let go and tried again from the top, each time at half the speed
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    if (!tool_to(b, rect, 0.0, 0.7, 0.0)) return nullptr;
+    const double step_y = 0.01 / (1 << attempt);
+    double y = 0.7;
+    mouse(b, rect, "mousePressed", 0.0, y, true);
+    bool key_down = false;
+    nlohmann::json last;
+    for (int step = 0; y > -0.6; ++step, y -= step_y) {
+      mouse(b, rect, "mouseMoved", 0.0, y, true);
+      if ((step % 4 < 2) != key_down) space(b, key_down = !key_down);
+      std::this_thread::sleep_for(std::chrono::milliseconds(16));
+      const auto st = rec.stats();
+      if (st.is_object() && st.contains("browser")) last = st["browser"];
+      if (key_down && last.is_object() && norm(last["force_N"]) > 0.05) {
+        *y_out = y;
+        return last;
+      }
     }
+    if (key_down) space(b, false);
+    mouse(b, rect, "mouseReleased", 0.0, y, false);
   }
   return nullptr;
 }
