@@ -99,6 +99,25 @@ def tail(path, lines=6):
         return [l.rstrip("\n") for l in f.readlines()[-lines:]]
 
 
+def tree_state():
+    """What git sees outside the ignored folders (out/, build/): each changed or new path with its file's size and
+    time, so a command that writes into the repository is caught (None outside a git checkout)."""
+    try:
+        lines = subprocess.run(["git", "status", "--porcelain", "--untracked-files=all"], capture_output=True,
+                               text=True, check=True).stdout.splitlines()
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    state = {}
+    for line in lines:
+        path = line[3:]
+        try:
+            st = os.stat(path)
+            state[path] = (st.st_size, st.st_mtime_ns)
+        except OSError:
+            state[path] = None
+    return state
+
+
 def main():
     parser = argparse.ArgumentParser(prog="readme_figures.sh --commands")
     parser.add_argument("files", nargs="*", help="Markdown files (default: README.md docs/*.md)")
@@ -109,6 +128,7 @@ def main():
     files = args.files or ["README.md"] + sorted(glob.glob("docs/*.md"))
     os.makedirs(args.out, exist_ok=True)
     failed, ran, skipped, index = [], 0, 0, 0
+    before = tree_state()
     for path in files:
         for number in untagged_fences(path):
             failed.append((f"{path}:{number}", "```", "an untagged fence: tag it sh (commands) or text (output)", "-"))
@@ -137,6 +157,14 @@ def main():
             print(f"FAIL  {where}  ({why}, {wall_s:.1f} s)  {command}", flush=True)
             for line in tail(log_path):
                 print(f"        {line}", flush=True)
+    # a command writes its outputs under out/ (ignored): one that wrote into the repository is a failure
+    after = tree_state()
+    if before is not None and after is not None:
+        touched = sorted(p for p in after if after[p] != before.get(p, "absent"))
+        if touched:
+            failed.append(("the repository", ", ".join(touched[:5]) + (" ..." if len(touched) > 5 else ""),
+                           f"{len(touched)} file(s) written outside out/", "-"))
+            print(f"FAIL  the commands wrote {len(touched)} file(s) outside out/: {', '.join(touched[:5])}", flush=True)
     print(f"\ndoc commands: {ran} run, {len(failed)} failed, {skipped} skipped as slow"
           f"{'' if args.slow else ' (--slow runs them)'}; logs in {args.out}")
     for where, command, why, log_path in failed:
