@@ -164,7 +164,13 @@ void read_mesh(ObjectReader& top, Scene* s, std::string* err) {
   r.vec3("box_m", &s->mesh.box_size_m, 1e-4, 10.0);
   r.integer("box_subdivisions", &s->mesh.box_subdivisions, 1, 256);
   r.number("size_m", &s->mesh.size_m, 1e-3, 10.0);
-  r.integer("subdivisions", &s->mesh.subdivisions, 0, 5);
+  if (r.has_string("subdivisions")) {
+    std::string how;
+    r.string("subdivisions", &how);
+    if (err->empty() && how != "auto") r.fail("mesh.subdivisions", "'" + printable_scene_text(how) + "' must be \"auto\" or 0..5");
+  } else {
+    r.integer("subdivisions", &s->mesh.subdivisions, 0, 5);
+  }
   const int up = r.choice("up_axis", {"x", "y", "z"});
   if (up >= 0) s->mesh.up_axis = static_cast<char>('x' + up);
   if (err->empty() && s->mesh.file.empty() && s->mesh.box_size_m.isZero())

@@ -14,6 +14,9 @@
 namespace palpate {
 
 
+/// mesh.subdivisions "auto" (the default): see MeshSpec::subdivisions.
+inline constexpr int kAutoSubdivisions = -1;
+
 /// Where the model comes from and how it is normalised.
 struct MeshSpec {
   std::string file;                   ///< mesh path (resolved against the scene's folder); empty for a box
@@ -21,7 +24,10 @@ struct MeshSpec {
   int box_subdivisions = 8;           ///< quads per box face edge
   double size_m = 0.1;                ///< largest side after normalisation
   char up_axis = 'z';                 ///< the file's up axis (x, y or z); rotated to world z on load
-  int subdivisions = 0;               ///< midpoint subdivisions applied on load (each: 4x the triangles, same shape)
+  int subdivisions = kAutoSubdivisions;  ///< midpoint subdivisions applied on load (each: 4x the triangles, same
+                                         ///< shape); kAutoSubdivisions: a mesh file in touch or pull whose triangles
+                                         ///< are coarser than the lattice's finest cells is subdivided until they are
+                                         ///< not (runtime/session/model.h), else none
 };
 
 /// The object in physical units (scene key "material"); when set, build_lattice() derives spring constants,

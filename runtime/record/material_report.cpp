@@ -95,20 +95,11 @@ std::string mesh_resolution_notice(const Scene& scene, const TriMesh& rest, cons
   if (scene.mode == InteractionMode::kCut || rest.triangles.empty()) return "";
   const int finest = std::max(scene.lattice.level, scene.lattice.refine.level);
   const double cell_m = grid.cell_size_m(finest);
-  // the median of each triangle's longest edge
-  std::vector<double> edge;
-  edge.reserve(rest.triangles.size());
-  for (const auto& t : rest.triangles) {
-    const Vec3 &a = rest.vertices_m[static_cast<std::size_t>(t[0])], &b = rest.vertices_m[static_cast<std::size_t>(t[1])],
-               &c = rest.vertices_m[static_cast<std::size_t>(t[2])];
-    edge.push_back(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}));
-  }
-  const auto mid = edge.begin() + static_cast<std::ptrdiff_t>(edge.size() / 2);
-  std::nth_element(edge.begin(), mid, edge.end());
-  if (!(*mid > kCoarseMeshEdgeCells * cell_m)) return "";
+  const double median_m = median_longest_edge_m(rest);
+  if (!(median_m > kCoarseMeshEdgeCells * cell_m)) return "";
   std::ostringstream s;
   s.precision(3);
-  s << "mesh: its triangles (median longest edge " << 1e3 * *mid << " mm) are coarser than the lattice's finest cells ("
+  s << "mesh: its triangles (median longest edge " << 1e3 * median_m << " mm) are coarser than the lattice's finest cells ("
     << 1e3 * cell_m << " mm at level " << finest << "): the surface the tool meets moves only at the triangles' corners, "
     << "so the finer cells add cost, not accuracy, and a push lands on the corners of the triangle it meets (a point "
     << "tool's force then depends on where on the triangle it presses); use a mesh with edges under "

@@ -12,6 +12,7 @@
 #include "core/result.h"
 #include "core/scene.h"
 #include "core/tri_mesh.h"
+#include "runtime/session/model.h"
 
 namespace palpate {
 
@@ -35,8 +36,5 @@ std::string self_weight_notice(const Scene& scene, const std::vector<Vec3>& rest
 /// corners of the triangle it meets): when the median of the rest mesh's triangles' longest edges is more than
 /// kCoarseMeshEdgeCells of the finest cells (lattice.refine.level when refined); "" otherwise.
 std::string mesh_resolution_notice(const Scene& scene, const TriMesh& rest, const GridHierarchy& grid);
-
-/// That median over the finest cell from which mesh_resolution_notice() speaks.
-inline constexpr double kCoarseMeshEdgeCells = 2.0;
 
 }  // namespace palpate

@@ -21,6 +21,7 @@
 
 #include "core/atomic_file.h"
 #include "core/clock.h"
+#include "core/printable.h"
 #include "haptics/servo/latency_histogram.h"
 #include "haptics/devices/browser_device.h"
 #include "haptics/devices/replay_device.h"
@@ -149,6 +150,13 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
   if (const std::string w = mesh_resolution_notice(scene, model.rest, model.grid); !w.empty())
     std::fprintf(stderr, "palpate: warning: %s\n", w.c_str());
+  if (model.auto_subdivisions > 0 && !opt.quiet)
+    std::fprintf(stderr, "palpate: mesh '%s': subdivided %d time(s) on load (mesh.subdivisions \"auto\"): its triangles "
+                 "(median longest edge %.3g mm) were coarser than the lattice's finest cells (%.3g mm), which a surface "
+                 "must be finer than to dent under the tool; %zu triangles now (mesh.subdivisions 0 keeps the file's)\n",
+                 printable_text(scene.mesh.file).c_str(), model.auto_subdivisions, 1e3 * model.coarse_edge_m,
+                 1e3 * model.grid.cell_size_m(std::max(scene.lattice.level, scene.lattice.refine.level)),
+                 model.rest.triangles.size());
   // the colours' range, fixed before the first frame: from a first pass of the scripted run
   if (needs_color_pass(scene, opt.render, plan.driver)) {
     if (!opt.quiet) std::fprintf(stderr, "record %s: a first pass without frames, for the colours' range\n", scene.name.c_str());

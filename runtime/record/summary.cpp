@@ -86,6 +86,7 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   j["model"] = {{"vertices", model.rest.vertices_m.size()}, {"triangles", model.rest.triangles.size()},
                 {"startup_s", in.startup_s}};
   if (const std::string turned = model.orientation.notice(); !turned.empty()) j["model"]["orientation"] = turned;
+  if (model.auto_subdivisions > 0) j["model"]["subdivided_on_load"] = model.auto_subdivisions;
   // what the material became on the lattice (nu represented, total mass)
   if (scene.lattice.material.enabled) j["material"] = material_summary(scene, model.grid);
   if (!in.run->aborted.empty()) j["aborted"] = in.run->aborted;

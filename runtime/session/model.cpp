@@ -1,5 +1,8 @@
 #include "runtime/session/model.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "core/limits.h"
 #include "core/mesh_io.h"
 #include "sim/lattice/lattice_estimate.h"
@@ -27,12 +30,13 @@ Result<Model> load_model(const Scene& scene) {
     m.orientation = orient_outward(&m.rest);
   }
   // triangles after subdividing, bounded before any subdivision allocates them
-  const auto triangles = static_cast<int64_t>(m.rest.triangles.size()) << (2 * scene.mesh.subdivisions);
+  const int asked = std::max(scene.mesh.subdivisions, 0);
+  const auto triangles = static_cast<int64_t>(m.rest.triangles.size()) << (2 * asked);
   if (triangles > kMaxTriangles)
     return make_error("mesh '", name, "': ", std::to_string(m.rest.triangles.size()), " triangles with mesh.subdivisions ",
-                      std::to_string(scene.mesh.subdivisions), " make ", std::to_string(triangles),
+                      std::to_string(asked), " make ", std::to_string(triangles),
                       ", more than the limit of ", std::to_string(kMaxTriangles));
-  for (int i = 0; i < scene.mesh.subdivisions; ++i) m.rest = subdivide_midpoint(m.rest);
+  for (int i = 0; i < asked; ++i) m.rest = subdivide_midpoint(m.rest);
   for (Vec3& v : m.rest.vertices_m) v = file_to_world_axes(v, scene.mesh.up_axis);
   auto norm = normalize_mesh(&m.rest, scene.mesh.size_m, name);
   if (!norm) return norm.error();
@@ -40,6 +44,22 @@ Result<Model> load_model(const Scene& scene) {
   auto grid = GridHierarchy::build(m.rest, m.normalization.cube, scene.grid_levels);
   if (!grid) return make_error("mesh '", name, "': ", grid.error().message);
   m.grid = std::move(grid).value();
+  // "auto": a mesh file coarser than the lattice's finest cells (touch, pull) is subdivided until it is not, so the
+  // surface can dent where the tool presses; the subdivided surface is the same, its grid built again
+  const int finest = std::max(scene.lattice.level, scene.lattice.refine.level);
+  if (scene.mesh.subdivisions == kAutoSubdivisions && !scene.mesh.file.empty() && scene.mode != InteractionMode::kCut &&
+      finest <= m.grid.levels()) {
+    const double edge_m = median_longest_edge_m(m.rest);
+    m.auto_subdivisions =
+        auto_subdivisions(edge_m, m.grid.cell_size_m(finest), static_cast<int64_t>(m.rest.triangles.size()));
+    if (m.auto_subdivisions > 0) {
+      m.coarse_edge_m = edge_m;
+      for (int i = 0; i < m.auto_subdivisions; ++i) m.rest = subdivide_midpoint(m.rest);
+      auto fine = GridHierarchy::build(m.rest, m.normalization.cube, scene.grid_levels);
+      if (!fine) return make_error("mesh '", name, "': ", fine.error().message);
+      m.grid = std::move(fine).value();
+    }
+  }
   // the lattice the scene can reach, bounded before any lattice or output exists
   if (auto st = check_lattice_limits(m.grid, scene); !st) return make_error("scene '", scene.path, "': ", st.error().message);
   // an explicit scheme that cannot be stable on this material's cells: refused before any lattice or output exists
@@ -55,6 +75,29 @@ Result<Model> load_model(const Scene& scene) {
   // (asked only in touch, where the tool's side of the surface is checked every tick: O(edges x degree) at load)
   m.closed = scene.mode == InteractionMode::kTouch && closed_surface(m.rest, m.adjacency);
   return m;
+}
+
+double median_longest_edge_m(const TriMesh& mesh) {
+  if (mesh.triangles.empty()) return 0.0;
+  std::vector<double> edge;
+  edge.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.vertices_m[static_cast<std::size_t>(t[0])], &b = mesh.vertices_m[static_cast<std::size_t>(t[1])],
+               &c = mesh.vertices_m[static_cast<std::size_t>(t[2])];
+    edge.push_back(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}));
+  }
+  const auto mid = edge.begin() + static_cast<std::ptrdiff_t>(edge.size() / 2);
+  std::nth_element(edge.begin(), mid, edge.end());
+  return *mid;
+}
+
+int auto_subdivisions(double median_edge_m, double cell_m, int64_t triangles) {
+  int k = 0;
+  for (double edge = median_edge_m; edge > kCoarseMeshEdgeCells * cell_m && k < 5 &&
+                                    (triangles << (2 * (k + 1))) <= kAutoSubdivisionTriangles;
+       edge *= 0.5)
+    ++k;
+  return k;
 }
 
 bool closed_surface(const TriMesh& mesh, const VertexTriangles& adjacency) {

@@ -24,7 +24,21 @@ struct Model {
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
   bool closed = false;                   ///< touch scenes: every edge of `rest` is shared by exactly two triangles
   MeshOrientation orientation;           ///< what was turned outward at load (a mesh file's faces)
+  int auto_subdivisions = 0;             ///< midpoint subdivisions mesh.subdivisions "auto" applied (0: none)
+  double coarse_edge_m = 0.0;            ///< then: the file's median longest triangle edge, normalised (m)
 };
+
+/// The median over the finest lattice cell above which a surface is coarser than its lattice: the surface the tool
+/// meets moves only at the triangles' corners, so a coarser one cannot dent under the tool.
+inline constexpr double kCoarseMeshEdgeCells = 2.0;
+/// Triangles mesh.subdivisions "auto" stops short of (each subdivision multiplies them by 4).
+inline constexpr int64_t kAutoSubdivisionTriangles = int64_t{1} << 20;
+
+/// The median of the triangles' longest edges (m; 0 for no triangles). O(triangles).
+double median_longest_edge_m(const TriMesh& mesh);
+/// The midpoint subdivisions that bring a median longest edge of median_edge_m to within kCoarseMeshEdgeCells of
+/// cell_m (each halves every edge), at most 5 and while the triangles stay under kAutoSubdivisionTriangles.
+int auto_subdivisions(double median_edge_m, double cell_m, int64_t triangles);
 
 /// A point or direction of a mesh file with up axis `up_axis` ('x', 'y' or 'z') in world axes (its up becomes +z;
 /// a right-handed rotation), before normalisation.

@@ -178,7 +178,7 @@ Result<std::string> run_bench_scale(const std::string& scene_path, const BenchSc
   if (opt.max_subdivisions < 0 || opt.max_subdivisions > 5)
     return make_error("bench scale: --max-subdivisions ", std::to_string(opt.max_subdivisions), " is outside [0, 5]");
   // a scene that already subdivides starts there
-  const int first = scene.value().mesh.subdivisions;
+  const int first = std::max(scene.value().mesh.subdivisions, 0);  // "auto" (kAutoSubdivisions) from none
   const int last = std::max(first, opt.max_subdivisions);
   // the runs' frames go to a work folder removed at the end: only the figures are kept
   const char* tmp_env = std::getenv("TMPDIR");
