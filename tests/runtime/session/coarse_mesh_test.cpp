@@ -13,6 +13,7 @@
 #include "runtime/session/model.h"
 #include "support/fixtures.h"
 #include "support/json_file.h"
+#include "support/obj_text.h"
 #include "tools/bench/bench_feel.h"
 
 namespace palpate {
@@ -21,19 +22,9 @@ namespace {
 // a 100 mm box of 12 triangles (a CAD export's), written as OBJ
 std::string write_coarse_box(const std::string& dir) {
   const TriMesh box = make_box_mesh(Vec3::Constant(0.1), 1);
-  std::string text;
-  char line[96];
-  for (const Vec3& v : box.vertices_m) {
-    std::snprintf(line, sizeof line, "v %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
-    text += line;
-  }
-  for (const auto& f : box.triangles) {
-    std::snprintf(line, sizeof line, "f %d %d %d\n", f[0] + 1, f[1] + 1, f[2] + 1);
-    text += line;
-  }
   std::filesystem::create_directories(dir);
   const std::string path = dir + "/coarse_box.obj";
-  test::write_text(path, text);
+  test::write_text(path, test::obj_text(box));
   return path;
 }
 
