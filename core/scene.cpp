@@ -170,6 +170,17 @@ void read_device(ObjectReader& top, Scene* s, std::string* err) {
   r.number("ramp_s", &d.ramp_s, 0.0, 10.0);
   r.number("jump_limit_N_per_tick", &d.jump_limit_N_per_tick, 0.0, 100.0);
   r.number("force_shading_deg", &d.force_shading_deg, 0.0, 180.0);
+  r.range("browser_stiffness_range", &d.browser_stiffness_lo, &d.browser_stiffness_hi, 1e-3, 1e3);
+  if (err->empty() && !(d.browser_stiffness_lo <= 1.0 && d.browser_stiffness_hi >= 1.0))
+    r.fail(r.path("browser_stiffness_range"), "[" + fmt_num(d.browser_stiffness_lo) + ", " +
+                                                 fmt_num(d.browser_stiffness_hi) +
+                                                 "] must hold 1 (the scene's own stiffness, where a run starts)");
+  r.range("browser_tool_radius_range_m", &d.browser_radius_lo_m, &d.browser_radius_hi_m, 1e-5, 1.0);
+  if (err->empty() && d.browser_radius_hi_m > 0.0 &&
+      !(d.tool_radius_m >= d.browser_radius_lo_m && d.tool_radius_m <= d.browser_radius_hi_m))
+    r.fail(r.path("browser_tool_radius_range_m"), "[" + fmt_num(d.browser_radius_lo_m) + ", " +
+                                                       fmt_num(d.browser_radius_hi_m) + "] must hold device.tool_radius_m " +
+                                                       fmt_num(d.tool_radius_m) + " (where a run starts)");
   r.finish();
 
   ObjectReader h(top.object("hand"), "hand.", err);
@@ -270,6 +281,33 @@ std::string safe_name(const std::string& name) {
 
 }  // namespace
 
+std::string scene_conflict(const Scene& s) {
+  if (s.lattice.level > s.grid_levels)
+    return "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);
+  if (s.device.solved_contact && s.mode != InteractionMode::kTouch)
+    return std::string("device.contact: 'solved' is for a touch; interaction.mode is '") + mode_name(s.mode) + "'";
+  if (s.device.sphere_tool && s.mode != InteractionMode::kTouch)
+    return std::string("device.tool_shape: 'sphere' is a touch tool; interaction.mode is '") + mode_name(s.mode) + "'";
+  if (s.dynamic_friction > s.static_friction)
+    return "material.dynamic_friction " + fmt_num(s.dynamic_friction) + " exceeds material.static_friction " +
+           fmt_num(s.static_friction) + " (sliding friction is at most sticking friction)";
+  // the volume term acts on whole cells: the local/global solver's constant matrix does not hold it, and a cut
+  // (which removes springs) would leave it holding the cut cells together
+  if (s.lattice.material.enabled && s.lattice.material.model != MaterialModel::kSprings) {
+    const std::string model = name_of(s.lattice.material.model);
+    if (s.lattice.integrator == IntegratorKind::kLocalGlobal)
+      return "material.model: '" + model + "' is not supported by lattice.integrator 'local_global' (its prefactored "
+             "matrix holds springs only); use implicit_euler, symplectic_euler, explicit_euler or rk4";
+    if (s.mode == InteractionMode::kCut)
+      return "material.model: '" + model + "' is not supported with interaction.mode 'cut' (the cells' term would "
+             "hold the cut together); use material.model 'springs'";
+  }
+  if (s.lattice.refine.level > 0)
+    if (std::string why = refine_conflict(s); !why.empty()) return why;
+  if (colors_by_strain(s) && s.mode == InteractionMode::kCut) return kStrainInCut;
+  return "";
+}
+
 Result<Scene> parse_scene(const std::string& json_text, const std::string& path) {
   const std::string who = "scene '" + path + "': ";
   Result<Json> parsed = parse_scene_json(json_text);
@@ -327,28 +365,7 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& path)
   top.name("run_mode", &s.run_mode);
   top.number("duration_s", &s.duration_s, s.rates.frame_period_s(), 3600.0);
   top.finish();
-  if (err.empty() && s.lattice.level > s.grid_levels)
-    err = "lattice.level " + std::to_string(s.lattice.level) + " is deeper than grid.levels " + std::to_string(s.grid_levels);
-  if (err.empty() && s.device.solved_contact && s.mode != InteractionMode::kTouch)
-    err = std::string("device.contact: 'solved' is for a touch; interaction.mode is '") + mode_name(s.mode) + "'";
-  if (err.empty() && s.device.sphere_tool && s.mode != InteractionMode::kTouch)
-    err = std::string("device.tool_shape: 'sphere' is a touch tool; interaction.mode is '") + mode_name(s.mode) + "'";
-  if (err.empty() && s.dynamic_friction > s.static_friction)
-    err = "material.dynamic_friction " + fmt_num(s.dynamic_friction) + " exceeds material.static_friction " +
-          fmt_num(s.static_friction) + " (sliding friction is at most sticking friction)";
-  // the volume term acts on whole cells: the local/global solver's constant matrix does not hold it, and a cut
-  // (which removes springs) would leave it holding the cut cells together
-  if (err.empty() && s.lattice.material.enabled && s.lattice.material.model != MaterialModel::kSprings) {
-    const std::string model = name_of(s.lattice.material.model);
-    if (s.lattice.integrator == IntegratorKind::kLocalGlobal)
-      err = "material.model: '" + model + "' is not supported by lattice.integrator 'local_global' (its prefactored "
-            "matrix holds springs only); use implicit_euler, symplectic_euler, explicit_euler or rk4";
-    else if (s.mode == InteractionMode::kCut)
-      err = "material.model: '" + model + "' is not supported with interaction.mode 'cut' (the cells' term would "
-            "hold the cut together); use material.model 'springs'";
-  }
-  if (err.empty() && s.lattice.refine.level > 0) err = refine_conflict(s);
-  if (err.empty() && colors_by_strain(s) && s.mode == InteractionMode::kCut) err = kStrainInCut;
+  if (err.empty()) err = scene_conflict(s);
   if (!err.empty()) return make_error(who, err);
   if (s.name.empty()) s.name = safe_name(std::filesystem::path(path).stem().string());
   // a relative mesh path is relative to the scene file's folder

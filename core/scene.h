@@ -104,7 +104,14 @@ struct DeviceSetup {
   double force_shading_deg = 0.0;           ///< touch: > 0 shades the force: faces meeting at less than this turn
                                             ///< are felt as one smooth surface (the force follows the normals
                                             ///< interpolated across a face), sharper edges stay edges (60 is a
-                                            ///< renderer's usual crease); 0: felt as flat facets
+                                            ///< renderer's usual crease); 0: felt as flat facets  /// browser: the page's stiffness control scales the material's stiffness (E, or a raw lattice's springs) within
+  /// [lo, hi] (key browser_stiffness_range; the stiffest is checked stable when the run opens)
+  double browser_stiffness_lo = 0.25;
+  double browser_stiffness_hi = 4.0;
+  /// browser: the page's tool radius within [lo, hi] m (key browser_tool_radius_range_m; 0, 0: half to twice
+  /// tool_radius_m)
+  double browser_radius_lo_m = 0.0;
+  double browser_radius_hi_m = 0.0;
 };
 
 /// The scripted hand: a mass pulled toward keyframe targets by a spring-damper.
@@ -191,6 +198,9 @@ inline const Scene& scene_defaults() {
 Result<Scene> parse_scene(const std::string& json_text, const std::string& path);
 /// Reads and parses a scene file.
 Result<Scene> load_scene(const std::string& path);
+/// Why a scene's keys cannot go together ("device.tool_shape: 'sphere' is a touch tool; ..."), or "" when they can:
+/// the checks parse_scene makes once every key is read (also asked of a scene a control changed, core/scene_controls.h).
+std::string scene_conflict(const Scene& scene);
 
 /// Name of an integrator as written in scenes.
 const char* integrator_name(IntegratorKind kind);

@@ -102,6 +102,19 @@ class ObjectReader {
     return -1;
   }
 
+  /// [lo, hi]: two numbers within [min, max], the first not above the second.
+  void range(const std::string& key, double* lo_out, double* hi_out, double min, double max) {
+    const Json* v = take(key);
+    if (!v) return;
+    if (!v->is_array() || v->size() != 2 || !(*v)[0].is_number() || !(*v)[1].is_number())
+      return fail(path(key), "must be an array of 2 numbers [low, high]");
+    const double lo = (*v)[0].get<double>(), hi = (*v)[1].get<double>();
+    for (const double x : {lo, hi})
+      if (!(x >= min && x <= max)) return fail(path(key), fmt_num(x) + " out of range [" + fmt_num(min) + ", " + fmt_num(max) + "]");
+    if (lo > hi) return fail(path(key), "low " + fmt_num(lo) + " is above high " + fmt_num(hi));
+    *lo_out = lo;
+    *hi_out = hi;
+  }
   void vec3(const std::string& key, Vec3* out, double lo, double hi) {
     const Json* v = take(key);
     if (!v) return;

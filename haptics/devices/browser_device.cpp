@@ -48,11 +48,26 @@ bool BrowserDevice::read(double /*t_s*/, DevicePose* out) noexcept {
   const double elapsed_s = last_ns_ > 0 ? std::clamp(static_cast<double>(now - last_ns_) * 1e-9, 0.0, 0.05) : 0.0;
   last_ns_ = now;
   if (!started_) set_start(view_.centre_m);
+  if (const Controls& c = link_->take_controls(); c.seq > controls_.seq) {
+    // the model starts again under new controls: the tool goes back to where it waited, the force fades out, and the
+    // pointer anchors afresh with the next message (nothing moves until its user moves)
+    controls_ = c;
+    handle_m_ = target_m_ = from_m_ = to_m_ = start_m_;
+    vel_m_per_s_.setZero();
+    seg_s_ = 0.0;
+    engaged_ = false;
+    buttons_ = 0;
+    reanchor_ = true;
+    at_start_ = true;
+  }
+  out->controls = controls_;
+  fb_.controls = controls_;
   const bool live = link_->live();
   const BrowserInput& in = link_->take();
   if (live && in.seq > 0 && (in.seq != seq_ || in.session != session_)) {
     const Vec3 p = world_of(in);
-    if (!anchored_ || in.session != session_) {
+    if (!anchored_ || in.session != session_ || reanchor_) {
+      reanchor_ = false;
       // a page's control begins (its first message, a page taking over, or one after the force faded out): the
       // pointer is anchored where the tool is held (the hand keeps holding it there), and nothing moves; the buttons
       // wait for the page to engage
@@ -66,6 +81,7 @@ bool BrowserDevice::read(double /*t_s*/, DevicePose* out) noexcept {
       buttons_ = 0;
     } else {
       if (!engaged_ && moved_since(in, anchor_)) engaged_ = true;
+      if (engaged_) at_start_ = false;
       // the interval between messages, smoothed, is the time the target takes to reach the new point
       const double gap_s = static_cast<double>(in.received_ns - last_rx_ns_) * 1e-9;
       counters_.max_gap_ms = std::max(counters_.max_gap_ms, gap_s * 1e3);
@@ -108,8 +124,10 @@ bool BrowserDevice::read(double /*t_s*/, DevicePose* out) noexcept {
   // the target moves along its segment; the hand (mass, spring to the target, damper) is pushed by the device force
   const double u = seg_s_ > 0.0 ? std::clamp(static_cast<double>(now - seg_start_ns_) * 1e-9 / seg_s_, 0.0, 1.0) : 1.0;
   target_m_ = from_m_ + u * (to_m_ - from_m_);
+  // (put back where it waited, the hand is not pushed by the force the servo lets go of)
+  const Vec3 push = at_start_ ? Vec3::Zero() : force_N_;
   const Vec3 accel = (hand_.stiffness_N_per_m * (target_m_ - handle_m_) - hand_.damping_Ns_per_m * vel_m_per_s_ +
-                      force_N_) / hand_.mass_kg;
+                      push) / hand_.mass_kg;
   vel_m_per_s_ += accel * dt_s;
   handle_m_ += vel_m_per_s_ * dt_s;
   out->pos_m = handle_m_;

@@ -10,7 +10,8 @@
 /// anchors the pointer where the tool is — the scene's start before any — and moves nothing; only later messages
 /// that move the pointer or change the buttons engage the device, and only then does the force fade in. After the
 /// force faded out (the page fell silent) the device engages again only on a message that moves from the page's last. So a page that connects, reloads or takes over mid-press pushes nothing until its user moves,
-/// and a blade never sweeps from a default pose.
+/// and a blade never sweeps from a default pose. A change of the controls (core/controls.h: the model starts again)
+/// puts the tool back where it waited, fades the force out, and anchors the pointer afresh at the next message.
 
 #include <cstdint>
 
@@ -77,11 +78,13 @@ class BrowserDevice final : public Device {
   void set_view(const BrowserView& view) noexcept { view_ = view; }
   /// Where the tool waits before any page steers it (world); the view's centre unless set. Thread: before the servo.
   void set_start(const Vec3& start_m) noexcept {
-    handle_m_ = target_m_ = from_m_ = to_m_ = start_m;
+    start_m_ = handle_m_ = target_m_ = from_m_ = to_m_ = start_m;
     started_ = true;
   }
   /// The plane the pointer moves on.
   const BrowserView& view() const noexcept { return view_; }
+  /// The controls the run starts with (the scene's own, seq 0). Thread: before the servo starts.
+  void set_controls(const Controls& c) noexcept { controls_ = c; }
 
   const DeviceSpecs& specs() const noexcept override { return specs_; }
   /// The hand model's handle after one servo period toward the interpolated target; false before any message and
@@ -131,6 +134,10 @@ class BrowserDevice final : public Device {
   bool anchored_ = false;        // a page's control is anchored (false before any message)
   bool engaged_ = false;         // its pointer or buttons moved since: the force may flow
   bool started_ = false;         // set_start() placed the tool
+  Vec3 start_m_ = Vec3::Zero();  // where it waits before a page steers (and after a change of the controls)
+  Controls controls_;            // the controls handed to the servo
+  bool reanchor_ = false;        // the controls changed: the next message anchors the pointer afresh
+  bool at_start_ = false;        // and the hand is held where it waited until the page engages again
   double scale_ = 0.0;           // the watchdog's fade
   int64_t last_ns_ = 0;          // clock at the last read()
   bool stalled_ = false;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 
+#include "core/controls.h"
 #include "core/triple_buffer.h"
 #include "core/types.h"
 
@@ -38,6 +39,7 @@ struct BrowserFeedback {
   int64_t seq = 0;               ///< newest input the servo has used
   int64_t input_to_force_ns = 0; ///< that input: server receipt to the first force computed from it
   int64_t ticks = 0;             ///< servo ticks so far
+  Controls controls{};           ///< the controls the device last handed the servo
 };
 
 /// The channel. Not copyable. Thread: post/release/feedback on the server thread; take/publish on the servo thread.
@@ -53,6 +55,12 @@ class BrowserLink {
     input_.publish();
     live_.store(true, std::memory_order_release);
   }
+  /// Publishes a change of the controls the server checked (core/scene_controls.h), seq larger than the last. Thread:
+  /// server.
+  void post_controls(const Controls& c) noexcept {
+    controls_.write_buffer() = c;
+    controls_.publish();
+  }
   /// The controlling page is gone (closed, refused for garbage): the device fades its force out now. Thread: server.
   void release() noexcept { live_.store(false, std::memory_order_release); }
   /// The servo's latest feedback. Thread: server.
@@ -60,6 +68,8 @@ class BrowserLink {
 
   /// The newest message (seq 0 before any). Thread: servo.
   const BrowserInput& take() noexcept { return input_.read(); }
+  /// The newest controls (seq 0 before any change). Thread: servo.
+  const Controls& take_controls() noexcept { return controls_.read(); }
   /// Whether a page controls the device (false after release() until the next post()). Thread: any.
   bool live() const noexcept { return live_.load(std::memory_order_acquire); }
   /// Publishes the servo's feedback. Thread: servo.
@@ -71,6 +81,7 @@ class BrowserLink {
  private:
   TripleBuffer<BrowserInput> input_;
   TripleBuffer<BrowserFeedback> feedback_;
+  TripleBuffer<Controls> controls_;
   std::atomic<bool> live_{false};
 };
 

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/controls.h"
 #include "core/rates.h"
 #include "core/run_schedule.h"
 #include "core/types.h"
@@ -28,6 +29,8 @@ struct DevicePose {
   Quat orientation = Quat::Identity();///< handle orientation (world)
   uint32_t buttons = 0;               ///< bit 0 = main button
   double force_scale = 1.0;           ///< the driver's own fade, 0..1 (a link's watchdog): the servo scales its force
+  Controls controls{};                ///< what a person set (the browser page's controls; replayed from a log): the
+                                      ///< servo acts on a larger seq, whether or not the reading itself is good
 };
 
 /// A haptic device. Thread: read() and write_force() are called by the servo thread only;

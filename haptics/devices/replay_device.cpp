@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <cstdint>
 #include <tuple>
 
 namespace palpate {
@@ -61,6 +62,13 @@ Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text_in, cons
   const int cr = col("rejected");
   const int cs = col("force_scale");
   const int ctick = col("tick"), cf = col("frame"), cmf = col("model_frame");
+  // the controls a person changed (all five columns, or none: a log from before they were written)
+  const int cc = col("controls"), cmode = col("mode"), ck = col("stiffness_scale"), crad = col("tool_radius_m"),
+            cres = col("resets");
+  const bool controlled = cc >= 0;
+  if (controlled)
+    for (const auto& [c, name] : {std::pair{cmode, "mode"}, {ck, "stiffness_scale"}, {crad, "tool_radius_m"}, {cres, "resets"}})
+      if (c < 0) return make_error("replay '", path, "': line 1: column 'controls' without column '", name, "'");
   const bool scheduled = ctick >= 0 && cf >= 0 && cmf >= 0;
   for (const auto& [c, name] : {std::pair{ct, "t_s"}, {cx, "tool_x_m"}, {cy, "tool_y_m"}, {cz, "tool_z_m"}, {cb, "buttons"}})
     if (c < 0) return make_error("replay '", path, "': line 1: no column '", name, "'");
@@ -109,6 +117,40 @@ Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text_in, cons
                             std::to_string(low));
         *out = n;
       }
+    }
+    r.line = line_no;
+    if (controlled) {
+      auto whole = [&](int c, int64_t lo, int64_t hi, int64_t* out) {
+        const std::string& cell = cells[static_cast<std::size_t>(c)];
+        char* end = nullptr;
+        errno = 0;
+        const long long n = std::strtoll(cell.c_str(), &end, 10);
+        if (cell.empty() || errno != 0 || end != cell.c_str() + cell.size() || n < lo || n > hi) return false;
+        *out = n;
+        return true;
+      };
+      int64_t seq = 0, mode = 0, resets = 0;
+      double k = 0.0, radius = 0.0;
+      const char* bad = !whole(cc, 0, INT64_MAX, &seq)                                                   ? "controls"
+                        : !whole(cmode, 0, 2, &mode)                                                     ? "mode"
+                        : !to_double(cells[static_cast<std::size_t>(ck)], &k) || !(k > 0.0 && k <= 1e3) ? "stiffness_scale"
+                        : !to_double(cells[static_cast<std::size_t>(crad)], &radius) || !(radius >= 0.0 && radius <= 1.0)
+                            ? "tool_radius_m"
+                        : !whole(cres, 0, INT64_MAX, &resets) ? "resets"
+                                                              : nullptr;
+      if (bad) {
+        const int c = col(bad);
+        return make_error("replay '", path, "': line ", std::to_string(line_no), ": column '", bad, "': '",
+                          cells[static_cast<std::size_t>(c)], "' is not a valid value");
+      }
+      if (!rows.empty() && seq < rows.back().controls.seq)
+        return make_error("replay '", path, "': line ", std::to_string(line_no), ": column 'controls' goes back from ",
+                          std::to_string(rows.back().controls.seq), " to ", std::to_string(seq));
+      r.controls.seq = seq;
+      r.controls.mode = static_cast<InteractionMode>(mode);
+      r.controls.stiffness_scale = k;
+      r.controls.tool_radius_m = radius;
+      r.controls.resets = resets;
     }
     if (!rows.empty() && !(r.t_s > rows.back().t_s))
       return make_error("replay '", path, "': line ", std::to_string(line_no), ": t_s ", cells[static_cast<std::size_t>(ct)],
@@ -167,6 +209,7 @@ bool ReplayDevice::read(double t_s, DevicePose* out) noexcept {
   out->orientation = Quat::Identity();
   out->buttons = r.buttons;
   out->force_scale = r.force_scale;  // the recorded driver's fade, as it scaled that tick's force
+  out->controls = r.controls;        // what the recording's person had set by that tick
   return !r.rejected;
 }
 

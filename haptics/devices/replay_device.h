@@ -28,10 +28,14 @@ struct ReplayRow {
   int64_t tick = -1;           ///< servo tick index
   int64_t frame = -1;          ///< the sim frame that took the tick's sample (-1: after the last frame)
   int64_t model_frame = -1;    ///< the sim frame whose patch the tick felt (-1: none yet)
+  Controls controls{};         ///< the controls the recording's servo ran the tick under (columns controls, mode,
+                               ///< stiffness_scale, tool_radius_m, resets; seq 0 without them)
+  int line = 0;                ///< the row's line in the file (for messages)
 };
 
 /// Parses haptic.csv text (columns found by header name: t_s, tool_x_m, tool_y_m, tool_z_m, buttons, and
-/// optionally rejected, and tick, frame and model_frame together); errors name the file, the line and the column,
+/// optionally rejected, and tick, frame and model_frame together, and controls, mode, stiffness_scale, tool_radius_m
+/// and resets together); errors name the file, the line and the column,
 /// or the ticks where the schedule contradicts itself.
 Result<std::vector<ReplayRow>> parse_haptic_csv(const std::string& text, const std::string& path);
 /// Reads a haptic.csv file, or <folder>/haptic.csv when `path` is a recording folder; only a regular file of at

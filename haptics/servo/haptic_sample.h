@@ -3,6 +3,7 @@
 
 #include <cstdint>
 
+#include "core/controls.h"
 #include "core/types.h"
 
 namespace palpate {
@@ -29,6 +30,7 @@ struct HapticSample {
   double force_scale = 1.0;            ///< the driver's fade the force was scaled by (DevicePose::force_scale)
   int64_t model_frame = -1;            ///< the sim frame whose surface patch this tick felt (-1: none yet)
   int64_t drain_frame = -1;            ///< set by the sim thread: the frame that took this sample (-1: after the last)
+  Controls controls{};                 ///< the controls the servo ran this tick under (seq 0: the scene's own)
 };
 
 }  // namespace palpate

@@ -13,6 +13,8 @@ namespace palpate {
 struct LocalModel {
   static constexpr int kMaxTriangles = 512;
   int64_t frame = -1;                                     ///< sim frame that produced it (-1 = none yet)
+  int64_t controls_seq = 0;                               ///< the controls (Controls::seq) its session runs under: the
+                                                          ///< servo feels no patch of another
   double t_s = 0.0;                                       ///< scene time of that frame
   int num_triangles = 0;                                  ///< triangles in use
   bool truncated = false;                                 ///< more triangles were near than fit

@@ -26,11 +26,25 @@ bool covered(const LocalModel& m, const Vec3& c, double r) noexcept {
   return (c - c.cwiseMax(m.cover_lo_m).cwiseMin(m.cover_hi_m)).norm() + r <= m.cover_radius_m;
 }
 
+// what a servo feels while its session starts again under new controls: no surface
+const LocalModel kNoPatch{};
+
 }  // namespace
 
 Servo::Servo(const ServoParams& params, const Rates& rates, Device* device, SpscQueue<HapticSample>* samples,
              TripleBuffer<LocalModel>* model)
     : params_(params), rates_(rates), device_(device), samples_(samples), model_(model) {
+  for (const InteractionMode m : {InteractionMode::kTouch, InteractionMode::kPull, InteractionMode::kCut}) {
+    ServoParams& p = mode_params_[static_cast<std::size_t>(m)];
+    p = params;
+    p.mode = m;
+    if (m != InteractionMode::kTouch) {
+      p.tool_radius_m = 0.0;
+      p.friction = FrictionParams{};
+    }
+  }
+  controls_.mode = params.mode;
+  controls_.tool_radius_m = params.tool_radius_m;
   // force shading: the smooth normal in full up to a quarter of the crease angle from the facets' push, none from half
   const double crease_rad = std::clamp(params.force_shading_deg, 0.0, 180.0) * std::numbers::pi / 180.0;
   if (crease_rad > 0.0) {
@@ -317,7 +331,8 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
 bool Servo::jump_event(const LocalModel& m, ContactState before) noexcept {
   // every change of contact: a touch beginning (its first tick's depth and the coupling's damping of the device's
   // speed come at once), a release, a grab and its release, a cut starting or ending
-  bool event = before != contact_;
+  bool event = before != contact_ || controls_event_;
+  controls_event_ = false;
   // a frame whose patch came from a region placed or moved (no contact model on it), or that brings the first
   // contact model after one, while in contact
   if (m.frame != jump_frame_) {
@@ -328,10 +343,28 @@ bool Servo::jump_event(const LocalModel& m, ContactState before) noexcept {
   return event;
 }
 
+void Servo::apply_controls(const Controls& c) noexcept {
+  controls_ = c;
+  params_ = mode_params_[static_cast<std::size_t>(c.mode)];
+  if (params_.tool_radius_m > 0.0 && c.tool_radius_m > 0.0) params_.tool_radius_m = c.tool_radius_m;
+  contact_ = ContactState::kFree;
+  tri_ = -1;
+  friction_ = FrictionState{};
+  near_tri_ = -1;
+  near_outside_ = false;
+  unseen_ = false;
+  shade_ = Quat::Identity();
+  shade_n_ = shade_push_ = Vec3::Zero();
+  cut_force_N_.setZero();
+  restart_pending_ = true;
+  controls_event_ = true;  // the force the contact gave goes as a contact's release does (the jump limit)
+}
+
 void Servo::tick(int64_t tick_index, double t_s) noexcept {
   DevicePose pose;
   bool rejected = false;
   const bool got = device_->read(t_s, &pose);
+  if (pose.controls.seq > controls_.seq) apply_controls(pose.controls);
   if (!got || !pose.pos_m.allFinite() || pose.pos_m.cwiseAbs().maxCoeff() > device_->specs().workspace_half_m) {
     // no reading (e.g. a disconnected link) and a refused reading are counted apart
     rejected = true;
@@ -342,6 +375,12 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
     pose_ = pose;
   }
   const Vec3 tool = pose.pos_m;
+  if (restart_pending_ && !rejected) {
+    // the first good reading under new controls: the tool's path starts here (a reset's tool may be far away)
+    have_pose_ = false;
+    restart_pending_ = false;
+    tool_vel_m_per_s_.setZero();
+  }
   if (!have_pose_) {
     prev_tool_m_ = tool;
     proxy_m_ = tool;
@@ -353,7 +392,8 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   tool_vel_m_per_s_ += low_pass_weight(params_.velocity_cutoff_hz, period_s) * (vel - tool_vel_m_per_s_);
 
   const bool button = (pose.buttons & 1u) != 0;
-  const LocalModel& m = surface_at(model_->read(), t_s);
+  const LocalModel& latest = model_->read();
+  const LocalModel& m = surface_at(latest.controls_seq == controls_.seq ? latest : kNoPatch, t_s);
   const ContactState contact_before = contact_;
   Vec3 axis = pose.orientation * Vec3::UnitZ();
   if (!axis.allFinite() || axis.squaredNorm() < 1e-12) axis = Vec3::UnitZ();
@@ -434,8 +474,9 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   s.input_rejected = rejected ? 1 : 0;
   s.blade_axis = axis;
   s.wake_latency_us = wake_latency_us_;
-  s.model_frame = m.frame;
+  s.model_frame = latest.frame;  // the patch read (felt, or passed over under new controls): the run's order
   s.force_scale = scale;
+  s.controls = controls_;
   if (!samples_->try_push(s)) ++counters_.dropped_samples;
   last_ = s;
   counters_.max_force_N = std::max(counters_.max_force_N, force.norm());

@@ -2,6 +2,7 @@
 /// Servo: one haptic tick — read the device, find the contact point P_s on the latest surface patch,
 /// compute F = k_c (P_s - P_t) - b_c v, clamp, send it, and report a HapticSample to the sim thread.
 
+#include <array>
 #include <cstdint>
 
 #include "core/rates.h"
@@ -98,11 +99,16 @@ class Servo {
   const ServoCounters& counters() const noexcept { return counters_; }
   /// The last sample produced.
   const HapticSample& last_sample() const noexcept { return last_; }
+  /// The controls the servo runs under (the scene's own until a device brings a change).
+  const Controls& controls() const noexcept { return controls_; }
 
  private:
   // touch: a god-object — a sphere's centre held tool_radius_m outside the surface (a point tool: a sphere of
   // vanishing radius, the proxy the surface point under it), with Coulomb friction
   void update_touch(const LocalModel& m, const Vec3& tool) noexcept;
+  // a person changed the controls (a device pose with a larger seq): the mode's parameters and the tool's radius
+  // from now on, no contact, and no patch felt until the session's own (LocalModel::controls_seq) arrives
+  void apply_controls(const Controls& c) noexcept;
   // whether the tool lies outside the surface by at least r (where a touch may end)
   bool tool_outside(const LocalModel& m, const Vec3& tool, double r) const noexcept;
   // the same judged at the surface point q (triangle slot, barycentric b) nearest the tool; *normal_out (if given):
@@ -148,6 +154,11 @@ class Servo {
   static constexpr double kPointRoll_N_per_tick = 0.02;
 
   ServoParams params_;
+  std::array<ServoParams, 3> mode_params_;  // the parameters of each InteractionMode (a touch's sphere and friction
+                                            // only in touch): what a mode switch takes
+  Controls controls_;                       // the controls in force
+  bool restart_pending_ = false;            // controls changed: the next good reading starts the tool's path afresh
+  bool controls_event_ = false;             // controls changed: this tick's step is an event (jump limit)
   const Rates& rates_;
   Device* device_;
   SpscQueue<HapticSample>* samples_;

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/clock.h"
+#include "core/scene_controls.h"
 #include "runtime/live/browser_message.h"
 
 namespace palpate {
@@ -45,6 +46,7 @@ bool query_has_token(std::string_view query, std::string_view token) {
 
 BrowserControl::BrowserControl(HttpServer* http, BrowserLink* link, BrowserControlParams params)
     : http_(http), link_(link), params_(std::move(params)) {
+  if (params_.scene) controls_ = scene_controls(*params_.scene);
   WsCallbacks cb;
   cb.open = [this](int64_t id, const HttpRequest& req) { open(id, req); };
   cb.message = [this](int64_t id, WsOpcode op, std::string_view text) {
@@ -67,6 +69,17 @@ std::string BrowserControl::hello(const Page& page) const {
                    {"role", page.id == controller_ ? "control" : "watch"},
                    {"steer", page.may_steer},
                    {"send_ms", params_.send_ms}};
+  if (params_.scene) {
+    const ControlLimits l = control_limits(*params_.scene);
+    nlohmann::json modes = nlohmann::json::array();
+    for (const InteractionMode m : l.modes) modes.push_back(mode_name(m));
+    j["limits"] = {{"modes", modes},
+                   {"stiffness", {l.stiffness_lo, l.stiffness_hi}},
+                   {"radius_mm", {1e3 * l.radius_lo_m, 1e3 * l.radius_hi_m}},
+                   {"sphere", params_.scene->device.sphere_tool},
+                   {"young_modulus_kPa", l.material ? 1e-3 * l.young_modulus_Pa : 0.0}};
+    j["controls"] = nlohmann::json::parse(controls_message())["controls"];
+  }
   if (!page.may_steer)
     j["why"] = "this server listens beyond loopback: only a page opened with its token may steer (the address "
                "palpate printed, ending ?token=...)";
@@ -77,6 +90,7 @@ void BrowserControl::give_control(Page* page, int64_t now_ns) {
   const int64_t old = controller_;
   controller_ = page->id;
   control_since_ns_ = now_ns;
+  unheard_ = 0;  // a new page's control anchors afresh anyway
   ++session_;
   ++controllers_;
   if (old >= 0 && old != page->id)
@@ -121,6 +135,24 @@ void BrowserControl::message(int64_t id, std::string_view text) {
     return;
   }
   Page* page = find(id);
+  if (m.kind == BrowserMessage::Kind::kAck) {
+    if (control && m.seq == unheard_) unheard_ = 0;
+    return;
+  }
+  if (m.kind == BrowserMessage::Kind::kControls || m.kind == BrowserMessage::Kind::kReset) {
+    if (!page || !page->may_steer || !control || !params_.scene) {
+      ++ignored_;  // only the steering page changes what the servo does
+      return;
+    }
+    apply_control(page, m, monotonic_ns());
+    return;
+  }
+  if (control && unheard_ > 0 && page) {
+    // a pose the steering page made before it heard of the change (from where the tool was): the device anchors at
+    // its first pose after the acknowledgement instead, made from where the tool went
+    page->last_seq = std::max(page->last_seq, m.seq);
+    return;
+  }
   if (!page || !page->may_steer || m.seq <= page->last_seq) {
     ++ignored_;  // a page without the token, or a repeated or out-of-order pose
     return;
@@ -147,6 +179,45 @@ void BrowserControl::message(int64_t id, std::string_view text) {
   in.received_ns = now;
   in.session = session_;
   link_->post(in);
+}
+
+std::string BrowserControl::controls_message() const {
+  return nlohmann::json{{"t", "controls"},
+                        {"controls",
+                         {{"seq", controls_.seq},
+                          {"mode", mode_name(controls_.mode)},
+                          {"stiffness", controls_.stiffness_scale},
+                          {"radius_mm", 1e3 * controls_.tool_radius_m},
+                          {"resets", controls_.resets}}}}
+      .dump();
+}
+
+void BrowserControl::apply_control(Page* page, const BrowserMessage& m, int64_t now_ns) {
+  Controls c = controls_;
+  if (m.kind == BrowserMessage::Kind::kReset) {
+    ++c.resets;
+  } else {
+    c.mode = m.mode;
+    c.stiffness_scale = m.stiffness_scale;
+    c.tool_radius_m = m.tool_radius_m;
+    if (c.mode == controls_.mode && c.stiffness_scale == controls_.stiffness_scale &&
+        c.tool_radius_m == controls_.tool_radius_m)
+      return;  // nothing changes: the model is not started again
+  }
+  if (const std::string why = refuse_controls(*params_.scene, c); !why.empty()) {
+    ++control_refusals_;
+    last_control_refusal_ = why;
+    http_->ws_send(page->id, nlohmann::json{{"t", "refused"}, {"why", why}}.dump());
+    return;
+  }
+  page->last_pose_ns = now_ns;  // a change of what the servo does is steering
+  c.seq = controls_.seq + 1;
+  controls_ = c;
+  ++control_changes_;
+  unheard_ = c.seq;
+  link_->post_controls(c);
+  const std::string said = controls_message();
+  for (const Page& p : pages_) http_->ws_send(p.id, said);
 }
 
 void BrowserControl::close(int64_t id, const std::string& /*why*/) {
@@ -195,12 +266,12 @@ void BrowserControl::tick(int64_t frame) {
   char text[384];
   std::snprintf(text, sizeof text,
                 "{\"t\":\"f\",\"f\":[%.4f,%.4f,%.4f],\"fv\":[%.4f,%.4f,%.4f],\"hv\":[%.4f,%.4f,%.4f],"
-                "\"hs\":[%.4f,%.4f],\"mm\":[%.2f,%.2f,%.2f],\"scale\":%.3f,\"e\":%d,\"s\":%lld,\"k\":%lld,\"n\":%lld}",
+                "\"hs\":[%.4f,%.4f],\"mm\":[%.2f,%.2f,%.2f],\"scale\":%.3f,\"e\":%d,\"s\":%lld,\"k\":%lld,\"n\":%lld,\"c\":%lld}",
                 fb.force_N.x(), fb.force_N.y(), fb.force_N.z(), fb.force_view_N.x(), fb.force_view_N.y(),
                 fb.force_view_N.z(), fb.handle_view.x(), fb.handle_view.y(), fb.handle_view.z(), fb.handle_screen.x(),
                 fb.handle_screen.y(), fb.view_half_mm.x(), fb.view_half_mm.y(), fb.view_half_mm.z(), fb.force_scale,
                 fb.engaged ? 1 : 0, static_cast<long long>(fb.seq), static_cast<long long>(frame),
-                static_cast<long long>(fb.ticks));
+                static_cast<long long>(fb.ticks), static_cast<long long>(fb.controls.seq));
   for (const Page& p : pages_) http_->ws_send(p.id, text);  // a page that cannot keep up misses some
 }
 
@@ -223,7 +294,16 @@ nlohmann::json BrowserControl::stats() {
           {"handle_m", {fb.handle_m.x(), fb.handle_m.y(), fb.handle_m.z()}},
           {"input_to_force_us", percentiles(server_us_)},
           {"page_input_to_force_ms", percentiles(page_force_ms_)},
-          {"page_input_to_frame_ms", percentiles(page_frame_ms_)}};
+          {"page_input_to_frame_ms", percentiles(page_frame_ms_)},
+          {"controls",
+           {{"seq", fb.controls.seq},
+            {"mode", mode_name(fb.controls.mode)},
+            {"stiffness", fb.controls.stiffness_scale},
+            {"radius_mm", 1e3 * fb.controls.tool_radius_m},
+            {"resets", fb.controls.resets},
+            {"changes", control_changes_},
+            {"refused", control_refusals_},
+            {"last_refusal", last_control_refusal_}}}};
 }
 
 }  // namespace palpate

@@ -77,7 +77,34 @@ BrowserMessage parse_browser_message(std::string_view text) {
     m.kind = BrowserMessage::Kind::kAlive;
     return m;
   }
-  return bad("unknown message", f[0], "(p, l or k)");
+  if (f[0] == "c") {
+    if (f.size() != 4)
+      return fail("controls: 3 fields expected (MODE STIFFNESS RADIUS_MM), got " + std::to_string(f.size() - 1));
+    BrowserMessage m;
+    const auto mode = from_name<InteractionMode>(f[1]);
+    if (!mode) return bad("controls: MODE", f[1], "is not touch, pull or cut");
+    m.mode = *mode;
+    double radius_mm = 0.0;
+    if (!number(f[2], 1e-3, 1e3, &m.stiffness_scale)) return bad("controls: STIFFNESS", f[2], "is not a number in 0.001..1000");
+    if (!number(f[3], 1e-3, 1e3, &radius_mm)) return bad("controls: RADIUS_MM", f[3], "is not a number in 0.001..1000");
+    m.tool_radius_m = radius_mm * 1e-3;
+    m.kind = BrowserMessage::Kind::kControls;
+    return m;
+  }
+  if (f[0] == "r") {
+    if (f.size() != 1) return fail("reset: no fields expected, got " + std::to_string(f.size() - 1));
+    BrowserMessage m;
+    m.kind = BrowserMessage::Kind::kReset;
+    return m;
+  }
+  if (f[0] == "a") {
+    if (f.size() != 2) return fail("ack: 1 field expected (SEQ), got " + std::to_string(f.size() - 1));
+    BrowserMessage m;
+    if (!integer(f[1], 1, INT64_C(1) << 52, &m.seq)) return bad("ack: SEQ", f[1], "is not a positive integer");
+    m.kind = BrowserMessage::Kind::kAck;
+    return m;
+  }
+  return bad("unknown message", f[0], "(p, l, k, c, r or a)");
 }
 
 }  // namespace palpate

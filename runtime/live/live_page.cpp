@@ -31,6 +31,8 @@ h1 { font-size: 16px; margin: 0 0 8px 0; font-weight: 600; }
 #overlay { position: absolute; left: 0; top: 0; width: 100%; height: 100%; cursor: crosshair; }
 #device { margin: 6px 0; display: none; } #device b { padding: 1px 6px; border-radius: 3px; background: #ddd; }
 #device b.control { background: #ffe0b2; } #device b.watch { background: #e0e0e0; }
+#controls { margin-top: 6px; display: none; } #controls label { margin-right: 8px; white-space: nowrap; }
+#controls input[type=range] { width: 140px; vertical-align: middle; } #ctlmsg { color: #b71c1c; }
 table { border-collapse: collapse; background: #fff; }
 td { padding: 3px 10px; border-bottom: 1px solid #e4e4e4; }
 td.v { text-align: right; font-variant-numeric: tabular-nums; }
@@ -43,7 +45,11 @@ canvas.plot { background: #fff; border: 1px solid #ccc; width: 100%; height: 150
 <div id="top">
   <div><div id="stage"><canvas id="view" width="640" height="480"></canvas><canvas id="overlay"></canvas></div>
   <div id="device">device: <b id="role">&hellip;</b> <span id="devinfo"></span><br>
-  drag: move the tool from where it is &middot; wheel or two fingers: depth &middot; [ ]: wheel step &middot; Space, right button or a long press: button (grab / blade)</div></div>
+  drag: move the tool from where it is &middot; wheel or two fingers: depth &middot; [ ]: wheel step &middot; Space, right button or a long press: button (grab / blade)
+  <div id="controls">mode: <span id="modes"></span>
+  <label>stiffness <input type="range" id="stiff" min="0" max="1000"> <span id="stiffv"></span></label>
+  <label>tool radius <input type="range" id="radius" min="0" max="1000"> <span id="radiusv"></span></label>
+  <button id="reset" type="button">reset the model</button> <span id="ctlmsg"></span></div></div></div>
   <table><tbody id="figures"></tbody></table>
 </div>
 <div id="plots">
@@ -218,14 +224,16 @@ const HOLD_MS = 2000;
 const dev = { role: "none", steer: true, x: 0, y: 0, depth: 0, button: false, seq: 0, force: [0, 0, 0], fv: [0, 0, 0],
               hv: [0, 0, 0], hs: [0, 0], mm: [0, 0, 0], scale: 0, engaged: false, sent: 0, feedback: 0, inputAt: 0,
               pending: [], frameWait: [], forceMs: -1, frameMs: -1, activeUntil: 0, synced: false, wheelMm: 1.0, sendMs: 15,
-              ended: null, alive: 0, ticks: 0 };
+              ended: null, alive: 0, ticks: 0, limits: null, controls: null, awaitControls: 0, fbControls: 0 };
 live.device = dev;
 let sock = null;
 function clamp(v) { return Math.max(-1, Math.min(1, v)); }
 function visible() { return document.visibilityState !== "hidden"; }
 // the page's pointer starts where the tool is (the newest feedback), once per control
 function sync() {
-  if (dev.synced || !dev.ticks) return;  // the servo has not run yet: where the tool is is not known
+  // (the servo has not run yet, or the device has not taken the last change of the controls: where the tool is is
+  // not known)
+  if (dev.synced || !dev.ticks || dev.fbControls < dev.awaitControls) return;
   dev.x = clamp(dev.hv[0]); dev.y = clamp(dev.hv[1]); dev.depth = clamp(dev.hv[2]);
   dev.synced = true;
   sendPose();  // the anchor: where the tool is, before this input moves it
@@ -257,12 +265,23 @@ function connectDevice() {
       $("role").textContent = !dev.steer ? "watching: " + (m.why || "this page may not steer")
           : m.role === "control" ? "you steer it" : "watching (another page steers; steer here once it stops)";
       $("role").className = m.role;
+      if (m.limits) showControls(m.limits, m.controls);
       return;
     }
+    if (m.t === "controls") {
+      // the model starts again: the tool is back where it waited. The page says it heard (the server passes none of
+      // its poses on until then: they were made from where the tool was), and starts its pointer where the tool went
+      // once the feedback says the device has taken the change
+      dev.controls = m.controls; dev.synced = false; dev.awaitControls = m.controls.seq; $("ctlmsg").textContent = "";
+      if (dev.role === "control" && sock && sock.readyState === 1) sock.send("a " + m.controls.seq);
+      showControls(dev.limits, m.controls);
+      return;
+    }
+    if (m.t === "refused") { $("ctlmsg").textContent = "refused: " + m.why; return; }
     if (m.t === "ended") { ended(m.out); return; }
     if (dev.ended) return;
     dev.force = m.f; dev.fv = m.fv; dev.hv = m.hv; dev.hs = m.hs || [m.hv[0], m.hv[1]]; dev.mm = m.mm || dev.mm;
-    dev.scale = m.scale; dev.engaged = !!m.e; dev.ticks = m.n || 0; dev.feedback++;
+    dev.scale = m.scale; dev.engaged = !!m.e; dev.ticks = m.n || 0; dev.feedback++; dev.fbControls = m.c || 0;
     // the first feedback that used a message carrying an input event: event to force computed and back
     const now = performance.now();
     while (dev.pending.length && dev.pending[0].seq <= m.s) {
@@ -273,6 +292,45 @@ function connectDevice() {
     drawForce();
   };
   sock.onclose = () => { dev.role = "none"; $("role").textContent = "not connected"; $("role").className = ""; drawForce(); };
+}
+// the controls (only the steering page's reach the servo): mode, stiffness within the scene's range (a log scale),
+// tool radius within its range, reset. A slider sends when it is let go; every change starts the model again.
+function stiffOf(pos, l) { return l.stiffness[0] * Math.pow(l.stiffness[1] / l.stiffness[0], pos / 1000); }
+function posOfStiff(k, l) { return l.stiffness[1] > l.stiffness[0] ? 1000 * Math.log(k / l.stiffness[0]) / Math.log(l.stiffness[1] / l.stiffness[0]) : 0; }
+function radiusOf(pos, l) { return l.radius_mm[0] + (l.radius_mm[1] - l.radius_mm[0]) * pos / 1000; }
+function stiffText(k, l) { return l.young_modulus_kPa > 0 ? "E " + (k * l.young_modulus_kPa).toPrecision(3) + " kPa" : "\u00d7" + k.toPrecision(3); }
+function showControls(l, c) {
+  if (!l || !c) return;
+  dev.limits = l; dev.controls = c;
+  $("controls").style.display = "block";
+  const modes = $("modes");
+  if (!modes.childElementCount)
+    for (const name of l.modes) {
+      const lab = document.createElement("label"), r = document.createElement("input");
+      r.type = "radio"; r.name = "mode"; r.value = name; r.id = "mode-" + name;
+      r.addEventListener("change", sendControls);
+      lab.appendChild(r); lab.appendChild(document.createTextNode(" " + name)); modes.appendChild(lab);
+    }
+  for (const r of document.querySelectorAll("input[name=mode]")) r.checked = r.value === c.mode;
+  $("stiff").value = posOfStiff(c.stiffness, l); $("stiffv").textContent = stiffText(c.stiffness, l);
+  $("radius").value = l.radius_mm[1] > l.radius_mm[0] ? 1000 * (c.radius_mm - l.radius_mm[0]) / (l.radius_mm[1] - l.radius_mm[0]) : 0;
+  $("radiusv").textContent = c.radius_mm.toFixed(2) + " mm";
+  const mine = dev.role === "control" && dev.steer;
+  for (const e of document.querySelectorAll("#controls input, #controls button")) e.disabled = !mine;
+}
+function sendControls() {
+  const l = dev.limits;
+  if (!l || !sock || sock.readyState !== 1 || dev.role !== "control") return;
+  const picked = document.querySelector("input[name=mode]:checked");
+  const k = stiffOf(+$("stiff").value, l), r = radiusOf(+$("radius").value, l);
+  sock.send("c " + (picked ? picked.value : dev.controls.mode) + " " + k.toPrecision(6) + " " + r.toFixed(4));
+}
+function setupControls() {
+  $("stiff").addEventListener("input", () => { if (dev.limits) $("stiffv").textContent = stiffText(stiffOf(+$("stiff").value, dev.limits), dev.limits); });
+  $("radius").addEventListener("input", () => { if (dev.limits) $("radiusv").textContent = radiusOf(+$("radius").value, dev.limits).toFixed(2) + " mm"; });
+  $("stiff").addEventListener("change", sendControls);
+  $("radius").addEventListener("change", sendControls);
+  $("reset").addEventListener("click", () => { if (sock && sock.readyState === 1 && dev.role === "control") sock.send("r"); });
 }
 function sendPose() {
   if (!sock || sock.readyState !== 1 || !dev.steer) return;
@@ -426,7 +484,7 @@ function pollGamepad() {
 
 frames();
 stats();
-fetch("/ws" + location.search, { cache: "no-store" }).then((r) => { if (r.status !== 404) { deviceOn = true; setupInput(); connectDevice(); } }).catch(() => {});
+fetch("/ws" + location.search, { cache: "no-store" }).then((r) => { if (r.status !== 404) { deviceOn = true; setupInput(); setupControls(); connectDevice(); } }).catch(() => {});
 let sendTimer = setInterval(send, dev.sendMs);  // the server's hello says the scene's device.browser_send_ms
 setInterval(sendLatency, 250);
 </script>

@@ -304,6 +304,8 @@ void LiveServer::set_browser_timing(double stale_ms, double send_ms) {
   impl_->browser_params.send_ms = send_ms;
 }
 
+void LiveServer::set_browser_scene(const Scene* scene) { impl_->browser_params.scene = scene; }
+
 Status LiveServer::start(const ServeAddress& address) {
   Impl& m = *impl_;
   m.loopback_only = address.host.rfind("127.", 0) == 0;

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "core/result.h"
+#include "core/scene.h"
 #include "haptics/devices/browser_link.h"
 #include "runtime/live/live_feed.h"
 
@@ -49,6 +50,9 @@ class LiveServer {
   /// The browser device's timing (its watchdog and the page's send interval; the defaults are the default scene's):
   /// set before start().
   void set_browser_timing(double stale_ms, double send_ms);
+  /// The scene the steering page's controls are checked against (must outlive the server; null: no controls): set
+  /// before start().
+  void set_browser_scene(const Scene* scene);
   /// The page's address, e.g. "http://127.0.0.1:8080/", with "?token=..." when the server has a token (valid after
   /// start()).
   std::string url() const;

@@ -144,6 +144,13 @@ Status open_recording(const RecordPlan& plan, const RecordOptions& opt, Recordin
   if (!model_r) return model_r.error();
   rec->startup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - load0).count();
   rec->model.emplace(std::move(model_r).value());
+  if (plan.driver == DeviceDriver::kBrowser) {
+    // the page's controls may switch to touch (whose checks ask whether the surface is closed) and stiffen the
+    // material up to the scene's range: the stiffest is checked stable here, before any output exists
+    Model& m = *rec->model;
+    if (!m.closed) m.closed = closed_surface(m.rest, m.adjacency);
+    if (auto st = check_control_range(scene, m); !st) return st.error();
+  }
   const Model& model = *rec->model;
   if (auto st = resolve_relative_keys(model, &scene); !st) return st.error();
   if (const std::string w = self_weight_notice(scene, model.rest.vertices_m); !w.empty())
@@ -266,8 +273,8 @@ RunFigures drive_lockstep(Session& session, double duration_s, const RecordOptio
 RunFigures drive_realtime(Session& session, double duration_s, const RecordOptions& opt, Progress& progress) {
   const Rates& rates = session.rates();
   WallClock budget_clock;  // realtime frames keep lattice.budget_ms in wall time (lockstep ones have no deadline)
-  session.stage().use_budget(&budget_clock);
-  session.stage().keep_deadlines();  // a frame's step ends a frame period after it starts, whatever the solver
+  session.use_budget(&budget_clock);
+  session.keep_deadlines();  // a frame's step ends a frame period after it starts, whatever the solver
   RunFigures run;
   std::string mem_refused;
   const bool locked = opt.lock_memory && lock_process_memory(&mem_refused);

@@ -89,6 +89,19 @@ nlohmann::json recording_summary(const SummaryInputs& in) {
   if (model.auto_subdivisions > 0) j["model"]["subdivided_on_load"] = model.auto_subdivisions;
   // what the material became on the lattice (nu represented, total mass)
   if (scene.lattice.material.enabled) j["material"] = material_summary(scene, model.grid);
+  // what a person changed while the run went on (the browser page's controls): the model started again after each
+  if (!session.control_changes().empty()) {
+    nlohmann::json changes = nlohmann::json::array();
+    for (const ControlChange& c : session.control_changes())
+      changes.push_back({{"frame", c.frame},
+                         {"t_s", c.t_s},
+                         {"seq", c.controls.seq},
+                         {"mode", mode_name(c.controls.mode)},
+                         {"stiffness_scale", c.controls.stiffness_scale},
+                         {"tool_radius_m", c.controls.tool_radius_m},
+                         {"resets", c.controls.resets}});
+    j["controls"] = changes;
+  }
   if (!in.run->aborted.empty()) j["aborted"] = in.run->aborted;
   if (!in.run->interrupted.empty()) j["interrupted"] = in.run->interrupted;
   j["frames_written"] = writer ? writer->frames_written() : 0;

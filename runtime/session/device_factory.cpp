@@ -1,5 +1,7 @@
 #include "runtime/session/device_factory.h"
 
+#include "core/scene_controls.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -134,8 +136,11 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
       if (!browser)
         return make_error("device 'browser': the page is the device: it needs the live view (palpate record --serve "
                           "[ADDR:]PORT --mode realtime)");
-      return std::unique_ptr<Device>(
-          std::make_unique<BrowserDevice>(specs, scene.hand, browser_params(scene), browser, scene.rates));
+    {
+      auto d = std::make_unique<BrowserDevice>(specs, scene.hand, browser_params(scene), browser, scene.rates);
+      d->set_controls(scene_controls(scene));
+      return std::unique_ptr<Device>(std::move(d));
+    }
     case DeviceDriver::kReplay: {
       auto rows = load_haptic_csv(target);
       if (!rows) return rows.error();
@@ -144,6 +149,14 @@ Result<std::unique_ptr<Device>> make_device(const Scene& scene, const std::strin
       if (!from.empty() && !same_scene(from, scene.path))
         std::fprintf(stderr, "palpate: warning: replay '%s' was recorded from scene '%s', this run is '%s': the hand "
                      "follows the other scene's poses\n", target.c_str(), from.c_str(), scene.path.c_str());
+      // the controls the recording's person changed must be ones this scene allows (a replay against another scene)
+      int64_t checked = 0;
+      for (const ReplayRow& r : rows.value()) {
+        if (r.controls.seq <= checked) continue;
+        checked = r.controls.seq;
+        if (const std::string why = refuse_controls(scene, r.controls); !why.empty())
+          return make_error("replay '", target, "': line ", std::to_string(r.line), ": the controls changed there: ", why);
+      }
       // the recorded order of ticks and frames is followed only at the rate its ticks were made at
       const ReplayRow& last = rows.value().back();
       const bool same_rate = last.scheduled && std::abs(last.t_s - scene.rates.tick_time_s(last.tick)) < 1e-6;

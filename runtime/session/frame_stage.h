@@ -81,6 +81,13 @@ class FrameStage {
   void warm_up();
   /// Drains and logs samples left after the last frame.
   void drain_remaining();
+  /// The controls the newest sample taken was made under (seq 0: the scene's own).
+  const Controls& latest_controls() const { return feed_.latest().controls; }
+  /// The controls this stage runs under: its patches carry their seq (LocalModel::controls_seq), so a servo under
+  /// other controls feels none of them. Before the first frame.
+  void set_controls_seq(int64_t seq) { controls_seq_ = seq; }
+  /// Takes over the figures of the stage this one follows (a restart under new controls). Before the first frame.
+  void adopt_stats(FrameStats&& earlier) { stats_ = std::move(earlier); }
   /// 16-hex-digit hash of lattice state and deformed mesh.
   std::string state_hash() const;
   /// Collected figures.
@@ -145,6 +152,7 @@ class FrameStage {
   std::vector<std::pair<double, int32_t>> near_keys_;  // scratch: (distance, triangle) of a truncated patch
   double t_s_ = 0.0;                 // scene time of the current frame
   int64_t frame_index_ = -1;         // index of the current frame (the patch it publishes carries it)
+  int64_t controls_seq_ = 0;         // the controls it runs under (the patch carries it too)
   double lattice_moved_m_ = 0.0;  // the lattice's largest node displacement after the last step
   FrameProfile profile_;             // the current frame's parts
   std::chrono::steady_clock::time_point lap_wall_;  // end of the last part timed

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 
@@ -35,7 +36,9 @@ void haptic_log_values(const HapticSample& s, double out[kHapticLogWidth]) {
                                      s.force_N.x(), s.force_N.y(), s.force_N.z(), static_cast<double>(s.contact),
                                      static_cast<double>(s.buttons), static_cast<double>(s.input_rejected),
                                      static_cast<double>(s.drain_frame), static_cast<double>(s.model_frame),
-                                     s.force_scale};
+                                     s.force_scale, static_cast<double>(s.controls.seq),
+                                     static_cast<double>(s.controls.mode), s.controls.stiffness_scale,
+                                     s.controls.tool_radius_m, static_cast<double>(s.controls.resets)};
   for (int i = 0; i < kHapticLogWidth; ++i) out[i] = v[i];
 }
 
@@ -50,11 +53,20 @@ Status HapticLog::open(const std::string& path) {
 void HapticLog::append(const HapticSample& s) {
   if (keep_) keep_->push_back(s);
   if (!file_.good()) return;
-  const int n = std::fprintf(file_.stream(), "%lld,%.6f,%.17g,%.17g,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%u,%d,%lld,%lld,%.17g\n",
+  // the controls' values in the shortest text that reads back to the same double (a replay starts the model again
+  // under exactly these)
+  char stiffness[32], radius[32];
+  *std::to_chars(stiffness, stiffness + sizeof stiffness - 1, s.controls.stiffness_scale).ptr = '\0';
+  *std::to_chars(radius, radius + sizeof radius - 1, s.controls.tool_radius_m).ptr = '\0';
+  const int n = std::fprintf(file_.stream(),
+                             "%lld,%.6f,%.17g,%.17g,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%u,%d,%lld,%lld,%.17g,%lld,%d,%s,"
+                             "%s,%lld\n",
                              static_cast<long long>(s.tick), s.t_s, s.tool_pos_m.x(), s.tool_pos_m.y(), s.tool_pos_m.z(),
                              s.proxy_pos_m.x(), s.proxy_pos_m.y(), s.proxy_pos_m.z(), s.force_N.x(), s.force_N.y(),
                              s.force_N.z(), static_cast<int>(s.contact), s.buttons, static_cast<int>(s.input_rejected),
-                             static_cast<long long>(s.drain_frame), static_cast<long long>(s.model_frame), s.force_scale);
+                             static_cast<long long>(s.drain_frame), static_cast<long long>(s.model_frame), s.force_scale,
+                             static_cast<long long>(s.controls.seq), static_cast<int>(s.controls.mode),
+                             stiffness, radius, static_cast<long long>(s.controls.resets));
   if (n < 0) file_.fail(std::strerror(errno));
   else ++rows_;
 }

@@ -13,10 +13,10 @@ namespace palpate {
 /// haptic.csv's header: the columns of each row, in order (the Python module names its arrays by these too).
 inline constexpr const char* kHapticLogColumns =
     "tick,t_s,tool_x_m,tool_y_m,tool_z_m,proxy_x_m,proxy_y_m,proxy_z_m,force_x_N,force_y_N,force_z_N,contact,buttons,"
-    "rejected,frame,model_frame,force_scale";
+    "rejected,frame,model_frame,force_scale,controls,mode,stiffness_scale,tool_radius_m,resets";
 
 /// The number of haptic.csv's columns.
-inline constexpr int kHapticLogWidth = 17;
+inline constexpr int kHapticLogWidth = 22;
 
 /// One sample's row as numbers, in kHapticLogColumns' order (the file writes the same values as text).
 void haptic_log_values(const HapticSample& s, double out[kHapticLogWidth]);

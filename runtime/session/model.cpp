@@ -1,6 +1,9 @@
 #include "runtime/session/model.h"
 
+#include "core/scene_controls.h"
+
 #include <algorithm>
+#include <cstdio>
 #include <vector>
 
 #include "core/limits.h"
@@ -75,6 +78,20 @@ Result<Model> load_model(const Scene& scene) {
   // (asked only in touch, where the tool's side of the surface is checked every tick: O(edges x degree) at load)
   m.closed = scene.mode == InteractionMode::kTouch && closed_surface(m.rest, m.adjacency);
   return m;
+}
+
+Status check_control_range(const Scene& scene, const Model& model) {
+  Controls stiffest = scene_controls(scene);
+  stiffest.stiffness_scale = scene.device.browser_stiffness_hi;
+  const Scene s = scene_with_controls(scene, stiffest);
+  char key[96];
+  std::snprintf(key, sizeof key, "device.browser_stiffness_range: its high end %g", stiffest.stiffness_scale);
+  if (auto st = check_material_integrator(s.lattice, model.grid.cell_size_m(s.lattice.level), s.rates.frame_period_s()); !st)
+    return make_error("scene '", scene.path, "': ", key, " is not stable: ", st.error().message);
+  if (integrator_warning(scene.lattice, scene.rates.frame_period_s()).empty())
+    if (const std::string w = integrator_warning(s.lattice, s.rates.frame_period_s()); !w.empty())
+      return make_error("scene '", scene.path, "': ", key, " is not stable: ", w);
+  return Ok{};
 }
 
 double median_longest_edge_m(const TriMesh& mesh) {

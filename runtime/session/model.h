@@ -49,6 +49,10 @@ Vec3 file_to_world_axes(const Vec3& v, char up_axis);
 /// scene when its lattice could pass kMaxLatticeNodes / kMaxLatticeSprings (sim/lattice/lattice_estimate.h).
 Result<Model> load_model(const Scene& scene);
 
+/// Whether the stiffest material a person may set (device.browser_stiffness_range's high end, core/scene_controls.h)
+/// is one the scene's integrator steps stably on the model's cells; the error names the key and the check's message.
+Status check_control_range(const Scene& scene, const Model& model);
+
 /// Whether every edge of mesh is shared by exactly two of its triangles (a closed surface, with an inside).
 /// O(sum of squared vertex degrees).
 bool closed_surface(const TriMesh& mesh, const VertexTriangles& adjacency);

@@ -7,10 +7,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <memory>
+#include <optional>
 #include <utility>
+#include <vector>
 
 #include "core/clock.h"
+#include "core/controls.h"
 #include "core/rates.h"
 #include "core/scene.h"
 #include "core/spsc_queue.h"
@@ -44,7 +48,18 @@ struct SessionOutputs {
 /// Samples the servo may queue between two frames before they are dropped (8 s at 1 kHz).
 inline constexpr std::size_t kSessionSampleQueue = 8192;
 
+/// A change of the controls a session started again under: after frame `frame` (scene time t_s). Plain data.
+struct ControlChange {
+  int64_t frame = 0;
+  double t_s = 0.0;
+  Controls controls{};
+};
+
 /// One run's servo and frame stage, connected. Not copyable or movable (the parts point at each other).
+/// A person's change of the controls (core/controls.h, carried by the servo's samples) starts the model again: after
+/// the frame that took the first sample under it, the frame stage is built anew from the scene the controls make
+/// (core/scene_controls.h), at rest, its figures carried over; the servo already runs under them and feels no surface
+/// until the new stage's first patch. A replay changes it after the same frame.
 /// Thread: construct, run_lockstep, frame and finish on the sim thread; servo() ticks on the servo thread.
 class Session {
  public:
@@ -76,36 +91,54 @@ class Session {
   /// Frame `index` at its scene time index / frame_hz; block_on_writer: wait for the PNG writer and the video
   /// (lockstep) instead of dropping the frame (realtime).
   void frame(int64_t index, bool block_on_writer) { frame_at(index, frame_time_s(index), block_on_writer); }
-  /// Frame `index` at scene time t_s.
-  void frame_at(int64_t index, double t_s, bool block_on_writer) { stage_.frame(index, t_s, block_on_writer); }
+  /// Frame `index` at scene time t_s, taking the servo's samples up to tick drain_to_tick (FrameStage::frame); then,
+  /// when those samples brought new controls, the stage starts again under them.
+  void frame_at(int64_t index, double t_s, bool block_on_writer, int64_t drain_to_tick = INT64_MAX);
   /// Draws the current state once, written nowhere (FrameStage::warm_up): before a realtime clock starts.
-  void warm_up() { stage_.warm_up(); }
+  void warm_up() { stage_->warm_up(); }
+  /// The frame stage keeps lattice.budget_ms by `clock` (FrameStage::use_budget), also after a restart.
+  void use_budget(BudgetClock* clock);
+  /// Realtime: every frame's step has a deadline (FrameStage::keep_deadlines), also after a restart.
+  void keep_deadlines();
+  /// The controls' changes the session started again under, in order (empty: the scene's own throughout).
+  const std::vector<ControlChange>& control_changes() const { return changes_; }
+  /// The scene the stage runs now: the session's, or the one the last change of the controls made.
+  const Scene& current_scene() const { return scenes_.empty() ? scene_ : scenes_.back(); }
   /// Scene time of frame `index`.
   double frame_time_s(int64_t index) const { return rates().frame_time_s(index); }
   /// Drains and logs the samples left after the last frame (the servo must have stopped).
-  void finish() { stage_.drain_remaining(); }
+  void finish() { stage_->drain_remaining(); }
 
   /// The run's rates (the scene's).
   const Rates& rates() const { return scene_.rates; }
   const ServoParams& servo_params() const { return params_; }
   Servo& servo() { return servo_; }
   const Servo& servo() const { return servo_; }
-  FrameStage& stage() { return stage_; }
-  const FrameStage& stage() const { return stage_; }
+  FrameStage& stage() { return *stage_; }
+  const FrameStage& stage() const { return *stage_; }
   SpscQueue<HapticSample>& samples() { return samples_; }
   TripleBuffer<LocalModel>& local_model() { return *local_model_; }
   /// Lockstep: time inside each servo tick (1 us buckets, as a ServoRunner's compute figure).
   const LatencyHistogram& lockstep_compute() const { return compute_; }
 
  private:
+  // the stage built anew under `c` after frame `frame`
+  void restart(Controls c, int64_t frame, double t_s);
   const Scene& scene_;
+  const Model& model_;
   Device* device_;
+  SessionOutputs outputs_;
   ServoParams params_;
   SpscQueue<HapticSample> samples_;
   std::unique_ptr<TripleBuffer<LocalModel>> local_model_;  // large: on the heap
   Servo servo_;
-  FrameStage stage_;
+  std::optional<FrameStage> stage_;
   LatencyHistogram compute_;
+  std::deque<Scene> scenes_;          // the scenes the controls made (a stage keeps a reference to its own)
+  std::vector<ControlChange> changes_;
+  Controls applied_;                  // the controls the stage runs under
+  BudgetClock* budget_clock_ = nullptr;
+  bool deadlines_ = false;
 };
 
 template <class AfterFrame, class AfterTick>
@@ -121,7 +154,7 @@ void Session::run_lockstep(double duration_s, AfterFrame&& after_frame, AfterTic
     palpate::run_scheduled(
         rates(), *schedule,
         [&](int64_t f, double t, int64_t drain_to_tick) {
-          stage_.frame(f, t, true, drain_to_tick);
+          frame_at(f, t, true, drain_to_tick);
           after_frame(f, t);
         },
         on_tick);
@@ -129,7 +162,7 @@ void Session::run_lockstep(double duration_s, AfterFrame&& after_frame, AfterTic
     palpate::run_lockstep(
         rates(), duration_s,
         [&](int64_t f, double t) {
-          stage_.frame(f, t, true);
+          frame_at(f, t, true);
           after_frame(f, t);
         },
         on_tick);

@@ -21,6 +21,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   for (std::size_t i = 0; i < rows.size(); ++i) {
     if (!std::isfinite(rows[i].t_s) || !rows[i].pos_m.allFinite()) std::abort();
     if (i > 0 && !(rows[i].t_s > rows[i - 1].t_s)) std::abort();
+    // the controls: a known mode, a positive stiffness, a radius within a metre, never going back
+    const palpate::Controls& c = rows[i].controls;
+    if (c.seq < 0 || !(c.stiffness_scale > 0.0) || !(c.tool_radius_m >= 0.0 && c.tool_radius_m <= 1.0) || c.resets < 0 ||
+        static_cast<int>(c.mode) < 0 || static_cast<int>(c.mode) > 2)
+      std::abort();
+    if (i > 0 && c.seq < rows[i - 1].controls.seq) std::abort();
   }
   // the device plays them back: every reading it gives is one of the rows
   palpate::DeviceSpecs specs;

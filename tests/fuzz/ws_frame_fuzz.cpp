@@ -1,7 +1,7 @@
 // libFuzzer target: the bytes a page sends over its WebSocket -> ws_parse_frame() frame after frame, as the server
 // takes them (at most a few whole frames held), and each text payload -> parse_browser_message(). Whatever arrives:
 // a frame never takes more than the buffer or less than its header, a payload within its limit, a refusal with a
-// known close code and a reason, and a parsed pose only with its fields in range.
+// known close code and a reason, and a parsed pose or change of the controls only with its fields in range.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -37,6 +37,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
       if (m.kind == BrowserMessage::Kind::kPose &&
           (m.seq < 1 || !(std::fabs(m.x) <= 1.0) || !(std::fabs(m.y) <= 1.0) || !(std::fabs(m.depth) <= 1.0) ||
            m.buttons > 3))
+        std::abort();
+      // controls: a mode, and a stiffness and a radius within what the message may say (the scene bounds them after)
+      if (m.kind == BrowserMessage::Kind::kControls &&
+          (!(m.stiffness_scale >= 1e-3 && m.stiffness_scale <= 1e3) || !(m.tool_radius_m >= 1e-6 && m.tool_radius_m <= 1.0) ||
+           (m.mode != InteractionMode::kTouch && m.mode != InteractionMode::kPull && m.mode != InteractionMode::kCut)))
         std::abort();
     }
     in.remove_prefix(p.consumed);

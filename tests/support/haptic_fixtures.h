@@ -23,6 +23,7 @@ class FixedDevice final : public Device {
     if (!online) return false;
     out->pos_m = pos_m;
     out->buttons = buttons;
+    out->controls = controls;
     return true;
   }
   void write_force(const Vec3& f) noexcept override { force_N = f; }
@@ -31,6 +32,7 @@ class FixedDevice final : public Device {
   uint32_t buttons = 0;
   Vec3 force_N = Vec3::Zero();
   bool online = true;  ///< false: read() has no reading (a silent link)
+  Controls controls{}; ///< what a person set (seq 0: nothing)
 };
 
 /// Adds a quad (a, b, c, d counter-clockwise seen from its outside) as two triangles with flat normals.

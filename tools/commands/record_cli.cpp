@@ -197,6 +197,7 @@ int run_record(const CLI::App& cmd, RecordArgs& a) {
     feed->set_out_dir(plan.out_dir);
     server = std::make_unique<LiveServer>(feed.get(), browser.get());
     server->set_browser_timing(1e3 * browser_params(plan.scene).watchdog_s(), plan.scene.device.browser_send_ms);
+    server->set_browser_scene(&plan.scene);
     if (auto st = server->start(address.value()); !st) {
       std::fprintf(stderr, "palpate: %s\n", st.error().message.c_str());
       return 2;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "haptics/shim/palpate_shim.h"
+#include "runtime/session/haptic_log.h"
 #include "tools/device/device_process.h"
 
 namespace palpate {
@@ -94,7 +95,7 @@ TEST(ReplayDriver, ARealtimeRecordingReplaysTickForTick) {
   int64_t late_patch = 0, grab = 0, differing = 0;
   double worst_N = 0.0;
   for (std::size_t i = 0; i < live.size(); ++i) {
-    ASSERT_EQ(live[i].size(), 17u);
+    ASSERT_EQ(live[i].size(), static_cast<std::size_t>(kHapticLogWidth));
     ASSERT_EQ(replay[i][0], live[i][0]) << "row " << i;
     const int64_t tick = std::stoll(live[i][0]), felt = std::stoll(live[i][15]);
     late_patch += felt >= 0 && felt < tick * 60 / 1000;
