@@ -364,7 +364,9 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   DevicePose pose;
   bool rejected = false;
   const bool got = device_->read(t_s, &pose);
-  if (pose.controls.seq > controls_.seq) apply_controls(pose.controls);
+  // (a mode that is none of the three is no change: a driver's bad value never indexes past the modes)
+  if (pose.controls.seq > controls_.seq && static_cast<unsigned>(pose.controls.mode) < mode_params_.size())
+    apply_controls(pose.controls);
   if (!got || !pose.pos_m.allFinite() || pose.pos_m.cwiseAbs().maxCoeff() > device_->specs().workspace_half_m) {
     // no reading (e.g. a disconnected link) and a refused reading are counted apart
     rejected = true;
