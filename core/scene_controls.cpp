@@ -1,18 +1,12 @@
 #include "core/scene_controls.h"
 
 #include <cmath>
-#include <cstdio>
+
+#include "core/scene_reader.h"
 
 namespace palpate {
-namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
-
-}  // namespace
+using scene_reader::fmt_num;
 
 Controls scene_controls(const Scene& scene) {
   Controls c;
@@ -73,12 +67,12 @@ std::string refuse_controls(const Scene& base, const Controls& c) {
            (why.empty() ? std::string() : " (" + why + ")");
   }
   if (!(c.stiffness_scale >= l.stiffness_lo && c.stiffness_scale <= l.stiffness_hi))
-    return "stiffness " + num(c.stiffness_scale) + " is outside the scene's range [" + num(l.stiffness_lo) + ", " +
-           num(l.stiffness_hi) + "] (device.browser_stiffness_range)";
+    return "stiffness " + fmt_num(c.stiffness_scale) + " is outside the scene's range [" + fmt_num(l.stiffness_lo) + ", " +
+           fmt_num(l.stiffness_hi) + "] (device.browser_stiffness_range)";
   // (the page writes the radius in micrometres: a hair's rounding is not a refusal)
   if (!(c.tool_radius_m >= l.radius_lo_m * (1.0 - 1e-6) && c.tool_radius_m <= l.radius_hi_m * (1.0 + 1e-6)))
-    return "tool radius " + num(c.tool_radius_m * 1e3) + " mm is outside the scene's range [" + num(l.radius_lo_m * 1e3) +
-           ", " + num(l.radius_hi_m * 1e3) + "] mm (device.browser_tool_radius_range_m)";
+    return "tool radius " + fmt_num(c.tool_radius_m * 1e3) + " mm is outside the scene's range [" + fmt_num(l.radius_lo_m * 1e3) +
+           ", " + fmt_num(l.radius_hi_m * 1e3) + "] mm (device.browser_tool_radius_range_m)";
   return "";
 }
 

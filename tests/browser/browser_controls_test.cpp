@@ -28,6 +28,7 @@ namespace palpate {
 namespace {
 namespace fs = std::filesystem;
 using test::Browser;
+using test::log_rows;
 using test::Clock;
 using test::norm;
 using test::read_file;
@@ -89,21 +90,6 @@ nlohmann::json changed_to(const Recording& rec, int64_t seq) {
 
 // haptic.csv's columns: the proxy's z, the force, the controls' number
 constexpr int kControls = 17;
-
-// haptic.csv's rows as numbers (the header left out)
-std::vector<std::vector<double>> log_rows(const std::string& path) {
-  std::vector<std::vector<double>> rows;
-  std::istringstream in(read_file(path));
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::vector<double> r;
-    std::istringstream l(line);
-    for (std::string c; std::getline(l, c, ',');) r.push_back(std::stod(c));
-    rows.push_back(r);
-  }
-  return rows;
-}
 
 TEST(BrowserControls, EachControlOnThePageChangesWhatTheServoDoesAndTheRunReplaysThem) {
   ASSERT_EQ(test::shell("command -v chromium").code, 0)

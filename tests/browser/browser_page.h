@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -70,6 +71,21 @@ struct Recording {
   std::string log, out, url;
   int port = 0;
 };
+
+// haptic.csv's rows as numbers (the header left out)
+inline std::vector<std::vector<double>> log_rows(const std::string& path) {
+  std::vector<std::vector<double>> rows;
+  std::istringstream in(read_file(path));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<double> r;
+    std::istringstream l(line);
+    for (std::string c; std::getline(l, c, ',');) r.push_back(std::stod(c));
+    rows.push_back(r);
+  }
+  return rows;
+}
 
 inline double norm(const nlohmann::json& v) { return std::hypot(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); }
 

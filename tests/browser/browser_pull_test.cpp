@@ -28,24 +28,10 @@ namespace palpate {
 namespace {
 namespace fs = std::filesystem;
 using test::Browser;
+using test::log_rows;
 using test::Clock;
 using test::read_file;
 using test::Recording;
-
-// haptic.csv's rows as numbers (the header left out)
-std::vector<std::vector<double>> log_rows(const std::string& path) {
-  std::vector<std::vector<double>> rows;
-  std::istringstream in(read_file(path));
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::vector<double> r;
-    std::istringstream l(line);
-    for (std::string c; std::getline(l, c, ',');) r.push_back(std::stod(c));
-    rows.push_back(r);
-  }
-  return rows;
-}
 
 constexpr int kTick = 0, kTool = 2, kProxy = 5, kForce = 8, kContact = 11;
 
