@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -357,16 +358,61 @@ int xml_nesting(const std::string& path, int limit, int64_t* line) {
   return depth;
 }
 
+// The faces a mesh file's header declares, read before its body: a PLY's face element, an OFF's face count, a
+// binary STL's triangle count (when the file's size is that count's); -1 for any other file. Each face is at least
+// one triangle.
+int64_t declared_faces(const std::string& path, int64_t size) {
+  std::ifstream file(path, std::ios::binary);
+  std::string head(4096, '\0');
+  file.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
+  if (size >= 84 && head.size() >= 84) {
+    uint32_t n = 0;
+    std::memcpy(&n, head.data() + 80, sizeof n);  // little-endian, as the format and this machine
+    if (84 + 50 * static_cast<int64_t>(n) == size) return n;
+  }
+  std::istringstream in(head);
+  std::string word;
+  if (!(in >> word)) return -1;
+  if (word == "ply") {
+    for (std::string line; std::getline(in, line);) {
+      std::istringstream words(line);
+      std::string key, name;
+      double count = -1;
+      words >> key >> name >> count;
+      if (key == "end_header") break;
+      if (key == "element" && name == "face" && count >= 0) return static_cast<int64_t>(std::min(count, 9.2e18));
+    }
+    return -1;
+  }
+  // OFF and its variants (COFF, NOFF, STOFF, ...); the counts may follow on the same line; # starts a comment
+  if (word.size() < 3 || word.compare(word.size() - 3, 3, "OFF") != 0) return -1;
+  std::vector<double> counts;
+  // nOFF gives the dimension first
+  const std::size_t wanted = word.size() >= 4 && word[word.size() - 4] == 'n' ? 3 : 2;
+  for (std::string line; counts.size() < wanted && std::getline(in, line);) {
+    line = line.substr(0, line.find('#'));
+    std::istringstream words(line);
+    for (double v = 0; counts.size() < wanted && words >> v;) counts.push_back(v);
+  }
+  return counts.size() == wanted && counts.back() >= 0 ? static_cast<int64_t>(std::min(counts.back(), 9.2e18)) : -1;
+}
+
 }  // namespace
+
 
 Status check_mesh_file(const std::string& path) {
   const std::string who = "mesh '" + path + "': ";
   // a regular file of bounded size only: never a device or a FIFO
-  auto size_r = check_input_file(path, "mesh", kMaxMeshFileBytes);
+  auto size_r = check_input_file(path, "mesh", max_mesh_file_bytes());
   if (!size_r) return size_r.error();
   const int64_t size = size_r.value();
   const std::string implausible = implausible_counts(path, static_cast<double>(size));
   if (!implausible.empty()) return make_error(who, implausible);
+  // more faces than the machine's memory holds: refused from the header, before the body is read
+  // (a header declaring more than the file can hold, at 2 bytes a face, is left to the reader, which says that)
+  if (const int64_t faces = declared_faces(path, size); faces > max_triangles() && faces <= size / 2)
+    return make_error(who, "the header declares ", std::to_string(faces), " faces, more than the ", triangle_limit_text());
   // assimp's XML readers (Collada and others) recurse once per nesting level: a deep file would overflow the stack
   int64_t deep_line = 0;
   if (const int depth = xml_nesting(path, kMaxXmlNesting, &deep_line); depth > kMaxXmlNesting)

@@ -320,7 +320,7 @@ Result<TriMesh> read_mesh(const std::string& path) {
     }
     std::error_code ec;
     const auto size = std::filesystem::file_size(path, ec);
-    if (ec || size > static_cast<uintmax_t>(kMaxMeshFileBytes)) return make_error(who, "cannot read the file's size");
+    if (ec || size > static_cast<uintmax_t>(max_mesh_file_bytes())) return make_error(who, "cannot read the file's size");
     bytes.resize(static_cast<std::size_t>(size));
     file.clear();
     file.seekg(0);

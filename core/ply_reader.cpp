@@ -1,6 +1,7 @@
 // The PLY reader (core/ply_reader.h).
 #include "core/ply_reader.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -207,34 +208,39 @@ Result<TriMesh> read_ply(std::string_view bytes) {
       faces.emplace_back();
       polys = &faces.back();
       polys->strips = e.name == "tristrips";
+      // room for triangles, within what the file's bytes can hold
+      const std::size_t most = bytes.size() / 4;
+      polys->sizes.reserve(std::min(static_cast<std::size_t>(e.count), most));
+      polys->indices.reserve(std::min(static_cast<std::size_t>(e.count) * 3, most));
     }
     for (uint64_t i = 0; i < e.count; ++i) {
-      const std::string who = "element " + e.name + " " + std::to_string(i);
+      // (the element's name and the line are made into text only for a message: a model has millions of elements)
+      auto who = [&e, i] { return "element " + e.name + " " + std::to_string(i); };
       std::size_t word = 0;
       if (format == Format::kAscii) {
         do {
-          if (!text.next(&line)) return Error{"the file ends before " + who};
+          if (!text.next(&line)) return Error{"the file ends before " + who()};
           split_words(line, &w);
         } while (w.empty());
       }
-      const std::string where = format == Format::kAscii ? "line " + std::to_string(text.number()) + ": " : "";
+      auto where = [&] { return format == Format::kAscii ? "line " + std::to_string(text.number()) + ": " : std::string(); };
       // the next value of type t: false (with *error) when the file or the line has no more
       std::string error;
       auto next = [&](Type t, double* out) {
         if (format != Format::kAscii) {
           if (bin.left() < static_cast<std::size_t>(t.bytes)) {
-            error = "the file ends inside " + who;
+            error = "the file ends inside " + who();
             return false;
           }
           *out = bin.value(t);
           return true;
         }
         if (word >= w.size()) {
-          error = where + who + ": its line holds " + std::to_string(w.size()) + " values, fewer than its properties need";
+          error = where() + who() + ": its line holds " + std::to_string(w.size()) + " values, fewer than its properties need";
           return false;
         }
         if (!parse_real(w[word], out)) {
-          error = where + who + ": " + quote_word(w[word]) + " is not a number";
+          error = where() + who() + ": " + quote_word(w[word]) + " is not a number";
           return false;
         }
         ++word;
@@ -255,11 +261,11 @@ Result<TriMesh> read_ply(std::string_view bytes) {
                                                      : static_cast<double>(bin.left()) / p.type.bytes;
         if (!(v >= 0) || v != std::floor(v) || v > room) {
           if (v < 0)
-            return Error{where + who + ": a list of " + ply_number(v) + " entries: a count cannot be negative"};
+            return Error{where() + who() + ": a list of " + ply_number(v) + " entries: a count cannot be negative"};
           if (format != Format::kAscii)
-            return Error{who + ": a list of " + std::to_string(static_cast<int64_t>(v)) + " entries, more than the " +
+            return Error{who() + ": a list of " + std::to_string(static_cast<int64_t>(v)) + " entries, more than the " +
                          std::to_string(bin.left()) + " bytes left in the file"};
-          return Error{where + who + ": a list of " + quote_word(w[word - 1]) + " entries, its line holds " +
+          return Error{where() + who() + ": a list of " + quote_word(w[word - 1]) + " entries, its line holds " +
                        std::to_string(w.size() - word) + " more values"};
         }
         const auto n = static_cast<std::size_t>(v);
@@ -268,17 +274,17 @@ Result<TriMesh> read_ply(std::string_view bytes) {
           if (!next(p.type, &v)) return Error{error};
           if (!keep) continue;
           if (v != std::floor(v) || !(v < 4294967296.0))
-            return Error{where + who + ": vertex index " + ply_number(v) + " is not a whole number"};
+            return Error{where() + who() + ": vertex index " + ply_number(v) + " is not a whole number"};
           if (v < 0 && !(v == -1 && polys->strips))
-            return Error{where + who + ": vertex index " + ply_number(v) + " is negative (indices count from 0)"};
+            return Error{where() + who() + ": vertex index " + ply_number(v) + " is negative (indices count from 0)"};
           const auto index = static_cast<int64_t>(v);
           if ((index < 0 && !polys->strips) || index >= static_cast<int64_t>(vertex->count))
-            return Error{where + (polys->strips ? who : "face " + std::to_string(i)) + " vertex index " + std::to_string(index) +
+            return Error{where() + (polys->strips ? who() : "face " + std::to_string(i)) + " vertex index " + std::to_string(index) +
                          " is beyond the vertex list (size " + std::to_string(vertex->count) + ")"};
           polys->indices.push_back(index);
         }
         if (keep) {
-          if (n == 0 && !polys->strips) return Error{where + "face " + std::to_string(i) + " has no vertex indices"};
+          if (n == 0 && !polys->strips) return Error{where() + "face " + std::to_string(i) + " has no vertex indices"};
           polys->sizes.push_back(static_cast<uint32_t>(n));
         }
       }
@@ -286,6 +292,9 @@ Result<TriMesh> read_ply(std::string_view bytes) {
   }
   // polygons once every vertex is known (a face element may come before the vertex element)
   std::vector<int32_t> polygon;
+  std::size_t polygons = 0;
+  for (const Polygons& polys : faces) polygons += polys.strips ? 0 : polys.sizes.size();
+  mesh.triangles.reserve(polygons);
   for (const Polygons& polys : faces) {
     std::size_t start = 0;
     for (uint32_t n : polys.sizes) {

@@ -31,9 +31,9 @@ void read_mesh(ObjectReader& top, Scene* s, std::string* err) {
   if (r.has_string("subdivisions")) {
     std::string how;
     r.string("subdivisions", &how);
-    if (err->empty() && how != "auto") r.fail("mesh.subdivisions", "'" + printable_scene_text(how) + "' must be \"auto\" or 0..5");
+    if (err->empty() && how != "auto") r.fail("mesh.subdivisions", "'" + printable_scene_text(how) + "' must be \"auto\" or 0..7");
   } else {
-    r.integer("subdivisions", &s->mesh.subdivisions, 0, 5);
+    r.integer("subdivisions", &s->mesh.subdivisions, 0, 7);
   }
   const int up = r.choice("up_axis", {"x", "y", "z"});
   if (up >= 0) s->mesh.up_axis = static_cast<char>('x' + up);

@@ -96,7 +96,10 @@ struct CellKeyHash {
     uint64_t h = static_cast<uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
     h ^= static_cast<uint64_t>(k.y) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
     h ^= static_cast<uint64_t>(k.z) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
-    return static_cast<std::size_t>(h);
+    // (splitmix64's finish: the table takes the low bits)
+    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<std::size_t>(h ^ (h >> 31));
   }
 };
 
@@ -172,49 +175,64 @@ void append_polygon(const std::vector<Vec3>& vertices_m, std::span<const int32_t
 
 std::size_t weld_vertices(TriMesh* mesh, double tolerance_m) {
   const double tol = std::isfinite(tolerance_m) && tolerance_m > 0.0 ? tolerance_m : 0.0;
-  const double cell = tol > 0.0 ? 2.0 * tol : 1.0;
+  // cells far wider than the tolerance: a vertex's match lies in its own cell but where it is within tol of a face
+  // (a few in a thousand), so one cell is looked in, seldom two to eight
+  const double cell = tol > 0.0 ? 1024.0 * tol : 1.0;
   std::vector<Vec3>& v = mesh->vertices_m;
   std::vector<int32_t> remap(v.size());
   std::vector<Vec3> kept;
   kept.reserve(v.size());
-  std::unordered_multimap<CellKey, int32_t, CellKeyHash> cells;
-  cells.reserve(v.size());
+  std::vector<int32_t> next;  // each kept vertex's predecessor in its cell (-1: the cell's first)
+  next.reserve(v.size());
+  auto key_of = [&](const Vec3& p) -> CellKey {
+    if (tol == 0.0)  // exact: the bit patterns themselves are the key
+      return {static_cast<int64_t>(std::bit_cast<uint64_t>(p.x())), static_cast<int64_t>(std::bit_cast<uint64_t>(p.y())),
+              static_cast<int64_t>(std::bit_cast<uint64_t>(p.z()))};
+    const Eigen::Array3d c = (p / cell).array().floor().cwiseMax(-4e18).cwiseMin(4e18);
+    return {static_cast<int64_t>(c.x()), static_cast<int64_t>(c.y()), static_cast<int64_t>(c.z())};
+  };
+  // open addressing on the cells' keys, each slot the last kept vertex of its cell (its key is that vertex's)
+  std::size_t capacity = 16;
+  while (capacity < 2 * v.size()) capacity *= 2;
+  std::vector<int32_t> slots(capacity, -1);
+  auto slot_of = [&](const CellKey& key) {
+    std::size_t s = CellKeyHash{}(key) & (capacity - 1);
+    while (slots[s] >= 0 && !(key_of(kept[static_cast<std::size_t>(slots[s])]) == key)) s = (s + 1) & (capacity - 1);
+    return s;
+  };
   for (std::size_t i = 0; i < v.size(); ++i) {
     const Vec3 p = v[i] + Vec3::Zero();  // -0.0 -> +0.0
-    CellKey key{};
-    const bool finite = p.allFinite();
-    if (tol == 0.0 || !finite) {
-      // exact: the bit patterns themselves are the key
-      key = {static_cast<int64_t>(std::bit_cast<uint64_t>(p.x())), static_cast<int64_t>(std::bit_cast<uint64_t>(p.y())),
-             static_cast<int64_t>(std::bit_cast<uint64_t>(p.z()))};
-      int32_t found = -1;
-      auto [b, e] = cells.equal_range(key);
-      for (auto it = b; it != e && finite; ++it) found = it->second;
-      if (found < 0) {
-        found = static_cast<int32_t>(kept.size());
-        kept.push_back(p);
-        cells.emplace(key, found);
-      }
-      remap[i] = found;
+    if (!p.allFinite()) {  // never welded
+      remap[i] = static_cast<int32_t>(kept.size());
+      kept.push_back(p);
+      next.push_back(-1);
       continue;
     }
-    const Eigen::Vector3d c = (p / cell).array().floor();
-    key = {static_cast<int64_t>(c.x()), static_cast<int64_t>(c.y()), static_cast<int64_t>(c.z())};
+    const CellKey key = key_of(p);
     int32_t found = -1;
-    for (int dx = -1; dx <= 1 && found < 0; ++dx)
-      for (int dy = -1; dy <= 1 && found < 0; ++dy)
-        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
-          auto [b, e] = cells.equal_range({key.x + dx, key.y + dy, key.z + dz});
-          for (auto it = b; it != e; ++it)
-            if ((kept[static_cast<std::size_t>(it->second)] - p).cwiseAbs().maxCoeff() <= tol) {
-              found = it->second;
-              break;
-            }
-        }
+    auto look = [&](const CellKey& k) {
+      for (int32_t at = slots[slot_of(k)]; at >= 0; at = next[static_cast<std::size_t>(at)])
+        if ((kept[static_cast<std::size_t>(at)] - p).cwiseAbs().maxCoeff() <= tol && (found < 0 || at < found)) found = at;
+    };
+    look(key);
+    if (tol > 0.0) {
+      // the neighbouring cells across the faces p is within tol of, and their edges' and corner's
+      int side[3] = {0, 0, 0};
+      for (int a = 0; a < 3; ++a) {
+        const double f = p[a] / cell - static_cast<double>(a == 0 ? key.x : a == 1 ? key.y : key.z);
+        side[a] = f * cell <= tol ? -1 : (1.0 - f) * cell <= tol ? 1 : 0;
+      }
+      for (int mask = 1; mask < 8; ++mask) {
+        if (((mask & 1) && side[0] == 0) || ((mask & 2) && side[1] == 0) || ((mask & 4) && side[2] == 0)) continue;
+        look({key.x + ((mask & 1) ? side[0] : 0), key.y + ((mask & 2) ? side[1] : 0), key.z + ((mask & 4) ? side[2] : 0)});
+      }
+    }
     if (found < 0) {
       found = static_cast<int32_t>(kept.size());
+      const std::size_t s = slot_of(key);
       kept.push_back(p);
-      cells.emplace(key, found);
+      next.push_back(slots[s]);
+      slots[s] = found;
     }
     remap[i] = found;
   }

@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
                                           palpate::add_info_command(app), palpate::add_scene_command(app),
                                           palpate::add_bench_command(app),
                                           palpate::add_sweep_command(app)};
-  app.footer(palpate::kLimitsHelp);  // after the subcommands, which would copy it: printed here only
+  app.footer(palpate::limits_help());  // after the subcommands, which would copy it: printed here only
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -29,16 +29,18 @@ Result<Model> load_model(const Scene& scene) {
     auto mesh = load_mesh(scene.mesh.file);
     if (!mesh) return mesh.error();
     m.rest = std::move(mesh).value();
+    if (static_cast<int64_t>(m.rest.triangles.size()) > max_triangles())
+      return make_error("mesh '", name, "': ", std::to_string(m.rest.triangles.size()), " triangles, more than the ",
+                        triangle_limit_text());
     // contact starts on a face's front: faces wound inward or against their neighbours are turned first
     m.orientation = orient_outward(&m.rest);
   }
   // triangles after subdividing, bounded before any subdivision allocates them
   const int asked = std::max(scene.mesh.subdivisions, 0);
   const auto triangles = static_cast<int64_t>(m.rest.triangles.size()) << (2 * asked);
-  if (triangles > kMaxTriangles)
+  if (triangles > max_triangles())
     return make_error("mesh '", name, "': ", std::to_string(m.rest.triangles.size()), " triangles with mesh.subdivisions ",
-                      std::to_string(asked), " make ", std::to_string(triangles),
-                      ", more than the limit of ", std::to_string(kMaxTriangles));
+                      std::to_string(asked), " make ", std::to_string(triangles), ", more than the ", triangle_limit_text());
   for (int i = 0; i < asked; ++i) m.rest = subdivide_midpoint(m.rest);
   for (Vec3& v : m.rest.vertices_m) v = file_to_world_axes(v, scene.mesh.up_axis);
   auto norm = normalize_mesh(&m.rest, scene.mesh.size_m, name);

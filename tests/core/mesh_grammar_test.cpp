@@ -456,5 +456,39 @@ TEST(WeldVertices, MergesWithinTheToleranceOnly) {
   EXPECT_EQ(m.triangles[1], (std::array<int32_t, 3>{0, 3, 2}));
 }
 
+// The weld looks up a vertex's cell (1024 tolerances wide) and the neighbours it is within the tolerance of: pairs
+// straddling a cell's face, edge and corner merge into the first; a pair just beyond the tolerance across a corner
+// stays; a vertex within the tolerance of two kept ones merges into the first of them. Checked against the
+// all-pairs definition on a cloud placed around cell corners.
+TEST(WeldVertices, PairsAcrossTheLookupCellsFacesEdgesAndCornersMerge) {
+  const double tol = 1e-6, cell = 1024 * tol;
+  TriMesh m;
+  const Vec3 corner(3 * cell, -2 * cell, 5 * cell);
+  m.vertices_m = {corner + Vec3(-4e-7, 0, 0),          corner + Vec3(4e-7, 0, 0),             // across a face
+                  corner + Vec3(-4e-7, -4e-7, 0),      corner + Vec3(4e-7, 4e-7, 0),          // across an edge
+                  corner + Vec3(-4e-7, -4e-7, -4e-7), corner + Vec3(4e-7, 4e-7, 4e-7),       // across the corner
+                  corner + Vec3(-6e-7, 6e-7, 0),       corner + Vec3(6e-7, -6e-7, 2e-6)};     // beyond, across z
+  for (int32_t i = 0; i + 2 < static_cast<int32_t>(m.vertices_m.size()); ++i) m.triangles.push_back({i, i + 1, i + 2});
+  TriMesh welded = m;
+  weld_vertices(&welded, tol);
+  // the all-pairs definition: each vertex goes to the first earlier kept one within tol (per coordinate)
+  std::vector<int32_t> to(m.vertices_m.size());
+  std::vector<Vec3> kept;
+  for (std::size_t i = 0; i < m.vertices_m.size(); ++i) {
+    to[i] = static_cast<int32_t>(kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k)
+      if ((kept[k] - m.vertices_m[i]).cwiseAbs().maxCoeff() <= tol) {
+        to[i] = static_cast<int32_t>(k);
+        break;
+      }
+    if (to[i] == static_cast<int32_t>(kept.size())) kept.push_back(m.vertices_m[i]);
+  }
+  EXPECT_EQ(welded.num_vertices(), kept.size());
+  EXPECT_EQ(kept.size(), 2u);  // every vertex but the last is within tol of the first
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(welded.triangles[t][c], to[static_cast<std::size_t>(m.triangles[t][c])]) << "triangle " << t;
+}
+
 }  // namespace
 }  // namespace palpate

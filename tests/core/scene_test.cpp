@@ -140,8 +140,8 @@ TEST(Scene, FrictionAndJumpLimitKeys) {
   // mesh.subdivisions: "auto" (the default) or a number, nothing else
   EXPECT_EQ(plain.value().mesh.subdivisions, kAutoSubdivisions);
   expect_error(R"({"mesh": {"file": "m.obj", "subdivisions": "many"}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
-               "mesh.subdivisions: 'many' must be \"auto\" or 0..5");
-  expect_error(R"({"mesh": {"file": "m.obj", "subdivisions": 6}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
+               "mesh.subdivisions: 'many' must be \"auto\" or 0..7");
+  expect_error(R"({"mesh": {"file": "m.obj", "subdivisions": 8}, "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})",
                "mesh.subdivisions");
   expect_error(R"({"mesh": {"box_m": [1,1,1]}, "device": {"jump_limit_N_per_tick": -1},
                    "trajectory": [{"t_s": 0, "pos_m": [0,0,0]}]})", "device.jump_limit_N_per_tick");

@@ -175,8 +175,8 @@ Result<std::string> run_bench_scale(const std::string& scene_path, const BenchSc
     if (auto st = check_output_target(opt.json_path, "bench json"); !st) return st.error();
   if (!opt.plot_path.empty())
     if (auto st = check_plot_targets(opt.plot_path); !st) return st.error();
-  if (opt.max_subdivisions < 0 || opt.max_subdivisions > 5)
-    return make_error("bench scale: --max-subdivisions ", std::to_string(opt.max_subdivisions), " is outside [0, 5]");
+  if (opt.max_subdivisions < 0 || opt.max_subdivisions > 7)
+    return make_error("bench scale: --max-subdivisions ", std::to_string(opt.max_subdivisions), " is outside [0, 7]");
   // a scene that already subdivides starts there
   const int first = std::max(scene.value().mesh.subdivisions, 0);  // "auto" (kAutoSubdivisions) from none
   const int last = std::max(first, opt.max_subdivisions);

@@ -114,11 +114,51 @@ TEST(Hostile, AnExplicitSchemeNoSubstepCountCanHoldIsRefusedBeforeAnyOutput) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// The triangles a mesh may have follow the machine's memory (PALPATE_MEMORY_BYTES says it here: 64 MiB holds
+// 209715 triangles at 320 bytes each). A binary PLY, OFF or binary STL declaring more faces is refused from its
+// header: the bodies below are zeros, which a reader would refuse as faces of no corners or a vertex repeated, so
+// the message shows the body was never judged. A mesh file is allowed a sixteenth of the memory (at least 64 MiB).
+TEST(Hostile, AMeshWithMoreFacesThanTheMemoryHoldsIsRefusedFromItsHeader) {
+  const std::string limit = "PALPATE_MEMORY_BYTES=64M " + test::palpate_path();
+  const std::string faces = "300000";
+  const std::string ply_head = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                               "property float y\nproperty float z\nelement face " + faces +
+                               "\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string ply = write("many_faces.ply", ply_head + std::string(36 + 300000 * 13, '\0'));
+  std::string off_text = "OFF\n# a comment\n3 " + faces + " 0\n0 0 0\n1 0 0\n0 1 0\n";
+  for (int i = 0; i < 300000; ++i) off_text += "3 0 1 2\n";
+  const std::string off = write("many_faces.off", off_text);
+  std::string stl(80, ' ');
+  const uint32_t n = 300000;
+  stl.append(reinterpret_cast<const char*>(&n), 4);
+  stl.append(std::size_t{50} * n, '\0');
+  const std::string bin_stl = write("many_faces.stl", stl);
+  for (const std::string& file : {ply, off, bin_stl}) {
+    SCOPED_TRACE(file);
+    expect_error(test::shell(limit + " info " + file), "the header declares 300000 faces, more than the 209715 "
+                                                       "triangles this machine's memory holds (0.1 GiB at 320 bytes a triangle)");
+    // the same file where the memory holds it is read (and its body judged)
+    const CliRun roomy = test::shell("PALPATE_MEMORY_BYTES=1G " + test::palpate_path() + " info " + file);
+    EXPECT_EQ(roomy.out.find("this machine's memory"), std::string::npos) << roomy.out;
+  }
+  // a file larger than a sixteenth of the memory is refused by its size (here 64 MiB: the floor)
+  const std::string big = tmp("big.ply");
+  { std::ofstream(big, std::ios::binary) << ply_head; }
+  fs::resize_file(big, (int64_t{64} << 20) + 1);
+  expect_error(test::shell(limit + " info " + big), "67108865 bytes, more than the limit of 67108864");
+  // a PALPATE_MEMORY_BYTES that is not a number is said, and the machine's memory taken
+  const CliRun wrong = test::shell("PALPATE_MEMORY_BYTES=lots " + test::palpate_path() + " info " + off);
+  EXPECT_NE(wrong.out.find("PALPATE_MEMORY_BYTES 'lots' is not a number of bytes"), std::string::npos) << wrong.out;
+  EXPECT_EQ(wrong.out.find("this machine's memory holds"), std::string::npos) << wrong.out;
+}
+
 TEST(Hostile, SubdividedModelAndBoxLatticeAreBoundedBeforeBuilding) {
-  const std::string s = write("subdivided.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 64,
-      "subdivisions": 5}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
+  // more than 2^29 triangles: past what any machine's memory is allowed to hold
+  const std::string s = write("subdivided.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 256,
+      "subdivisions": 7}, "trajectory": [{"t_s": 0, "pos_m": [0, 0, 0.05]}]})");
   expect_error(palpate("record " + s + " -q --out " + tmp("out_subdivided")),
-               "49152 triangles with mesh.subdivisions 5 make 50331648, more than the limit of 4194304");
+               "786432 triangles with mesh.subdivisions 7 make 12884901888, more than the ");
+  expect_error(palpate("record " + s + " -q --out " + tmp("out_subdivided")), "triangles this machine's memory holds");
   EXPECT_FALSE(fs::exists(tmp("out_subdivided")));
   expect_error(palpate("bench sim " + box_scene("box128", "") + " -q --box 128"),
                "bench sim: --box 128 makes 2146689 nodes, more than the limit of 65536");
