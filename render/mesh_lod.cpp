@@ -22,13 +22,20 @@ double median_of(std::vector<double>* x) {
   return *mid;
 }
 
+// Triangles a median is taken over at most: a model of more is sampled evenly (every k-th triangle), which a
+// median of a million triangles' edges leaves within a fraction of a percent; on 15M triangles the whole set took
+// 2.8 s of a recording's start-up.
+constexpr std::size_t kMedianTriangles = std::size_t{1} << 20;
+
 // median on-screen edge of the triangles; with m_per_px, also the median of world length over screen length
 double median_edge(const std::vector<Vec3>& v, const std::vector<Eigen::Vector2d>& xy, const Tris& tris,
                    double* m_per_px) {
+  const std::size_t stride = (tris.size() + kMedianTriangles - 1) / kMedianTriangles;
   std::vector<double> px, ratio;
-  px.reserve(3 * tris.size());
-  if (m_per_px) ratio.reserve(3 * tris.size());
-  for (const auto& t : tris) {
+  px.reserve(3 * (tris.size() / std::max<std::size_t>(stride, 1) + 1));
+  if (m_per_px) ratio.reserve(px.capacity());
+  for (std::size_t i = 0; i < tris.size(); i += std::max<std::size_t>(stride, 1)) {
+    const auto& t = tris[i];
     for (int k = 0; k < 3; ++k) {
       const int32_t a = t[k], b = t[(k + 1) % 3];
       const double l = (xy[a] - xy[b]).norm();
