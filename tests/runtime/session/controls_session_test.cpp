@@ -7,12 +7,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/scene.h"
 #include "core/scene_controls.h"
 #include "haptics/devices/replay_device.h"
+#include "runtime/session/device_factory.h"
 #include "runtime/session/haptic_log.h"
 #include "runtime/session/model.h"
 #include "runtime/session/session.h"
@@ -243,6 +246,94 @@ TEST(ControlsSession, ARunWithChangesReplaysFromItsLogTickForTick) {
   ASSERT_EQ(session.control_changes().size(), 3u);
   for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(session.control_changes()[k].frame, live.changes[k].frame);
   EXPECT_EQ(session.stage().state_hash(), live.hash);
+}
+
+// What a run with changes is checked against, each refusal naming its culprit: a replay whose logged change the
+// scene would refuse (another scene's narrower bounds) names the log's line; a control column that is not a value
+// names its line and column; a stiffness range whose stiffest end the scene's integrator cannot keep stable is
+// refused when the browser run opens, naming the key.
+TEST(ControlsSession, ALoggedChangeTheSceneRefusesAMalformedColumnAndAnUnstableRangeAreNamed) {
+  const Scene scene = box_scene(0.4);
+  const Model model = load_model(scene).value();
+  const Controls own = scene_controls(scene);
+  Person p;
+  p.steps = {{0.0, kTop + 0.005, 0, own}, {0.2, kTop + 0.005, 0, changed(scene, 1, InteractionMode::kTouch, 2.5)}};
+  const std::string dir = test::fresh_dir("controls_refused");
+  std::filesystem::create_directories(dir);
+  const std::string csv = dir + "/haptic.csv";
+  ASSERT_EQ(run_person(scene, model, p, csv).changes.size(), 1u);
+  // the line of the first row under the change (the header is line 1)
+  std::ifstream in(csv);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  ASSERT_GT(lines.size(), 2u);
+  const std::vector<std::string> header = [&] {
+    std::vector<std::string> h;
+    std::stringstream ss(lines[0]);
+    for (std::string c; std::getline(ss, c, ',');) h.push_back(c);
+    return h;
+  }();
+  const auto col = static_cast<std::size_t>(std::find(header.begin(), header.end(), "controls") - header.begin());
+  ASSERT_LT(col, header.size());
+  std::size_t first = 0;
+  for (std::size_t i = 1; i < lines.size() && first == 0; ++i) {
+    std::vector<std::string> cells;
+    std::stringstream ss(lines[i]);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (cells.size() > col && cells[col] == "1") first = i + 1;
+  }
+  ASSERT_GT(first, 0u);
+
+  // the same log against a scene whose stiffness bounds end at 2
+  Scene narrow = scene;
+  narrow.device.browser_stiffness_hi = 2.0;
+  auto refused = make_device(narrow, "replay:" + csv);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().message,
+            "replay '" + csv + "': line " + std::to_string(first) + ": the controls changed there: stiffness 2.5 is "
+            "outside the scene's range [0.25, 2] (device.browser_stiffness_range)");
+  EXPECT_TRUE(make_device(scene, "replay:" + csv).ok()) << "its own scene takes it";
+
+  // a mode that is not one, on the line after the change
+  const std::size_t k = first;  // 0-based index of the line after `first`
+  std::vector<std::string> cells;
+  {
+    std::stringstream ss(lines[k]);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+  }
+  const auto mode_col = static_cast<std::size_t>(std::find(header.begin(), header.end(), "mode") - header.begin());
+  ASSERT_LT(mode_col, cells.size());
+  cells[mode_col] = "x";
+  std::string row;
+  for (std::size_t c = 0; c < cells.size(); ++c) row += (c ? "," : "") + cells[c];
+  lines[k] = row;
+  const std::string bad = dir + "/bad_mode.csv";
+  {
+    std::ofstream out(bad);
+    for (const std::string& l : lines) out << l << "\n";
+  }
+  auto malformed = make_device(scene, "replay:" + bad);
+  ASSERT_FALSE(malformed.ok());
+  EXPECT_EQ(malformed.error().message,
+            "replay '" + bad + "': line " + std::to_string(k + 1) + ": column 'mode': 'x' is not a valid value");
+
+  // an explicit scheme kept stable at the scene's own stiffness, not at a thousand times it
+  Scene soft = parse_scene(R"({
+    "mesh": {"box_m": [0.05, 0.05, 0.05], "box_subdivisions": 16, "size_m": 0.05},
+    "grid": {"levels": 4},
+    "lattice": {"level": 4, "radius_cells": 2, "fix_floor": true, "integrator": "symplectic_euler"},
+    "material": {"young_modulus_Pa": 300, "poisson_ratio": 0.25, "density_kg_per_m3": 1000, "stiffness_damping_s": 2e-3},
+    "device": {"browser_stiffness_range": [0.25, 1000]},
+    "trajectory": [{"t_s": 0.0, "pos_m": [0, 0, 0.04]}]
+  })", "soft_explicit.json").value();
+  const auto soft_model = load_model(soft);
+  ASSERT_TRUE(soft_model.ok()) << soft_model.error().message;
+  const Status unstable = check_control_range(soft, soft_model.value());
+  ASSERT_FALSE(unstable.ok());
+  EXPECT_NE(unstable.error().message.find("device.browser_stiffness_range: its high end 1000 is not stable"),
+            std::string::npos) << unstable.error().message;
+  soft.device.browser_stiffness_hi = 1.5;
+  EXPECT_TRUE(check_control_range(soft, soft_model.value()).ok());
 }
 
 }  // namespace
