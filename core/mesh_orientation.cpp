@@ -165,14 +165,18 @@ MeshOrientation orient_outward(TriMesh* mesh) {
       }
     }
     p.end = order.size();
-    for (std::size_t q = p.begin; q < p.end; ++q)
-      for (int32_t v : tris[static_cast<std::size_t>(order[q])]) {
-        p.lo = p.lo.cwiseMin(mesh->vertices_m[static_cast<std::size_t>(v)]);
-        p.hi = p.hi.cwiseMax(mesh->vertices_m[static_cast<std::size_t>(v)]);
-      }
     parts.push_back(p);
   }
   r.components = static_cast<int64_t>(parts.size());
+  // the parts' boxes, and below their volumes and areas, summed over the triangles in their own order (the walk's
+  // order jumps about a large model's arrays)
+  for (int32_t t = 0; t < n; ++t) {
+    Part& p = parts[static_cast<std::size_t>(part_of[static_cast<std::size_t>(t)])];
+    for (int32_t v : tris[static_cast<std::size_t>(t)]) {
+      p.lo = p.lo.cwiseMin(mesh->vertices_m[static_cast<std::size_t>(v)]);
+      p.hi = p.hi.cwiseMax(mesh->vertices_m[static_cast<std::size_t>(v)]);
+    }
+  }
 
   // a closed part nested in an odd number of other closed parts is a cavity's wall: it faces into the cavity
   std::vector<int32_t> closed_ids;
@@ -200,35 +204,41 @@ MeshOrientation orient_outward(TriMesh* mesh) {
     }
   }
 
+  // the winding the walk agreed on, or its reverse: a closed part by its volume's sign, an open one by the larger
+  // area already wound that way
+  std::vector<double> volume(parts.size(), 0.0), area_kept(parts.size(), 0.0), area_flipped(parts.size(), 0.0);
+  for (int32_t t = 0; t < n; ++t) {
+    const auto i = static_cast<std::size_t>(part_of[static_cast<std::size_t>(t)]);
+    if (!parts[i].orientable) continue;
+    const Vec3 o = 0.5 * (parts[i].lo + parts[i].hi);
+    const bool flipped = flip[static_cast<std::size_t>(t)] != 0;
+    const auto c = corners(*mesh, t, flipped);
+    volume[i] += (c[0] - o).dot((c[1] - o).cross(c[2] - o));
+    (flipped ? area_flipped[i] : area_kept[i]) += (c[1] - c[0]).cross(c[2] - c[0]).norm();
+  }
+  std::vector<uint8_t> reverse(parts.size(), 0);
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const Part& p = parts[i];
     if (!p.orientable) {
       ++r.not_orientable;
-      for (std::size_t q = p.begin; q < p.end; ++q) flip[static_cast<std::size_t>(order[q])] = 0;
       continue;
     }
     r.cavities += cavity[i];
-    // the winding the walk agreed on, or its reverse: a closed part by its volume's sign, an open one by the
-    // larger area already wound that way
-    double volume = 0.0, area_kept = 0.0, area_flipped = 0.0;
-    const Vec3 o = 0.5 * (p.lo + p.hi);
-    for (std::size_t q = p.begin; q < p.end; ++q) {
-      const int32_t t = order[q];
-      const auto c = corners(*mesh, t, flip[static_cast<std::size_t>(t)] != 0);
-      volume += (c[0] - o).dot((c[1] - o).cross(c[2] - o));
-      (flip[static_cast<std::size_t>(t)] ? area_flipped : area_kept) += (c[1] - c[0]).cross(c[2] - c[0]).norm();
-    }
-    const bool reverse = p.closed ? (cavity[i] ? volume > 0.0 : volume < 0.0) : area_flipped > area_kept;
-    int64_t flipped = 0;
-    for (std::size_t q = p.begin; q < p.end; ++q) {
-      uint8_t& f = flip[static_cast<std::size_t>(order[q])];
-      f ^= reverse ? 1 : 0;
-      flipped += f;
-    }
-    r.triangles_flipped += flipped;
-    if (flipped == static_cast<int64_t>(p.end - p.begin))
+    reverse[i] = p.closed ? (cavity[i] ? volume[i] > 0.0 : volume[i] < 0.0) : area_flipped[i] > area_kept[i];
+  }
+  std::vector<int64_t> flipped(parts.size(), 0);
+  for (int32_t t = 0; t < n; ++t) {
+    const auto i = static_cast<std::size_t>(part_of[static_cast<std::size_t>(t)]);
+    uint8_t& f = flip[static_cast<std::size_t>(t)];
+    f = parts[i].orientable ? static_cast<uint8_t>(f ^ reverse[i]) : uint8_t{0};
+    flipped[i] += f;
+  }
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (!parts[i].orientable) continue;
+    r.triangles_flipped += flipped[i];
+    if (flipped[i] == static_cast<int64_t>(parts[i].end - parts[i].begin))
       ++r.turned_inside_out;
-    else if (flipped > 0)
+    else if (flipped[i] > 0)
       ++r.made_consistent;
   }
   for (int32_t t = 0; t < n; ++t)
