@@ -198,8 +198,11 @@ void full_disk_run(const std::string& folder, const std::string& mode_args) {
     const auto j = nlohmann::json::parse(read_file(got / "summary.json"), nullptr, false);
     ASSERT_FALSE(j.is_discarded()) << "summary.json is not whole JSON";
     EXPECT_EQ(j.at("frames_written").get<int>(), index);
-    // (a realtime run may drop frames while the writer is stuck on the full disk)
-    EXPECT_EQ(j.at("png").at("write_errors").get<int>() + j.at("frames_dropped").get<int>(), 60 - index);
+    // (a realtime run may drop frames while the writer is stuck on the full disk, and skips frames it would make
+    // late: the AddressSanitizer build on a loaded machine skipped 11 of 60 on a free disk, and one CI-like run of
+    // this test had 13 frames neither written, dropped nor failed)
+    const auto skipped = static_cast<int>(j.at("sim").at("skipped_frames").size());
+    EXPECT_EQ(j.at("png").at("write_errors").get<int>() + j.at("frames_dropped").get<int>() + skipped, 60 - index);
     // the log it names is the one on disk, and its rows are the lines there less the header
     const std::string log_name = whole ? "haptic.csv" : "haptic.csv.partial";
     EXPECT_EQ(j.at("outputs").at("haptic_csv"), (out / log_name).string());
