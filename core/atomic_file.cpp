@@ -7,14 +7,20 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
 namespace palpate {
 
-Status check_output_target(const std::string& path, const std::string& what) {
+Status check_output_target(const std::string& path, const std::string& what, bool folder_made_later) {
   struct stat st {};
   if (::lstat(path.c_str(), &st) != 0) {
-    if (errno == ENOENT) return Ok{};
+    if (errno != ENOENT) return make_error(what, " '", path, "': ", std::strerror(errno));
+    std::error_code ec;
+    const std::filesystem::path folder = std::filesystem::absolute(path, ec).parent_path().lexically_normal();
+    if (!folder_made_later && !std::filesystem::is_directory(folder, ec))
+      return make_error(what, " '", path, "': folder '", folder.string(), "' does not exist");
+    return Ok{};
     return make_error(what, " '", path, "': ", std::strerror(errno));
   }
   if (S_ISLNK(st.st_mode)) return make_error(what, " '", path, "': is a symbolic link, not written through");
@@ -73,7 +79,8 @@ AtomicFile& AtomicFile::operator=(AtomicFile&& o) noexcept {
 
 Result<AtomicFile> AtomicFile::open(const std::string& path, const std::string& what, const std::string& suffix) {
   if (path.empty()) return make_error(what, ": empty output path");
-  if (auto st = check_output_target(path, what); !st) return st.error();
+  // (a missing folder: the open below names the path and the system's reason)
+  if (auto st = check_output_target(path, what, true); !st) return st.error();
   AtomicFile a;
   a.path_ = path;
   a.what_ = what;

@@ -66,6 +66,8 @@ Status write_file_atomic(const std::string& path, std::string_view bytes, const 
 /// Checks that `path` may be replaced by an output: absent, or a regular file that is not a symbolic link.
 /// Errors: "<what> '<path>': is a symbolic link, not written through", "... is not a regular file (a device,
 /// FIFO, socket or folder), not replaced".
-Status check_output_target(const std::string& path, const std::string& what);
+/// A target that does not exist yet must have its folder, unless folder_made_later (the run makes it): so a bench's
+/// output into a missing folder is refused before its minutes of measuring, naming the folder.
+Status check_output_target(const std::string& path, const std::string& what, bool folder_made_later = false);
 
 }  // namespace palpate

@@ -126,7 +126,7 @@ Status check_plan_outputs(const RecordPlan& p) {
     return make_error("output '", p.out_dir, "': cannot write in '", base.string(), "'");
   if (p.video == VideoPolicy::kNone) return Ok{};
   // the video: not a link nor a non-regular file; its folder exists (or is the output folder) and can be written
-  if (auto st = check_output_target(p.video_path, "video"); !st) return st.error();
+  if (auto st = check_output_target(p.video_path, "video", true); !st) return st.error();
   // (the output folder and its frames/ are created by the run)
   const fs::path folder = fs::absolute(fs::path(p.video_path), ec).parent_path().lexically_normal();
   if (folder == normal(p.out_dir) || (p.render && folder == normal(p.frames_dir))) return Ok{};

@@ -152,6 +152,15 @@ TEST(Hostile, AMeshWithMoreFacesThanTheMemoryHoldsIsRefusedFromItsHeader) {
   EXPECT_EQ(wrong.out.find("this machine's memory holds"), std::string::npos) << wrong.out;
 }
 
+// A bench's output into a folder that does not exist is refused before the minutes of measuring, naming the folder
+TEST(Hostile, ABenchOutputIntoAMissingFolderIsRefusedBeforeMeasuring) {
+  const std::string json = tmp("no_such_folder") + "/scale.json";
+  expect_error(palpate("bench scale scenes/bunny_pull.json --max-subdivisions 0 --json " + json),
+               "bench json '" + json + "': folder '" + tmp("no_such_folder") + "' does not exist");
+  expect_error(palpate("bench scale scenes/bunny_pull.json --max-subdivisions 0 --plot " + tmp("no_plot_folder") + "/s.png"),
+               "folder '" + tmp("no_plot_folder") + "' does not exist");
+}
+
 TEST(Hostile, SubdividedModelAndBoxLatticeAreBoundedBeforeBuilding) {
   // more than 2^29 triangles: past what any machine's memory is allowed to hold
   const std::string s = write("subdivided.json", R"({"mesh": {"box_m": [0.06, 0.06, 0.06], "box_subdivisions": 256,
