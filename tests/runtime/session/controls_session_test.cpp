@@ -248,6 +248,14 @@ TEST(ControlsSession, ARunWithChangesReplaysFromItsLogTickForTick) {
   EXPECT_EQ(session.stage().state_hash(), live.hash);
 }
 
+// a haptic.csv line's cells
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream ss(line);
+  for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+  return cells;
+}
+
 // What a run with changes is checked against, each refusal naming its culprit: a replay whose logged change the
 // scene would refuse (another scene's narrower bounds) names the log's line; a control column that is not a value
 // names its line and column; a stiffness range whose stiffest end the scene's integrator cannot keep stable is
@@ -267,19 +275,12 @@ TEST(ControlsSession, ALoggedChangeTheSceneRefusesAMalformedColumnAndAnUnstableR
   std::vector<std::string> lines;
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   ASSERT_GT(lines.size(), 2u);
-  const std::vector<std::string> header = [&] {
-    std::vector<std::string> h;
-    std::stringstream ss(lines[0]);
-    for (std::string c; std::getline(ss, c, ',');) h.push_back(c);
-    return h;
-  }();
+  const std::vector<std::string> header = cells_of(lines[0]);
   const auto col = static_cast<std::size_t>(std::find(header.begin(), header.end(), "controls") - header.begin());
   ASSERT_LT(col, header.size());
   std::size_t first = 0;
   for (std::size_t i = 1; i < lines.size() && first == 0; ++i) {
-    std::vector<std::string> cells;
-    std::stringstream ss(lines[i]);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    const std::vector<std::string> cells = cells_of(lines[i]);
     if (cells.size() > col && cells[col] == "1") first = i + 1;
   }
   ASSERT_GT(first, 0u);
@@ -296,11 +297,7 @@ TEST(ControlsSession, ALoggedChangeTheSceneRefusesAMalformedColumnAndAnUnstableR
 
   // a mode that is not one, on the line after the change
   const std::size_t k = first;  // 0-based index of the line after `first`
-  std::vector<std::string> cells;
-  {
-    std::stringstream ss(lines[k]);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-  }
+  std::vector<std::string> cells = cells_of(lines[k]);
   const auto mode_col = static_cast<std::size_t>(std::find(header.begin(), header.end(), "mode") - header.begin());
   ASSERT_LT(mode_col, cells.size());
   cells[mode_col] = "x";
