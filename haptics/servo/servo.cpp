@@ -87,8 +87,10 @@ void Servo::track_nearest(const LocalModel& m, const Vec3& tool, double r) noexc
   Vec3 b = Vec3::Zero();
   near_tri_ = closest_on_patch(m, tool, &slot, &near_m_, &b) ? m.tri_ids[slot] : -1;
   near_bary_ = b;
+  Vec3 normal = Vec3::Zero();
   near_outside_ = near_tri_ >= 0 && (tool - near_m_).norm() <= r + kReturnReach_m &&
-                  outside_of(m, slot, b, near_m_, tool, r, nullptr);
+                  outside_of(m, slot, b, near_m_, tool, r, &normal) && normal.squaredNorm() > 0.0;
+  if (near_outside_) near_normal_ = normal.normalized();
 }
 
 bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept {
@@ -161,10 +163,12 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     if (!begins && surface_moved_ && near_outside_) {
       // the surface came through the tool by another way than the point nearest it (a fold springing back, or its
       // triangles no longer in the patch): outside by the last tick's surface, inside by this one. The god-object
-      // starts on this surface's outside, over the point nearest the tool
+      // starts on this surface's outside, over the point nearest the tool among the faces facing the side the tool
+      // was on (not the last contact's side: with that, the inner face of a wall thinner than the reach was taken for
+      // the near one, and a tool 2.6 mm outside the wall was held 5 mm inside it, and pulled through)
       int slot = -1;
       Vec3 q = Vec3::Zero(), b = Vec3::Zero(), normal = Vec3::Zero();
-      if (closest_on_patch(m, tool, &slot, &q, &b, &contact_normal_) && (tool - q).norm() <= r + kReturnReach_m &&
+      if (closest_on_patch(m, tool, &slot, &q, &b, &near_normal_) && (tool - q).norm() <= r + kReturnReach_m &&
           !outside_of(m, slot, b, q, tool, r, &normal) && normal.squaredNorm() > 0.0) {
         contact_normal_ = normal.normalized();
         from = q + (r + kPointClearance_m) * contact_normal_;

@@ -177,6 +177,7 @@ class Servo {
   Vec3 near_bary_ = Vec3::Zero();  // that point in it
   Vec3 near_m_ = Vec3::Zero();     // and where it was
   bool near_outside_ = false;      // and whether the tool was just outside the surface there (kReturnReach_m)
+  Vec3 near_normal_ = Vec3::UnitZ();  // and the surface's smooth normal there: the side the tool was on
   bool unseen_ = false;            // free touch tool: its path has left what the patch covers
   Vec3 unseen_from_m_ = Vec3::Zero();  // where it was last seen (the start of the path judged when it is seen again)
   Vec3 proxy_m_ = Vec3::Zero();
