@@ -28,6 +28,7 @@ With --hands, the shapes that test a hand's feel (`palpate bench feel --hands`),
 
 Usage: scripts/make_test_models.py OUT_DIR [--big | --hands]
 """
+import argparse
 import math
 import os
 import random
@@ -298,12 +299,17 @@ def hand_shapes(out):
 
 
 def main():
-    if len(sys.argv) < 2:
-        sys.exit(__doc__)
-    out = sys.argv[1]
-    big = "--big" in sys.argv[2:]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out_dir", metavar="OUT_DIR", help="folder to write the models into (made if missing)")
+    group = ap.add_mutually_exclusive_group()
+    group.add_argument("--big", action="store_true", help="also the 10^5 and 10^6 triangle scans")
+    group.add_argument("--hands", action="store_true", help="the shapes for bench feel --hands instead")
+    args = ap.parse_args()
+    out = args.out_dir
+    big = args.big
     os.makedirs(out, exist_ok=True)
-    if "--hands" in sys.argv[2:]:
+    if args.hands:
         hand_shapes(out)
         return
     v, t = blob(71, 72, 1, 0.4)

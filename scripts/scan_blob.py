@@ -7,6 +7,7 @@ noise would, so the triangles are irregular and none line up with a lattice plan
 
 N_TRIANGLES is rounded to the nearest 20 n^2 (50k -> n = 50, 200k -> n = 100). Deterministic for a seed.
 """
+import argparse
 import math
 import random
 import sys
@@ -58,11 +59,14 @@ def geodesic(n):
 
 
 def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    target = int(sys.argv[1])
-    out = sys.argv[2]
-    seed = int(sys.argv[sys.argv.index("--seed") + 1]) if "--seed" in sys.argv else 1
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("triangles", metavar="N_TRIANGLES", type=int, help="about how many triangles (at least 80)")
+    ap.add_argument("out", metavar="OUT.obj", help="the OBJ to write (written whole or not at all)")
+    ap.add_argument("--seed", type=int, default=1, help="the lumps' and the noise's seed (default 1)")
+    args = ap.parse_args()
+    if args.triangles < 1:
+        ap.error("N_TRIANGLES must be a positive number, not %d" % args.triangles)
+    target, out, seed = args.triangles, args.out, args.seed
     rng = random.Random(seed)
     n = max(2, round(math.sqrt(target / 20.0)))
     verts, tris = geodesic(n)
