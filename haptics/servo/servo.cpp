@@ -198,6 +198,7 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   // from where it was (out of any overlap the surface's move made), toward the device as far as the surface lets it
   Vec3 held = god_m_;
   push_out(m, r, contact_normal_, 4, &held);
+  const double pushed_m = (held - god_m_).norm();
   int active = 0;
   Vec3 free = god_object_move(m, held, tool, r, contact_normal_, &active);
   if (active == 0 && !tool_outside(m, tool, r)) {
@@ -223,6 +224,10 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
   const double path_m = roll_N > 0.0 && params_.coupling_N_per_m > 0.0
                             ? (tool - prev_tool_m_).norm() + roll_N / params_.coupling_N_per_m
                             : 0.0;
+  // a push out further than the path a tick allows (a face that came into the patch overlapping the proxy, a corner
+  // of a part turning under a sphere pressed onto it): the proxy goes where the surface puts it, and its step reaches
+  // the hand at the jump limit (shoved 0.6 mm sideways off a cube's corner in one tick: a 0.19 N click)
+  if (path_m > 0.0 && pushed_m > path_m) push_event_ = true;
   Vec3 c = free;
   if (params_.friction.on()) {
     const FrictionStep f = friction_step(params_.friction, held, free, tool, tool_vel_m_per_s_, &friction_);
@@ -335,8 +340,9 @@ Vec3 Servo::predicted_proxy(const LocalModel& m, const Vec3& tool, double t_s) c
 bool Servo::jump_event(const LocalModel& m, ContactState before) noexcept {
   // every change of contact: a touch beginning (its first tick's depth and the coupling's damping of the device's
   // speed come at once), a release, a grab and its release, a cut starting or ending
-  bool event = before != contact_ || controls_event_;
+  bool event = before != contact_ || controls_event_ || (push_event_ && contact_ != ContactState::kFree);
   controls_event_ = false;
+  push_event_ = false;
   // a frame whose patch came from a region placed or moved (no contact model on it), or that brings the first
   // contact model after one, while in contact
   if (m.frame != jump_frame_) {

@@ -159,6 +159,7 @@ class Servo {
   Controls controls_;                       // the controls in force
   bool restart_pending_ = false;            // controls changed: the next good reading starts the tool's path afresh
   bool controls_event_ = false;             // controls changed: this tick's step is an event (jump limit)
+  bool push_event_ = false;                 // the surface's move pushed the proxy further than its path: an event
   const Rates& rates_;
   Device* device_;
   SpscQueue<HapticSample>* samples_;

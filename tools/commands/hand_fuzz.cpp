@@ -358,6 +358,7 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
   // a model that cannot be used (missing, broken, flat) is named and skipped: the others' hands still run, and the
   // exit status says one was skipped
   std::vector<std::string> skipped;
+  bool progress_open = false;  // a progress line is on stderr without its end
   for (const std::string& path : o.models) {
     auto base = model_base(path);
     if (!base) {
@@ -402,6 +403,10 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
       totals.add(r);
       if (r.failed()) {
         const FeelFigures& f = r.run.figures;
+        // the progress line ends first, so the report starts a line of its own on a terminal and in a log
+        if (progress_open) std::fputc('\n', stderr);
+        std::fflush(stderr);
+        progress_open = false;
         std::printf("FAIL %s hand %llu (%s): ", name.c_str(), static_cast<unsigned long long>(seed), r.kind.c_str());
         if (!r.error.empty()) std::printf("%s\n", r.error.c_str());
         else
@@ -419,12 +424,14 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
             std::fprintf(stderr, "palpate: bench feel: %s\n", st.error().message.c_str());
         }
       } else {
-        std::fprintf(stderr, "\r%s: hand %d / %d", name.c_str(), i + 1, o.hands);
+        std::fprintf(stderr, "\r%s: %d of %d hands run", name.c_str(), i + 1, o.hands);
+        progress_open = true;
       }
       std::fflush(stdout);
       results.push_back(std::move(r));
     }
-    std::fprintf(stderr, "\n");
+    if (progress_open) std::fprintf(stderr, "\n");
+    progress_open = false;
     per_model.emplace_back(name, totals);
   }
   std::printf("\nhands: steps are |dF| per tick on every contact tick, event ticks excused up to the jump limit\n");

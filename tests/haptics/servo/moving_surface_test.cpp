@@ -182,5 +182,55 @@ TEST(MovingSurface, AToolJustOutsideAThinWallIsNotTakenForInsideItsFarFace) {
   }
 }
 
+TEST(MovingSurface, AFaceThatComesInOverlappingThePressedSphereShovesItAtTheJumpLimit) {
+  // a 2 mm sphere pressed 2 mm into a floor; the next frame's patch also has a wall facing -x that overlaps the sphere
+  // by 0.6 mm (a face of another part that came into the patch, a cube's corner turned under it). The sphere goes out
+  // of the wall at once (never through it), and the force the hand feels takes the 0.18 N step at the jump limit
+  // instead of in one tick (cubes_with_mirroring_and_pivot.fbx: a 0.19 N click)
+  ServoParams p = test::static_surface_params(kK);
+  p.tool_radius_m = 0.002;
+  p.jump_limit_N_per_tick = 0.02;
+  test::FloorRig rig(p, false);
+  // frames with a contact model (a rigid one), so no new frame is itself an event
+  LocalModel& floor = rig.tb->write_buffer();
+  floor = LocalModel{};
+  test::add_quad(&floor, Vec3(-0.05, -0.05, 0), Vec3(0.05, -0.05, 0), Vec3(0.05, 0.05, 0), Vec3(-0.05, 0.05, 0));
+  floor.has_contact_model = true;
+  rig.tb->publish();
+  for (int i = 0; i < 60; ++i) {
+    // lowered from 2 mm above the floor until the centre is 2 mm under its place on it
+    rig.dev.pos_m = Vec3(0.0, 0.0, 0.004 * (1.0 - std::min(1.0, i / 30.0)));
+    rig.tick(i);
+  }
+  ASSERT_EQ(rig.servo->last_sample().contact, ContactState::kTouch);
+  ASSERT_NEAR(rig.servo->last_sample().force_N.z(), kK * 0.002, 1e-9);
+  const double wall_x = 0.0014;  // the sphere's centre stays at x = 0: 0.6 mm of it is past the wall
+  LocalModel& m = rig.tb->write_buffer();
+  m.num_triangles = 0;
+  const double h = 0.05;
+  test::add_quad(&m, Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0));
+  test::add_quad(&m, Vec3(wall_x, -h, -h), Vec3(wall_x, -h, h), Vec3(wall_x, h, h), Vec3(wall_x, h, -h));
+  ASSERT_NEAR(m.normal[m.num_triangles - 1][0].x(), -1.0, 1e-12);
+  m.frame = 1;
+  m.t_s = 0.06;
+  m.blend_s = 0.0;
+  m.has_contact_model = true;
+  rig.tb->publish();
+  Vec3 last = rig.servo->last_sample().force_N;
+  double largest_step = 0.0;
+  for (int i = 60; i < 120; ++i) {
+    rig.tick(i);
+    const HapticSample& s = rig.servo->last_sample();
+    ASSERT_EQ(s.contact, ContactState::kTouch) << "tick " << i;
+    ASSERT_LE(s.god_pos_m.x(), wall_x - p.tool_radius_m + 1e-6) << "tick " << i << ": the sphere is through the wall";
+    largest_step = std::max(largest_step, (s.force_N - last).norm());
+    last = s.force_N;
+  }
+  EXPECT_LE(largest_step, p.jump_limit_N_per_tick + 1e-9);
+  // settled where the wall put the sphere: 0.6 mm out, the force across k times that
+  EXPECT_NEAR(last.x(), -kK * 0.0006, 1e-6);
+  EXPECT_NEAR(last.z(), kK * 0.002, 1e-6);
+}
+
 }  // namespace
 }  // namespace palpate
