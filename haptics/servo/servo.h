@@ -141,9 +141,10 @@ class Servo {
   // frame (src.blend_s > 0), so a frame's change reaches the hand in steps of a tick's share; src otherwise
   const LocalModel& surface_at(const LocalModel& src, double t_s) noexcept;
   // closest point on the patch to p; returns false when the patch is empty
-  // (side: when non-null, only triangles facing the same way, so the far side of a thin part is never taken)
+  // (side: when non-null, only triangles facing the same way — turned less than acos(min_cos) from it — so the far
+  // side of a thin part is never taken)
   bool closest_on_patch(const LocalModel& m, const Vec3& p, int* slot, Vec3* point, Vec3* bary,
-                        const Vec3* side = nullptr) const noexcept;
+                        const Vec3* side = nullptr, double min_cos = 0.0) const noexcept;
   // position of the material point (tri, bary) in the latest patch (false when its triangle is not in it)
   static bool material_point(const LocalModel& m, int32_t tri, const Vec3& bary, Vec3* point) noexcept;
 

@@ -361,5 +361,43 @@ TEST(GodObject, AToolThatPassedUnseenIsCaughtByTheNextPatchThatSeesItsPath) {
   EXPECT_GT(rig.dev.force_N.z(), 0.0);
 }
 
+TEST(GodObject, APointIsFeltWhereItsGodObjectIsHeldWhenTheSmoothNormalNamesAnotherFace) {
+  // a floor z = 0 whose smooth normals lean 108 degrees from its faces' (an open sheet's fold, where vertex normals
+  // average faces turned every way; regr01.obj), and 5 mm from the press a wall facing +x. The god-object is held on
+  // the floor; among the faces facing the side its smooth normal names, the wall is the nearest to it. A point was felt
+  // from that wall's point, 5 mm away, until the side changed: a 1.5 N jump here, 0.13 N on regr01.obj. It is felt from
+  // where its god-object is held, every tick
+  test::ServoRig<PathDevice> rig(touch_params());
+  LocalModel& m = rig.tb->write_buffer();
+  const double w = 0.05;
+  add_quad(&m, Vec3(-w, -w, 0), Vec3(0.005, -w, 0), Vec3(0.005, w, 0), Vec3(-w, w, 0));
+  const Vec3 fold = Vec3(0.9, 0.0, -0.3).normalized();
+  for (int t = 0; t < m.num_triangles; ++t) m.normal[t] = {fold, fold, fold};
+  add_quad(&m, Vec3(0.005, -w, 0), Vec3(0.005, -w, -0.01), Vec3(0.005, w, -0.01), Vec3(0.005, w, 0));
+  ASSERT_NEAR(m.normal[m.num_triangles - 1][0].x(), 1.0, 1e-12);
+  m.frame = 0;
+  rig.tb->publish();
+  int touching = 0;
+  Vec3 last_force = Vec3::Zero(), last_tool = Vec3::Zero();
+  for (int i = 0; i <= 100; ++i) {
+    rig.dev.pos_m = Vec3(0.0, 0.0, 0.002 - 0.004 * std::min(1.0, i / 50.0));
+    rig.tick(i);
+    const HapticSample& s = rig.servo->last_sample();
+    if (s.contact == ContactState::kTouch) {
+      ++touching;
+      EXPECT_NEAR(s.god_pos_m.z(), 0.0, 1e-5) << "tick " << i;  // held on the floor
+      EXPECT_LE((s.proxy_pos_m - s.god_pos_m).norm(), 1e-5) << "tick " << i;
+      if (touching > 1) {  // (after the entry's own tick)
+        EXPECT_LE((rig.dev.force_N - last_force).norm(), 300.0 * (rig.dev.pos_m - last_tool).norm() + 1e-3)
+            << "tick " << i;
+      }
+    }
+    last_force = rig.dev.force_N;
+    last_tool = rig.dev.pos_m;
+  }
+  EXPECT_GT(touching, 40);
+  EXPECT_NEAR(rig.dev.force_N.z(), 300.0 * 0.002, 1e-3);
+}
+
 }  // namespace
 }  // namespace palpate
