@@ -140,6 +140,49 @@ bool odd_crossings(const Model& model, const Vec3& p, const Vec3& dir) {
 
 }  // namespace
 
+namespace {
+
+// whether segment p0 -> p1 passes from one side of triangle t's plane to the other inside it, by the half-open rule
+// (a point on the plane is behind it, so a path that stops on the plane and goes on is counted once); *u: where along
+// the segment
+bool passes_through(const TriMesh& mesh, int32_t t, const Vec3& p0, const Vec3& p1, double* u) {
+  const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+  const Vec3& a = mesh.vertices_m[tri[0]];
+  const Vec3 e1 = mesh.vertices_m[tri[1]] - a, e2 = mesh.vertices_m[tri[2]] - a;
+  const Vec3 n = e1.cross(e2);
+  const double d0 = (p0 - a).dot(n), d1 = (p1 - a).dot(n);
+  if ((d0 > 0.0) == (d1 > 0.0)) return false;
+  const double s = d0 / (d0 - d1);
+  const Vec3 x = p0 + s * (p1 - p0) - a;
+  // x's barycentric coordinates in the triangle (its edges inclusive)
+  const double nn = n.squaredNorm();
+  if (!(nn > 0.0)) return false;
+  const double v = x.cross(e2).dot(n) / nn, w = e1.cross(x).dot(n) / nn;
+  if (v < 0.0 || w < 0.0 || v + w > 1.0) return false;
+  *u = s;
+  return true;
+}
+
+}  // namespace
+
+int path_crossings(const Model& model, const Vec3& p0_m, const Vec3& p1_m, std::vector<int32_t>* ids) {
+  if (!p0_m.allFinite() || !p1_m.allFinite() || p0_m == p1_m) return 0;
+  model.grid.triangles_near(p0_m.cwiseMin(p1_m), p0_m.cwiseMax(p1_m), ids);
+  // where along the segment each crossing is; a segment through an edge or a corner meets every face at it there
+  double at[8];
+  int n = 0, extra = 0;
+  for (int32_t t : *ids) {
+    double u = 0.0;
+    if (!passes_through(model.rest, t, p0_m, p1_m, &u)) continue;
+    bool same = false;
+    for (int i = 0; i < n && !same; ++i) same = std::abs(at[i] - u) <= 1e-9;
+    if (same) continue;
+    if (n < 8) at[n++] = u;
+    else ++extra;  // (more than eight places in a tick's path: counted without the merge)
+  }
+  return n + extra;
+}
+
 double depth_inside(const Model& model, const Vec3& p_m, double reach_m, double* still_m) {
   const GridHierarchy& g = model.grid;
   const int level = g.levels();

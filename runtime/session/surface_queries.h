@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "core/types.h"
 #include "runtime/session/model.h"
@@ -34,6 +35,11 @@ std::optional<SurfaceHit> nearest_surface_point(const Model& model, const Vec3& 
 /// farther than reach_m from the surface); 0 when one is not, p is outside the grid, or layers would pass 24 (49^3
 /// cells). Nothing allocated.
 double proven_depth_inside(const Model& model, const Vec3& p_m, double reach_m);
+
+/// How many times the segment p0_m -> p1_m crosses the rest surface, from either side: crossings at the same place of
+/// the segment (through an edge or corner shared by faces) count once. Candidates from the grid's leaves the segment's
+/// box touches; ids is their scratch list (nothing else allocated once it has grown).
+int path_crossings(const Model& model, const Vec3& p0_m, const Vec3& p1_m, std::vector<int32_t>* ids);
 
 /// How deep p_m lies inside the object at rest, when deeper than reach_m: its distance to the rest surface, where the
 /// grid says p is inside (a cell enclosed by the surface), or, in a cell the surface crosses, where the face nearest p

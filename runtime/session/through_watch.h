@@ -3,7 +3,14 @@
 /// through figures: a drained tick whose free tool, or held proxy, lies inside the object deeper than the material
 /// can have moved, and a frame whose free tool does (touch mode). Every point of the object is at most the lattice's
 /// largest node displacement from where it rests, so a point deeper than that (and the tool's radius) under the rest
-/// surface is inside the deformed object, whatever the dent: never a false alarm. Thread: the sim thread only.
+/// surface is inside the deformed object, whatever the dent: never a false alarm. A surface that is not closed (an
+/// open sheet, a scan with holes) has no inside; there the point is through when its path since it was last away from
+/// the surface has crossed the rest surface an odd number of times and it is away from it again, farther than the
+/// same reach (a dent and the path back out of it cross twice; a way round the sheet's edge, never).
+/// Thread: the sim thread only.
+
+#include <cstdint>
+#include <vector>
 
 #include "core/scene.h"
 #include "haptics/servo/haptic_sample.h"
@@ -33,6 +40,13 @@ class ThroughWatch {
   double moved_m_ = 0.0;          // the lattice's largest node displacement after the last step
   Vec3 at_m_ = Vec3::Zero();      // where tick() last asked, and how far from it its answer still holds
   double still_m_ = 0.0;
+  // an open surface: the judged point's last place, and whether its path has crossed the surface an odd number of
+  // times since it was last away from it
+  void open_tick(bool free, const Vec3& p, double reach_m, double t_s);
+  bool have_path_ = false;
+  Vec3 path_at_m_ = Vec3::Zero();
+  bool path_odd_ = false;
+  std::vector<int32_t> ids_;      // the crossing query's scratch
 };
 
 }  // namespace palpate

@@ -442,7 +442,7 @@ int run_hand_fuzz(const HandFuzzOptions& o) {
   for (const HandResult& r : results) all.add(r);
   for (const auto& pm : per_model) all.closed = all.closed && pm.second.closed;
   print_row("all", all);
-  std::printf("(closed: open models have no inside, so tool_in and proxy_in are not judged on them; wild: steps above %g N beyond the device's motion by more than %g N; excess%%: contact ticks beyond it "
+  std::printf("(tool_in, proxy_in: ticks through the surface; on an open model (closed: open), a path that crossed it an odd number of times and is away from it; wild: steps above %g N beyond the device's motion by more than %g N; excess%%: contact ticks beyond it "
               "by more than %g N; flips%%: of steady ticks; buzz: the largest share above 100 Hz)\n",
               o.step_threshold_N, o.excess_threshold_N, o.excess_threshold_N);
   if (!o.json_path.empty()) {

@@ -3,7 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
 #include "core/scene.h"
+#include "runtime/session/through_watch.h"
+#include "support/obj_text.h"
 
 namespace palpate {
 namespace {
@@ -90,6 +96,70 @@ TEST(SurfaceQueries, AnOpenSurfaceHasNoInside) {
   EXPECT_FALSE(closed_surface(m.rest, m.adjacency));
   m.closed = false;
   EXPECT_EQ(depth_inside(m, Vec3::Zero(), 0.01), 0.0);
+}
+
+TEST(SurfaceQueries, APathCrossesTheSurfaceOnceAtAnEdgeAndOnceWhereItStopsOnThePlane) {
+  const Model m = box_model();
+  std::vector<int32_t> ids;
+  const Vec3 above(0.01, -0.02, 0.08), inside(0.01, -0.02, 0.0), below(0.01, -0.02, -0.08);
+  EXPECT_EQ(path_crossings(m, above, inside, &ids), 1);
+  EXPECT_EQ(path_crossings(m, above, below, &ids), 2);
+  EXPECT_EQ(path_crossings(m, above, Vec3(0.08, -0.02, 0.08), &ids), 0);
+  // stopping on the top face's plane and going on is one crossing; going back up from it, an even number (a point on
+  // the plane counts as behind it)
+  const Vec3 on(0.01, -0.02, 0.05);
+  EXPECT_EQ(path_crossings(m, above, on, &ids) + path_crossings(m, on, inside, &ids), 1);
+  EXPECT_EQ((path_crossings(m, above, on, &ids) + path_crossings(m, on, above, &ids)) % 2, 0);
+  // through the corner the top face's triangles share at its centre, and through a diagonal's edge
+  EXPECT_EQ(path_crossings(m, Vec3(0.0, 0.0, 0.08), Vec3(0.0, 0.0, 0.02), &ids), 1);
+  int edge_hits = 0;
+  for (double t = -0.045; t < 0.045; t += 0.0037) edge_hits += path_crossings(m, Vec3(t, t, 0.08), Vec3(t, t, 0.02), &ids);
+  EXPECT_EQ(edge_hits, 25);
+  EXPECT_EQ(path_crossings(m, above, above, &ids), 0);
+}
+
+TEST(SurfaceQueries, OnAnOpenSurfaceAPathThroughItIsCountedAndAWayRoundItIsNot) {
+  // the box without its top, read from a file (an open surface: no inside); a free point's paths from inside it
+  const Model box = box_model();
+  TriMesh open;
+  open.vertices_m = box.rest.vertices_m;
+  for (const auto& t : box.rest.triangles) {
+    bool top = true;
+    for (int c = 0; c < 3; ++c) top = top && box.rest.vertices_m[static_cast<std::size_t>(t[c])].z() > 0.05 - 1e-9;
+    if (!top) open.triangles.push_back(t);
+  }
+  const auto path = std::filesystem::path(testing::TempDir()) / "open_box.obj";
+  std::ofstream(path) << test::obj_text(open);
+  Scene scene;
+  scene.mesh.file = path.string();
+  scene.mesh.size_m = 0.1;
+  scene.mesh.subdivisions = 0;
+  scene.mode = InteractionMode::kTouch;
+  const Model m = load_model(scene).value();
+  ASSERT_FALSE(m.closed);
+  const auto walk = [&](const std::vector<Vec3>& corners) {
+    FrameStats stats;
+    ThroughWatch watch(scene, m, &stats);
+    for (std::size_t k = 0; k + 1 < corners.size(); ++k)
+      for (int i = 0; i < 100; ++i) {
+        HapticSample s;
+        s.contact = ContactState::kFree;
+        s.tool_pos_m = corners[k] + (i / 100.0) * (corners[k + 1] - corners[k]);
+        s.t_s = 1e-3 * static_cast<double>(100 * k + i);
+        watch.tick(s);
+      }
+    return stats;
+  };
+  const Vec3 in(0.0, 0.0, 0.0), under(0.0, 0.0, -0.09), out_above(0.0, 0.0, 0.09), beside(0.09, 0.0, 0.09);
+  // down through the bottom: through, from once it is away from the bottom
+  const FrameStats through = walk({in, under, under});
+  EXPECT_GT(through.tool_inside_ticks, 100);
+  EXPECT_EQ(through.proxy_inside_ticks, 0);
+  EXPECT_GT(through.through_first_t_s, 0.0);
+  // out of the opening and down the outside to the same place: never through
+  EXPECT_EQ(walk({in, out_above, beside, Vec3(0.09, 0.0, -0.09), under}).tool_inside_ticks, 0);
+  // a dip through the bottom and back, then away inside: never through
+  EXPECT_EQ(walk({in, Vec3(0.0, 0.0, -0.0502), in, Vec3(0.02, 0.02, 0.0)}).tool_inside_ticks, 0);
 }
 
 }  // namespace
