@@ -29,6 +29,9 @@ struct LocalModel {
   /// shade_normal as the servo last saw it (blended with the corners)
   std::array<std::array<Vec3, 3>, kMaxTriangles> shade_normal_from{};
   double blend_s = 0.0;  ///< > 0: the servo moves each corner from tri_from_m to tri_m over this long from t_s
+  /// touch: the surface is not closed (an open sheet, a cup, a scan with holes): it has no inside, and either side of
+  /// a face can be touched
+  bool two_sided = false;
 
   // what the patch covers (touch): every triangle of the surface that comes within cover_radius_m of the box
   // [cover_lo_m, cover_hi_m] is in it; beyond, the servo knows nothing of the surface, so a free tool's path there is
@@ -49,5 +52,38 @@ struct LocalModel {
   double model_radius_m = 0.0;            ///< the model holds within this distance of p0 (a point tool's proxy) or
                                           ///< of contact_centre_m (a sphere tool's centre)
 };
+
+/// The patch src with every face turned over (corners 1 and 2 swapped, normals reversed), into *out: a surface touched
+/// from the back of its faces is then touched from their front. A corner's barycentric weights (b0, b1, b2) in src are
+/// (b0, b2, b1) in *out. Copies only the triangles in use. Thread: any (no allocation).
+inline void turn_over(const LocalModel& src, LocalModel* out) noexcept {
+  out->frame = src.frame;
+  out->controls_seq = src.controls_seq;
+  out->t_s = src.t_s;
+  out->num_triangles = src.num_triangles;
+  out->truncated = src.truncated;
+  out->blend_s = src.blend_s;
+  out->two_sided = src.two_sided;
+  out->cover_lo_m = src.cover_lo_m;
+  out->cover_hi_m = src.cover_hi_m;
+  out->cover_radius_m = src.cover_radius_m;
+  out->has_contact_model = src.has_contact_model;
+  out->contact_p0_m = src.contact_p0_m;
+  out->contact_centre_m = src.contact_centre_m;
+  out->contact_v0_m_per_s = src.contact_v0_m_per_s;
+  out->contact_f0_N = src.contact_f0_N;
+  out->compliance_m_per_N = src.compliance_m_per_N;
+  out->model_radius_m = src.model_radius_m;
+  for (int i = 0; i < src.num_triangles; ++i) {
+    const auto swap = [](const std::array<Vec3, 3>& c) { return std::array<Vec3, 3>{c[0], c[2], c[1]}; };
+    const auto reverse = [](const std::array<Vec3, 3>& c) { return std::array<Vec3, 3>{-c[0], -c[2], -c[1]}; };
+    out->tri_ids[i] = src.tri_ids[i];
+    out->tri_m[i] = swap(src.tri_m[i]);
+    out->tri_from_m[i] = swap(src.tri_from_m[i]);
+    out->normal[i] = reverse(src.normal[i]);
+    out->shade_normal[i] = reverse(src.shade_normal[i]);
+    out->shade_normal_from[i] = reverse(src.shade_normal_from[i]);
+  }
+}
 
 }  // namespace palpate

@@ -98,22 +98,31 @@ void Servo::track_nearest(const LocalModel& m, const Vec3& tool, double r) noexc
   if (near_outside_) near_normal_ = normal.normalized();
 }
 
-bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r) noexcept {
+bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r, bool* back) noexcept {
   // the tool's path from `from` enters a face from its front (a fast tool), or a sphere's centre comes within its
-  // radius of a face while in front of its plane
-  for (int i = 0; i < m.num_triangles; ++i) {
-    const auto& t = m.tri_m[i];
-    const Vec3 face = (t[1] - t[0]).cross(t[2] - t[0]);
-    double u = 0.0;
-    Vec3 b = Vec3::Zero();
-    bool begins = segment_enters_triangle(from, tool, t[0], t[1], t[2], &u, &b);
-    if (!begins && params_.tool_radius_m > 0.0) {
-      const Vec3 q = closest_point_on_triangle(tool, t[0], t[1], t[2], &b);
-      begins = (tool - q).squaredNorm() < r * r && (tool - q).dot(face) > 0.0;
-    }
-    if (begins) {
-      contact_normal_ = face.normalized();
-      return true;
+  // radius of a face while in front of its plane; on a two-sided surface (not closed: no inside), from its back too,
+  // when no face is met from its front (a sphere over a convex edge is behind the plane of the face beyond the edge,
+  // and within its radius of that face's edge: its front is met first, and taken)
+  *back = false;
+  for (const bool behind : {false, true}) {
+    if (behind && !m.two_sided) break;
+    for (int i = 0; i < m.num_triangles; ++i) {
+      const auto& t = m.tri_m[i];
+      const Vec3 front = (t[1] - t[0]).cross(t[2] - t[0]);
+      const Vec3 face = behind ? Vec3(-front) : front;
+      double u = 0.0;
+      Vec3 b = Vec3::Zero();
+      bool begins = behind ? segment_enters_triangle(from, tool, t[0], t[2], t[1], &u, &b)
+                           : segment_enters_triangle(from, tool, t[0], t[1], t[2], &u, &b);
+      if (!begins && params_.tool_radius_m > 0.0) {
+        const Vec3 q = closest_point_on_triangle(tool, t[0], t[1], t[2], &b);
+        begins = (tool - q).squaredNorm() < r * r && (tool - q).dot(face) > 0.0;
+      }
+      if (begins) {
+        contact_normal_ = face.normalized();
+        *back = behind;
+        return true;
+      }
     }
   }
   return false;
@@ -137,10 +146,13 @@ bool Servo::tool_outside(const LocalModel& m, const Vec3& tool, double r) const 
   return outside_of(m, slot, b, q, tool, r, nullptr);
 }
 
-void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
+void Servo::update_touch(const LocalModel& src, const Vec3& tool) noexcept {
   const bool sphere = params_.tool_radius_m > 0.0;
   const double r = sphere ? params_.tool_radius_m : kPointClearance_m;
+  bool began = false;
   if (contact_ == ContactState::kFree) {
+    back_ = false;
+    const LocalModel& m = src;
     // the tool's path since the last tick; failing that, with the surface moved, the same path carried with the
     // surface point nearest the tool: a surface that moves through a slower tool (a dent springing back after a
     // release) touches it too, instead of leaving it inside, untouched, for good
@@ -159,11 +171,12 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
       from = unseen_from_m_;
       unseen_ = false;
     }
-    bool begins = touch_begins(m, from, tool, r);
+    bool back = false;
+    bool begins = touch_begins(m, from, tool, r, &back);
     Vec3 p = Vec3::Zero();
     if (!begins && surface_moved_ && near_tri_ >= 0 && material_point(m, near_tri_, near_bary_, &p)) {
       from += p - near_m_;
-      begins = touch_begins(m, from, tool, r);
+      begins = touch_begins(m, from, tool, r, &back);
     }
     if (!begins && surface_moved_ && near_outside_) {
       // the surface came through the tool by another way than the point nearest it (a fold springing back, or its
@@ -185,13 +198,21 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
       proxy_m_ = contact_point_m_ = tool;
       return;
     }
-    // the god-object starts where the tool was, outside
+    // the god-object starts where the tool was, outside (on a two-sided surface, on the side it came from)
     contact_ = ContactState::kTouch;
     god_m_ = from;
     shade_ = Quat::Identity();
     shade_n_ = shade_push_ = Vec3::Zero();
     shade_free_m_ = from;
-  } else if (surface_moved_) {
+    back_ = back;
+    began = true;
+  }
+  // touched from the back of its faces, the surface is felt turned over: its back is then the front every query holds
+  // to (a cup pressed from inside; before, a tool went through an open surface from behind, and the way back out
+  // from the front held it outside the cup: 3.3 N pulling the hand away)
+  if (back_) turn_over(src, &turned_);
+  const LocalModel& m = back_ ? turned_ : src;
+  if (!began && surface_moved_) {
     // the surface moved under the held proxy (a new frame, or the blend toward it): it goes with the material
     // point under it
     Vec3 p = Vec3::Zero();
@@ -212,11 +233,12 @@ void Servo::update_touch(const LocalModel& m, const Vec3& tool) noexcept {
     active = 1;
   }
   if (active == 0) {
-    // the tool is out of reach of the surface: contact ends
+    // the tool is out of reach of the surface: contact ends (the free tool is judged by the surface as it is)
     contact_ = ContactState::kFree;
     tri_ = -1;
     friction_ = FrictionState{};
-    track_nearest(m, tool, r);
+    back_ = false;
+    track_nearest(src, tool, r);
     proxy_m_ = contact_point_m_ = tool;
     return;
   }
@@ -371,6 +393,7 @@ void Servo::apply_controls(const Controls& c) noexcept {
   near_tri_ = -1;
   near_outside_ = false;
   unseen_ = false;
+  back_ = false;
   shade_ = Quat::Identity();
   shade_n_ = shade_push_ = Vec3::Zero();
   cut_force_N_.setZero();
@@ -489,7 +512,8 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   s.force_N = force;
   s.contact = contact_;
   s.contact_tri = contact_ == ContactState::kFree ? -1 : tri_;
-  s.contact_bary = bary_;
+  // (a surface touched from its back is felt turned over: its corners 1 and 2 swapped)
+  s.contact_bary = back_ && contact_ == ContactState::kTouch ? Vec3(bary_[0], bary_[2], bary_[1]) : bary_;
   s.buttons = pose.buttons;
   s.input_rejected = rejected ? 1 : 0;
   s.blade_axis = axis;

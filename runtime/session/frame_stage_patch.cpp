@@ -106,6 +106,7 @@ void FrameStage::publish_patch() {
   published_.clear();
   for (int i = 0; i < n; ++i) published_[m.tri_ids[i]] = {m.tri_m[i], m.shade_normal[i]};
   m.frame = frame_index_;
+  m.two_sided = touch && !model_.closed;
   m.controls_seq = controls_seq_;
   m.t_s = t_s_;
   lattice_contact_.fill_model(region_->lattice() ? &*region_->lattice() : nullptr, vertices_m_, feed_.frame(), &m);
