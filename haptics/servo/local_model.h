@@ -32,6 +32,8 @@ struct LocalModel {
   /// touch: the surface is not closed (an open sheet, a cup, a scan with holes): it has no inside, and either side of
   /// a face can be touched
   bool two_sided = false;
+  /// two_sided: each triangle's part (Model::part_of): a touch from the back of a face holds to that side of its part
+  std::array<int32_t, kMaxTriangles> part{};
 
   // what the patch covers (touch): every triangle of the surface that comes within cover_radius_m of the box
   // [cover_lo_m, cover_hi_m] is in it; beyond, the servo knows nothing of the surface, so a free tool's path there is
@@ -53,10 +55,11 @@ struct LocalModel {
                                           ///< of contact_centre_m (a sphere tool's centre)
 };
 
-/// The patch src with every face turned over (corners 1 and 2 swapped, normals reversed), into *out: a surface touched
-/// from the back of its faces is then touched from their front. A corner's barycentric weights (b0, b1, b2) in src are
-/// (b0, b2, b1) in *out. Copies only the triangles in use. Thread: any (no allocation).
-inline void turn_over(const LocalModel& src, LocalModel* out) noexcept {
+/// The patch src with the faces of part `part` turned over (corners 1 and 2 swapped, normals reversed), into *out: a
+/// part touched from the back of its faces is then touched from their front, and other parts are as they were. A
+/// turned corner's barycentric weights (b0, b1, b2) in src are (b0, b2, b1) in *out. Copies only the triangles in use.
+/// Thread: any (no allocation).
+inline void turn_over(const LocalModel& src, int32_t part, LocalModel* out) noexcept {
   out->frame = src.frame;
   out->controls_seq = src.controls_seq;
   out->t_s = src.t_s;
@@ -75,9 +78,15 @@ inline void turn_over(const LocalModel& src, LocalModel* out) noexcept {
   out->compliance_m_per_N = src.compliance_m_per_N;
   out->model_radius_m = src.model_radius_m;
   for (int i = 0; i < src.num_triangles; ++i) {
-    const auto swap = [](const std::array<Vec3, 3>& c) { return std::array<Vec3, 3>{c[0], c[2], c[1]}; };
-    const auto reverse = [](const std::array<Vec3, 3>& c) { return std::array<Vec3, 3>{-c[0], -c[2], -c[1]}; };
+    const bool turn = src.part[i] == part;
+    const auto swap = [turn](const std::array<Vec3, 3>& c) {
+      return turn ? std::array<Vec3, 3>{c[0], c[2], c[1]} : c;
+    };
+    const auto reverse = [turn](const std::array<Vec3, 3>& c) {
+      return turn ? std::array<Vec3, 3>{-c[0], -c[2], -c[1]} : c;
+    };
     out->tri_ids[i] = src.tri_ids[i];
+    out->part[i] = src.part[i];
     out->tri_m[i] = swap(src.tri_m[i]);
     out->tri_from_m[i] = swap(src.tri_from_m[i]);
     out->normal[i] = reverse(src.normal[i]);

@@ -98,7 +98,8 @@ void Servo::track_nearest(const LocalModel& m, const Vec3& tool, double r) noexc
   if (near_outside_) near_normal_ = normal.normalized();
 }
 
-bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r, bool* back) noexcept {
+bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r, bool* back,
+                         int* slot) noexcept {
   // the tool's path from `from` enters a face from its front (a fast tool), or a sphere's centre comes within its
   // radius of a face while in front of its plane; on a two-sided surface (not closed: no inside), from its back too,
   // when no face is met from its front (a sphere over a convex edge is behind the plane of the face beyond the edge,
@@ -121,6 +122,7 @@ bool Servo::touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool
       if (begins) {
         contact_normal_ = face.normalized();
         *back = behind;
+        *slot = i;
         return true;
       }
     }
@@ -172,11 +174,12 @@ void Servo::update_touch(const LocalModel& src, const Vec3& tool) noexcept {
       unseen_ = false;
     }
     bool back = false;
-    bool begins = touch_begins(m, from, tool, r, &back);
+    int met = -1;
+    bool begins = touch_begins(m, from, tool, r, &back, &met);
     Vec3 p = Vec3::Zero();
     if (!begins && surface_moved_ && near_tri_ >= 0 && material_point(m, near_tri_, near_bary_, &p)) {
       from += p - near_m_;
-      begins = touch_begins(m, from, tool, r, &back);
+      begins = touch_begins(m, from, tool, r, &back, &met);
     }
     if (!begins && surface_moved_ && near_outside_) {
       // the surface came through the tool by another way than the point nearest it (a fold springing back, or its
@@ -205,12 +208,14 @@ void Servo::update_touch(const LocalModel& src, const Vec3& tool) noexcept {
     shade_n_ = shade_push_ = Vec3::Zero();
     shade_free_m_ = from;
     back_ = back;
+    back_part_ = back && met >= 0 ? m.part[met] : 0;
     began = true;
   }
-  // touched from the back of its faces, the surface is felt turned over: its back is then the front every query holds
-  // to (a cup pressed from inside; before, a tool went through an open surface from behind, and the way back out
-  // from the front held it outside the cup: 3.3 N pulling the hand away)
-  if (back_) turn_over(src, &turned_);
+  // touched from the back of its faces, the part touched is felt turned over: its back is then the front every query
+  // holds to (a cup pressed from inside; before, a tool went through an open surface from behind, and the way back out
+  // from the front held it outside the cup: 3.3 N pulling the hand away). Other parts keep their sides (turned with it,
+  // the front of a part the tool slid onto was passed over as a far side, and the tool went through it)
+  if (back_) turn_over(src, back_part_, &turned_);
   const LocalModel& m = back_ ? turned_ : src;
   if (!began && surface_moved_) {
     // the surface moved under the held proxy (a new frame, or the blend toward it): it goes with the material
@@ -237,7 +242,7 @@ void Servo::update_touch(const LocalModel& src, const Vec3& tool) noexcept {
     contact_ = ContactState::kFree;
     tri_ = -1;
     friction_ = FrictionState{};
-    back_ = false;
+    back_ = bary_turned_ = false;
     track_nearest(src, tool, r);
     proxy_m_ = contact_point_m_ = tool;
     return;
@@ -282,6 +287,7 @@ void Servo::update_touch(const LocalModel& src, const Vec3& tool) noexcept {
   contact_frame_m_ = q;
   tri_ = m.tri_ids[slot];
   bary_ = b;
+  bary_turned_ = back_ && m.part[slot] == back_part_;
   proxy_m_ = sphere ? c : q;
   contact_point_m_ = q;
   if (shade_full_cos_ < 1.0) update_shading(m, c, slot, b, tool, r, path_m);
@@ -393,7 +399,7 @@ void Servo::apply_controls(const Controls& c) noexcept {
   near_tri_ = -1;
   near_outside_ = false;
   unseen_ = false;
-  back_ = false;
+  back_ = bary_turned_ = false;
   shade_ = Quat::Identity();
   shade_n_ = shade_push_ = Vec3::Zero();
   cut_force_N_.setZero();
@@ -513,7 +519,7 @@ void Servo::tick(int64_t tick_index, double t_s) noexcept {
   s.contact = contact_;
   s.contact_tri = contact_ == ContactState::kFree ? -1 : tri_;
   // (a surface touched from its back is felt turned over: its corners 1 and 2 swapped)
-  s.contact_bary = back_ && contact_ == ContactState::kTouch ? Vec3(bary_[0], bary_[2], bary_[1]) : bary_;
+  s.contact_bary = bary_turned_ && contact_ == ContactState::kTouch ? Vec3(bary_[0], bary_[2], bary_[1]) : bary_;
   s.buttons = pose.buttons;
   s.input_rejected = rejected ? 1 : 0;
   s.blade_axis = axis;

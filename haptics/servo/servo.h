@@ -128,7 +128,7 @@ class Servo {
   Vec3 shaded_normal(const LocalModel& m, const Vec3& at, int slot, const Vec3& bary, const Vec3& tool,
                      double r) const noexcept;
   // whether the tool's move from `from` starts a touch (sets the side it came from)
-  bool touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r, bool* back) noexcept;
+  bool touch_begins(const LocalModel& m, const Vec3& from, const Vec3& tool, double r, bool* back, int* slot) noexcept;
   // a free tool: the surface point nearest it, remembered so the next tick can carry its path with the surface, and
   // whether the tool is outside the surface there (by r)
   void track_nearest(const LocalModel& m, const Vec3& tool, double r) noexcept;
@@ -162,7 +162,9 @@ class Servo {
   bool controls_event_ = false;             // controls changed: this tick's step is an event (jump limit)
   bool push_event_ = false;                 // the surface's move pushed the proxy further than its path: an event
   bool back_ = false;                       // touching a two-sided surface from the back of its faces
-  LocalModel turned_;                       // the tick's patch turned over while back_ (turn_over)
+  int32_t back_part_ = 0;                   // the part touched so (LocalModel::part)
+  bool bary_turned_ = false;                // bary_ is in a turned face's corner order
+  LocalModel turned_;                       // the tick's patch, that part turned over, while back_ (turn_over)
   const Rates& rates_;
   Device* device_;
   SpscQueue<HapticSample>* samples_;

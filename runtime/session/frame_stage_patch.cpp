@@ -87,6 +87,7 @@ void FrameStage::publish_patch() {
   auto put = [&](int32_t t) {
     const auto& tr = tris[static_cast<std::size_t>(t)];
     m.tri_ids[n] = t;
+    m.part[n] = static_cast<std::size_t>(t) < model_.part_of.size() ? model_.part_of[static_cast<std::size_t>(t)] : 0;
     m.tri_m[n] = {vertices_m_[tr[0]], vertices_m_[tr[1]], vertices_m_[tr[2]]};
     m.normal[n] = {normals_[tr[0]], normals_[tr[1]], normals_[tr[2]]};
     for (int c = 0; c < 3; ++c)

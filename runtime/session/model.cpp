@@ -79,7 +79,34 @@ Result<Model> load_model(const Scene& scene) {
   m.adjacency = VertexTriangles::build(m.rest.vertices_m.size(), m.rest.triangles);
   // (asked only in touch, where the tool's side of the surface is checked every tick: O(edges x degree) at load)
   m.closed = scene.mode == InteractionMode::kTouch && closed_surface(m.rest, m.adjacency);
+  if (scene.mode == InteractionMode::kTouch && !m.closed) m.part_of = triangle_parts(m.rest, m.adjacency);
   return m;
+}
+
+std::vector<int32_t> triangle_parts(const TriMesh& mesh, const VertexTriangles& adjacency) {
+  const std::size_t n = mesh.triangles.size();
+  std::vector<int32_t> part(n, -1), stack;
+  int32_t next = 0;
+  for (std::size_t seed = 0; seed < n; ++seed) {
+    if (part[seed] >= 0) continue;
+    part[seed] = next;
+    stack.assign(1, static_cast<int32_t>(seed));
+    while (!stack.empty()) {
+      const int32_t t = stack.back();
+      stack.pop_back();
+      for (const int32_t v : mesh.triangles[static_cast<std::size_t>(t)])
+        for (int32_t k = adjacency.offsets[static_cast<std::size_t>(v)]; k < adjacency.offsets[static_cast<std::size_t>(v) + 1];
+             ++k) {
+          const int32_t u = adjacency.triangles[static_cast<std::size_t>(k)];
+          if (part[static_cast<std::size_t>(u)] < 0) {
+            part[static_cast<std::size_t>(u)] = next;
+            stack.push_back(u);
+          }
+        }
+    }
+    ++next;
+  }
+  return part;
 }
 
 Status check_control_range(const Scene& scene, const Model& model) {

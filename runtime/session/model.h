@@ -23,6 +23,9 @@ struct Model {
   VertexTriangles adjacency;             ///< triangles at each vertex of `rest` (normals of moved vertices)
   double leaf_cell_m = 0.0;              ///< edge of a leaf cell
   bool closed = false;                   ///< touch scenes: every edge of `rest` is shared by exactly two triangles
+  /// touch scenes on a surface that is not closed: each triangle's part (triangles joined through shared corners),
+  /// the side of which a touch holds to; empty otherwise
+  std::vector<int32_t> part_of;
   MeshOrientation orientation;           ///< what was turned outward at load (a mesh file's faces)
   int auto_subdivisions = 0;             ///< midpoint subdivisions mesh.subdivisions "auto" applied (0: none)
   double coarse_edge_m = 0.0;            ///< then: the file's median longest triangle edge, normalised (m)
@@ -52,6 +55,10 @@ Result<Model> load_model(const Scene& scene);
 /// Whether the stiffest material a person may set (device.browser_stiffness_range's high end, core/scene_controls.h)
 /// is one the scene's integrator steps stably on the model's cells; the error names the key and the check's message.
 Status check_control_range(const Scene& scene, const Model& model);
+
+/// Each triangle's part: triangles joined through shared corners have the same number, 0, 1, ... in the order the
+/// parts' first triangles come.
+std::vector<int32_t> triangle_parts(const TriMesh& mesh, const VertexTriangles& adjacency);
 
 /// Whether every edge of mesh is shared by exactly two of its triangles (a closed surface, with an inside).
 /// O(sum of squared vertex degrees).
