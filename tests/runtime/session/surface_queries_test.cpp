@@ -137,9 +137,10 @@ TEST(SurfaceQueries, OnAnOpenSurfaceAPathThroughItIsCountedAndAWayRoundItIsNot) 
   scene.mode = InteractionMode::kTouch;
   const Model m = load_model(scene).value();
   ASSERT_FALSE(m.closed);
-  const auto walk = [&](const std::vector<Vec3>& corners) {
+  const auto walk = [&](const std::vector<Vec3>& corners, double moved_m = 0.0) {
     FrameStats stats;
     ThroughWatch watch(scene, m, &stats);
+    watch.set_moved(moved_m);
     for (std::size_t k = 0; k + 1 < corners.size(); ++k)
       for (int i = 0; i < 100; ++i) {
         HapticSample s;
@@ -160,6 +161,9 @@ TEST(SurfaceQueries, OnAnOpenSurfaceAPathThroughItIsCountedAndAWayRoundItIsNot) 
   EXPECT_EQ(walk({in, out_above, beside, Vec3(0.09, 0.0, -0.09), under}).tool_inside_ticks, 0);
   // a dip through the bottom and back, then away inside: never through
   EXPECT_EQ(walk({in, Vec3(0.0, 0.0, -0.0502), in, Vec3(0.02, 0.02, 0.0)}).tool_inside_ticks, 0);
+  // with the material moved 2 mm (a dent's reach): a way through a wall and on into the cup is through
+  EXPECT_GT(walk({Vec3(0.06, 0.003, 0.004), Vec3(0.0495, 0.003, 0.004), Vec3(0.02, 0.003, 0.004)}, 0.002).tool_inside_ticks,
+            50);
 }
 
 }  // namespace
